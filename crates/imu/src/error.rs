@@ -1,0 +1,102 @@
+//! Errors of the readers: always with the file, and the line and column when
+//! the problem is in the content.
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// What went wrong.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadErrorKind {
+    /// The file could not be opened or read.
+    #[error("{0}")]
+    Io(#[from] std::io::Error),
+    /// The file holds no data row (it is empty, or only comments/header).
+    #[error("no data rows (the file is empty or holds only comments and a header)")]
+    NoData,
+    /// A cell that is not a number.
+    #[error("cannot read '{text}' as a number")]
+    NotANumber {
+        /// The cell's text.
+        text: String,
+    },
+    /// A row with another number of fields than the first row.
+    #[error("expected {expected} fields, found {found}")]
+    FieldCount {
+        /// Fields of the first row.
+        expected: usize,
+        /// Fields of this row.
+        found: usize,
+    },
+    /// The last line ends without a newline and is incomplete: what a logger
+    /// killed mid-write leaves.
+    #[error("truncated last line (no newline at the end, {found} of {expected} fields)")]
+    TruncatedLastLine {
+        /// Fields of the first row.
+        expected: usize,
+        /// Fields found on the last line.
+        found: usize,
+    },
+    /// A column asked for that the file does not have.
+    #[error("no column '{wanted}' (the file has: {available})")]
+    NoSuchColumn {
+        /// The name or index asked for.
+        wanted: String,
+        /// The columns there are.
+        available: String,
+    },
+    /// A line that is not valid UTF-8 text.
+    #[error("the line is not UTF-8 text")]
+    NotText,
+}
+
+/// A reading error with its place.
+#[derive(Debug)]
+pub struct ReadError {
+    /// The file.
+    pub path: PathBuf,
+    /// 1-based line number, when the problem is on a line.
+    pub line: Option<u64>,
+    /// 1-based column (field) number, when the problem is in a field.
+    pub column: Option<usize>,
+    /// What went wrong.
+    pub kind: ReadErrorKind,
+}
+
+impl ReadError {
+    pub(crate) fn new(path: impl Into<PathBuf>, kind: ReadErrorKind) -> Self {
+        ReadError {
+            path: path.into(),
+            line: None,
+            column: None,
+            kind,
+        }
+    }
+
+    pub(crate) fn at(mut self, line: u64, column: Option<usize>) -> Self {
+        self.line = Some(line);
+        self.column = column;
+        self
+    }
+}
+
+impl fmt::Display for ReadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.path.display())?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+            if let Some(col) = self.column {
+                write!(f, ": column {col}")?;
+            }
+        }
+        write!(f, ": {}", self.kind)
+    }
+}
+
+impl std::error::Error for ReadError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match &self.kind {
+            ReadErrorKind::Io(e) => Some(e),
+            _ => None,
+        }
+    }
+}

@@ -1,0 +1,521 @@
+//! Plain numeric column files: one channel per column, comma, tab or
+//! whitespace separated, an optional header line, `#` comment lines.
+//!
+//! The file is streamed in blocks; each batch of blocks is parsed on all
+//! cores, and the blocks' results are joined in order, so line numbers in
+//! errors stay exact. Gzip input (by its magic bytes, not its name) is
+//! decompressed on the fly.
+
+use std::fs::File;
+use std::io::{BufRead, BufReader, Read};
+use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
+
+use crate::error::{ReadError, ReadErrorKind};
+
+/// Bytes per parse block: large enough to amortise the thread hand-off,
+/// small enough that a batch of them stays a few MiB.
+const BLOCK_BYTES: usize = 1 << 20;
+
+/// How fields are separated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Delimiter {
+    /// `,` (spaces around fields are ignored).
+    Comma,
+    /// `;`
+    Semicolon,
+    /// A tab.
+    Tab,
+    /// Runs of spaces and tabs.
+    Whitespace,
+}
+
+impl Delimiter {
+    fn detect(line: &str) -> Delimiter {
+        if line.contains(',') {
+            Delimiter::Comma
+        } else if line.contains('\t') {
+            Delimiter::Tab
+        } else if line.contains(';') {
+            Delimiter::Semicolon
+        } else {
+            Delimiter::Whitespace
+        }
+    }
+
+    fn split<'a>(self, line: &'a [u8]) -> Box<dyn Iterator<Item = &'a [u8]> + 'a> {
+        match self {
+            Delimiter::Comma => Box::new(line.split(|&b| b == b',').map(trim)),
+            Delimiter::Semicolon => Box::new(line.split(|&b| b == b';').map(trim)),
+            Delimiter::Tab => Box::new(line.split(|&b| b == b'\t').map(trim)),
+            Delimiter::Whitespace => Box::new(
+                line.split(|&b| b == b' ' || b == b'\t')
+                    .filter(|f| !f.is_empty()),
+            ),
+        }
+    }
+}
+
+fn trim(field: &[u8]) -> &[u8] {
+    field.trim_ascii()
+}
+
+/// Parses one field as a number. `nan` is a gap and is accepted.
+fn parse_number(field: &[u8]) -> Option<f64> {
+    if field.is_empty() {
+        return None;
+    }
+    fast_float2::parse::<f64, _>(field).ok()
+}
+
+fn is_skipped(line: &[u8]) -> bool {
+    let t = line.trim_ascii_start();
+    t.is_empty() || t[0] == b'#'
+}
+
+/// A numeric column file, opened: the header and layout are known, the body
+/// not yet read.
+pub struct TableReader {
+    path: PathBuf,
+    input: Box<dyn BufRead + Send>,
+    names: Vec<String>,
+    has_header: bool,
+    comments: Vec<String>,
+    delimiter: Delimiter,
+    /// The first data row when the file has no header (it was read to find out).
+    pending: Option<(u64, String)>,
+    /// Lines consumed so far.
+    line_no: u64,
+}
+
+impl std::fmt::Debug for TableReader {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("TableReader")
+            .field("path", &self.path)
+            .field("names", &self.names)
+            .field("delimiter", &self.delimiter)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The columns read from a file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Table {
+    /// The file.
+    pub path: PathBuf,
+    /// Names of the columns read (from the header, else `col1`, `col2`, …).
+    pub names: Vec<String>,
+    /// One vector per column read, all of the same length.
+    pub columns: Vec<Vec<f64>>,
+    /// Whether the file had a header line.
+    pub has_header: bool,
+    /// The `#` comment lines before the first data row, without the `#`.
+    pub comments: Vec<String>,
+}
+
+impl Table {
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.columns.first().map_or(0, Vec::len)
+    }
+}
+
+impl TableReader {
+    /// Opens `path`, reads its comments and header, and works out the layout.
+    pub fn open(path: impl AsRef<Path>) -> Result<TableReader, ReadError> {
+        let path = path.as_ref().to_path_buf();
+        let io_err = |e: std::io::Error| ReadError::new(&path, ReadErrorKind::Io(e));
+        let file = File::open(&path).map_err(io_err)?;
+        let mut buffered = BufReader::with_capacity(1 << 16, file);
+        let gz = buffered.fill_buf().map_err(io_err)?.starts_with(&[0x1f, 0x8b]);
+        let mut input: Box<dyn BufRead + Send> = if gz {
+            Box::new(BufReader::with_capacity(
+                1 << 16,
+                flate2::read::MultiGzDecoder::new(buffered),
+            ))
+        } else {
+            Box::new(buffered)
+        };
+
+        let mut comments = Vec::new();
+        let mut line_no = 0u64;
+        let mut raw = Vec::new();
+        let first = loop {
+            raw.clear();
+            let got = input.read_until(b'\n', &mut raw).map_err(io_err)?;
+            if got == 0 {
+                return Err(ReadError::new(&path, ReadErrorKind::NoData));
+            }
+            line_no += 1;
+            let text = std::str::from_utf8(&raw)
+                .map_err(|_| ReadError::new(&path, ReadErrorKind::NotText).at(line_no, None))?
+                .trim_end_matches(['\n', '\r']);
+            if is_skipped(text.as_bytes()) {
+                if let Some(c) = text.trim_start().strip_prefix('#') {
+                    comments.push(c.trim().to_string());
+                }
+                continue;
+            }
+            break text.to_string();
+        };
+        let delimiter = Delimiter::detect(&first);
+        let fields: Vec<&[u8]> = delimiter.split(first.as_bytes()).collect();
+        let numeric = fields.iter().all(|f| parse_number(f).is_some());
+        let (names, has_header, pending) = if numeric {
+            let names = (1..=fields.len()).map(|i| format!("col{i}")).collect();
+            (names, false, Some((line_no, first.clone())))
+        } else {
+            let names = fields
+                .iter()
+                .map(|f| String::from_utf8_lossy(f).trim().to_string())
+                .collect();
+            (names, true, None)
+        };
+        Ok(TableReader {
+            path,
+            input,
+            names,
+            has_header,
+            comments,
+            delimiter,
+            pending,
+            line_no,
+        })
+    }
+
+    /// Column names: the header's, or `col1`, `col2`, … without one.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// Whether the file has a header line.
+    pub fn has_header(&self) -> bool {
+        self.has_header
+    }
+
+    /// The delimiter found on the first line.
+    pub fn delimiter(&self) -> Delimiter {
+        self.delimiter
+    }
+
+    /// The `#` comment lines before the header or first row.
+    pub fn comments(&self) -> &[String] {
+        &self.comments
+    }
+
+    /// Finds a column by name (exact, then case-insensitive) or by 1-based
+    /// index, returning its 0-based index.
+    pub fn column_index(&self, wanted: &str) -> Result<usize, ReadError> {
+        let w = wanted.trim();
+        self.names
+            .iter()
+            .position(|n| n == w)
+            .or_else(|| self.names.iter().position(|n| n.eq_ignore_ascii_case(w)))
+            .or_else(|| {
+                w.parse::<usize>()
+                    .ok()
+                    .filter(|&i| i >= 1 && i <= self.names.len())
+                    .map(|i| i - 1)
+            })
+            .ok_or_else(|| {
+                ReadError::new(
+                    &self.path,
+                    ReadErrorKind::NoSuchColumn {
+                        wanted: w.to_string(),
+                        available: self.names.join(", "),
+                    },
+                )
+            })
+    }
+
+    /// Reads the body: the columns `select` (0-based indices, in that order),
+    /// or all columns when `None`. Every row must have as many fields as the
+    /// first; only the selected cells are parsed.
+    pub fn read(mut self, select: Option<&[usize]>) -> Result<Table, ReadError> {
+        let ncols = self.names.len();
+        let select: Vec<usize> = match select {
+            Some(s) => s.to_vec(),
+            None => (0..ncols).collect(),
+        };
+        if let Some(&bad) = select.iter().find(|&&i| i >= ncols) {
+            return Err(ReadError::new(
+                &self.path,
+                ReadErrorKind::NoSuchColumn {
+                    wanted: (bad + 1).to_string(),
+                    available: self.names.join(", "),
+                },
+            ));
+        }
+        let layout = Layout {
+            ncols,
+            delimiter: self.delimiter,
+            select: &select,
+        };
+        let mut columns: Vec<Vec<f64>> = vec![Vec::new(); select.len()];
+
+        if let Some((line, text)) = self.pending.take() {
+            let out = layout
+                .parse_block(text.as_bytes(), false)
+                .map_err(|f| f.into_error(&self.path, line - 1))?;
+            out.append_to(&mut columns);
+        }
+
+        let threads = rayon::current_num_threads().max(1);
+        let batch_len = 4 * threads;
+        let mut carry: Vec<u8> = Vec::new();
+        let mut eof = false;
+        while !eof {
+            let mut blocks: Vec<Vec<u8>> = Vec::with_capacity(batch_len);
+            while blocks.len() < batch_len {
+                let mut block = std::mem::take(&mut carry);
+                let start = block.len();
+                block.resize(start + BLOCK_BYTES, 0);
+                let got = read_full(&mut self.input, &mut block[start..])
+                    .map_err(|e| ReadError::new(&self.path, ReadErrorKind::Io(e)))?;
+                block.truncate(start + got);
+                if got == 0 {
+                    eof = true;
+                    if !block.is_empty() {
+                        blocks.push(block);
+                    }
+                    break;
+                }
+                // Keep the partial last line for the next block.
+                match block.iter().rposition(|&b| b == b'\n') {
+                    Some(nl) => {
+                        carry = block[nl + 1..].to_vec();
+                        block.truncate(nl + 1);
+                        blocks.push(block);
+                    }
+                    None => carry = block,
+                }
+            }
+            let last_index = blocks.len().wrapping_sub(1);
+            let results: Vec<Result<BlockOut, BlockFault>> = blocks
+                .par_iter()
+                .enumerate()
+                .map(|(i, b)| layout.parse_block(b, eof && i == last_index))
+                .collect();
+            for r in results {
+                let out = r.map_err(|f| f.into_error(&self.path, self.line_no))?;
+                self.line_no += out.lines;
+                out.append_to(&mut columns);
+            }
+        }
+        if columns.first().is_none_or(Vec::is_empty) {
+            return Err(ReadError::new(&self.path, ReadErrorKind::NoData));
+        }
+        let names = select.iter().map(|&i| self.names[i].clone()).collect();
+        Ok(Table {
+            path: self.path,
+            names,
+            columns,
+            has_header: self.has_header,
+            comments: self.comments,
+        })
+    }
+}
+
+/// Fills `buf` as far as the input allows; 0 only at the end of input.
+fn read_full(input: &mut dyn Read, buf: &mut [u8]) -> std::io::Result<usize> {
+    let mut filled = 0;
+    while filled < buf.len() {
+        match input.read(&mut buf[filled..]) {
+            Ok(0) => break,
+            Ok(k) => filled += k,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(filled)
+}
+
+struct Layout<'a> {
+    ncols: usize,
+    delimiter: Delimiter,
+    select: &'a [usize],
+}
+
+struct BlockOut {
+    columns: Vec<Vec<f64>>,
+    lines: u64,
+}
+
+impl BlockOut {
+    fn append_to(self, columns: &mut [Vec<f64>]) {
+        for (dst, src) in columns.iter_mut().zip(self.columns) {
+            if dst.is_empty() {
+                *dst = src;
+            } else {
+                dst.extend_from_slice(&src);
+            }
+        }
+    }
+}
+
+/// A fault inside a block, with its line relative to the block.
+struct BlockFault {
+    line: u64,
+    column: Option<usize>,
+    kind: ReadErrorKind,
+}
+
+impl BlockFault {
+    fn into_error(self, path: &Path, lines_before: u64) -> ReadError {
+        ReadError::new(path, self.kind).at(lines_before + self.line, self.column)
+    }
+}
+
+impl Layout<'_> {
+    /// Parses whole lines. `last` marks the end of the file, where a line
+    /// without its newline is a truncated write if it is short.
+    fn parse_block(&self, block: &[u8], last: bool) -> Result<BlockOut, BlockFault> {
+        let est_rows = block.len() / (8 * self.ncols.max(1)) + 1;
+        let mut columns: Vec<Vec<f64>> = (0..self.select.len())
+            .map(|_| Vec::with_capacity(est_rows))
+            .collect();
+        let mut lines = 0u64;
+        let unterminated = !block.is_empty() && !block.ends_with(b"\n");
+        let mut fields: Vec<&[u8]> = Vec::with_capacity(self.ncols);
+        let mut rest = block;
+        while !rest.is_empty() {
+            let (line, next) = match rest.iter().position(|&b| b == b'\n') {
+                Some(nl) => (&rest[..nl], &rest[nl + 1..]),
+                None => (rest, &rest[rest.len()..]),
+            };
+            rest = next;
+            lines += 1;
+            let line = line.strip_suffix(b"\r").unwrap_or(line);
+            if is_skipped(line) {
+                continue;
+            }
+            fields.clear();
+            fields.extend(self.delimiter.split(line));
+            let fault = |column, kind| BlockFault {
+                line: lines,
+                column,
+                kind,
+            };
+            if fields.len() != self.ncols {
+                let kind = if last && unterminated && rest.is_empty() && fields.len() < self.ncols {
+                    ReadErrorKind::TruncatedLastLine {
+                        expected: self.ncols,
+                        found: fields.len(),
+                    }
+                } else {
+                    ReadErrorKind::FieldCount {
+                        expected: self.ncols,
+                        found: fields.len(),
+                    }
+                };
+                return Err(fault(None, kind));
+            }
+            for (dst, &i) in columns.iter_mut().zip(self.select) {
+                let f = fields[i];
+                match parse_number(f) {
+                    Some(v) => dst.push(v),
+                    None => {
+                        let text = String::from_utf8_lossy(f).into_owned();
+                        return Err(fault(Some(i + 1), ReadErrorKind::NotANumber { text }));
+                    }
+                }
+            }
+        }
+        Ok(BlockOut { columns, lines })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Write;
+
+    fn file(content: &[u8]) -> tempfile::NamedTempFile {
+        let mut f = tempfile::NamedTempFile::new().unwrap();
+        f.write_all(content).unwrap();
+        f
+    }
+
+    #[test]
+    fn reads_headerless_whitespace_columns() {
+        let f = file(b"# x\n1 2\n\n3\t4\n# mid comment\n5 6\n");
+        let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+        assert_eq!(t.names, ["col1", "col2"]);
+        assert!(!t.has_header);
+        assert_eq!(t.columns, vec![vec![1.0, 3.0, 5.0], vec![2.0, 4.0, 6.0]]);
+        assert_eq!(t.comments, ["x"]);
+    }
+
+    #[test]
+    fn reads_thesis_style_header_and_selects() {
+        let f = file(b"a[m/^2], b[rad/s],c\r\n1.5, -2e-3, 7\r\n2.5,nan,8\r\n");
+        let r = TableReader::open(f.path()).unwrap();
+        assert_eq!(r.names(), ["a[m/^2]", "b[rad/s]", "c"]);
+        let idx = r.column_index("B[RAD/S]").unwrap();
+        assert_eq!(r.column_index("3").unwrap(), 2);
+        assert!(r.column_index("zz").is_err());
+        let t = r.read(Some(&[idx])).unwrap();
+        assert_eq!(t.columns[0][0], -2e-3);
+        assert!(t.columns[0][1].is_nan());
+    }
+
+    #[test]
+    fn errors_name_line_and_column() {
+        let f = file(b"a,b\n1,2\n3,x7\n");
+        let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
+        assert_eq!((e.line, e.column), (Some(3), Some(2)));
+        assert!(e.to_string().contains(":3: column 2: cannot read 'x7'"), "{e}");
+
+        let f = file(b"1,2\n3\n");
+        let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
+        assert_eq!(e.line, Some(2));
+        assert!(matches!(e.kind, ReadErrorKind::FieldCount { expected: 2, found: 1 }));
+
+        let f = file(b"1,2\n3,4\n5");
+        let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
+        assert_eq!(e.line, Some(3));
+        assert!(matches!(e.kind, ReadErrorKind::TruncatedLastLine { .. }), "{e}");
+
+        let f = file(b"");
+        let e = TableReader::open(f.path()).unwrap_err();
+        assert!(matches!(e.kind, ReadErrorKind::NoData));
+        let f = file(b"# only\nname\n");
+        let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
+        assert!(matches!(e.kind, ReadErrorKind::NoData));
+    }
+
+    #[test]
+    fn complete_last_line_without_newline_is_kept() {
+        let f = file(b"1,2\n3,4");
+        let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+        assert_eq!(t.columns[1], vec![2.0, 4.0]);
+    }
+
+    #[test]
+    fn large_file_keeps_order_and_line_numbers() {
+        let mut content = Vec::new();
+        let rows = 300_000;
+        for i in 0..rows {
+            writeln!(content, "{i}, {}", i as f64 * 0.5).unwrap();
+        }
+        writeln!(content, "1, oops").unwrap();
+        let f = file(&content);
+        let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
+        assert_eq!(e.line, Some(rows as u64 + 1));
+        content.truncate(content.len() - "1, oops\n".len());
+        let f = file(&content);
+        let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+        assert_eq!(t.rows(), rows);
+        assert!(t.columns[0].iter().enumerate().all(|(i, &v)| v == i as f64));
+    }
+
+    #[test]
+    fn reads_gzip_by_content() {
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        gz.write_all(b"v\n1\n2\n").unwrap();
+        let f = file(&gz.finish().unwrap());
+        let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+        assert_eq!(t.columns[0], vec![1.0, 2.0]);
+    }
+}
