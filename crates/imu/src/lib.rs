@@ -21,6 +21,7 @@
 //! ```
 
 pub mod error;
+pub mod header;
 pub mod table;
 
 pub use error::{ReadError, ReadErrorKind};

@@ -44,16 +44,19 @@ impl Delimiter {
         }
     }
 
-    fn split<'a>(self, line: &'a [u8]) -> Box<dyn Iterator<Item = &'a [u8]> + 'a> {
-        match self {
-            Delimiter::Comma => Box::new(line.split(|&b| b == b',').map(trim)),
-            Delimiter::Semicolon => Box::new(line.split(|&b| b == b';').map(trim)),
-            Delimiter::Tab => Box::new(line.split(|&b| b == b'\t').map(trim)),
-            Delimiter::Whitespace => Box::new(
-                line.split(|&b| b == b' ' || b == b'\t')
-                    .filter(|f| !f.is_empty()),
-            ),
-        }
+    /// Splits `line` into `fields` (cleared first), without allocating.
+    fn split_into<'a>(self, line: &'a [u8], fields: &mut Vec<&'a [u8]>) {
+        fields.clear();
+        let sep = match self {
+            Delimiter::Comma => b',',
+            Delimiter::Semicolon => b';',
+            Delimiter::Tab => b'\t',
+            Delimiter::Whitespace => {
+                fields.extend(line.split(|&b| b == b' ' || b == b'\t').filter(|f| !f.is_empty()));
+                return;
+            }
+        };
+        fields.extend(line.split(move |&b| b == sep).map(trim));
     }
 }
 
@@ -112,6 +115,8 @@ pub struct Table {
     pub has_header: bool,
     /// The `#` comment lines before the first data row, without the `#`.
     pub comments: Vec<String>,
+    /// Number of lines in the file, comments and header included.
+    pub lines: u64,
 }
 
 impl Table {
@@ -160,7 +165,8 @@ impl TableReader {
             break text.to_string();
         };
         let delimiter = Delimiter::detect(&first);
-        let fields: Vec<&[u8]> = delimiter.split(first.as_bytes()).collect();
+        let mut fields = Vec::new();
+        delimiter.split_into(first.as_bytes(), &mut fields);
         let numeric = fields.iter().all(|f| parse_number(f).is_some());
         let (names, has_header, pending) = if numeric {
             let names = (1..=fields.len()).map(|i| format!("col{i}")).collect();
@@ -204,7 +210,8 @@ impl TableReader {
         &self.comments
     }
 
-    /// Finds a column by name (exact, then case-insensitive) or by 1-based
+    /// Finds a column by name (exact, then case-insensitive, then without its
+    /// `[unit]`) or by 1-based
     /// index, returning its 0-based index.
     pub fn column_index(&self, wanted: &str) -> Result<usize, ReadError> {
         let w = wanted.trim();
@@ -212,6 +219,11 @@ impl TableReader {
             .iter()
             .position(|n| n == w)
             .or_else(|| self.names.iter().position(|n| n.eq_ignore_ascii_case(w)))
+            .or_else(|| {
+                self.names
+                    .iter()
+                    .position(|n| crate::header::split_name_unit(n).0.eq_ignore_ascii_case(w))
+            })
             .or_else(|| {
                 w.parse::<usize>()
                     .ok()
@@ -282,7 +294,7 @@ impl TableReader {
                     break;
                 }
                 // Keep the partial last line for the next block.
-                match block.iter().rposition(|&b| b == b'\n') {
+                match memchr::memrchr(b'\n', &block) {
                     Some(nl) => {
                         carry = block[nl + 1..].to_vec();
                         block.truncate(nl + 1);
@@ -313,6 +325,7 @@ impl TableReader {
             columns,
             has_header: self.has_header,
             comments: self.comments,
+            lines: self.line_no,
         })
     }
 }
@@ -380,7 +393,7 @@ impl Layout<'_> {
         let mut fields: Vec<&[u8]> = Vec::with_capacity(self.ncols);
         let mut rest = block;
         while !rest.is_empty() {
-            let (line, next) = match rest.iter().position(|&b| b == b'\n') {
+            let (line, next) = match memchr::memchr(b'\n', rest) {
                 Some(nl) => (&rest[..nl], &rest[nl + 1..]),
                 None => (rest, &rest[rest.len()..]),
             };
@@ -390,8 +403,7 @@ impl Layout<'_> {
             if is_skipped(line) {
                 continue;
             }
-            fields.clear();
-            fields.extend(self.delimiter.split(line));
+            self.delimiter.split_into(line, &mut fields);
             let fault = |column, kind| BlockFault {
                 line: lines,
                 column,
@@ -445,6 +457,7 @@ mod tests {
         assert!(!t.has_header);
         assert_eq!(t.columns, vec![vec![1.0, 3.0, 5.0], vec![2.0, 4.0, 6.0]]);
         assert_eq!(t.comments, ["x"]);
+        assert_eq!(t.lines, 6);
     }
 
     #[test]
@@ -454,6 +467,7 @@ mod tests {
         assert_eq!(r.names(), ["a[m/^2]", "b[rad/s]", "c"]);
         let idx = r.column_index("B[RAD/S]").unwrap();
         assert_eq!(r.column_index("3").unwrap(), 2);
+        assert_eq!(r.column_index("a").unwrap(), 0);
         assert!(r.column_index("zz").is_err());
         let t = r.read(Some(&[idx])).unwrap();
         assert_eq!(t.columns[0][0], -2e-3);
