@@ -1,0 +1,181 @@
+//! One statistic over a tau grid, with EDF, confidence interval and noise type
+//! at every point: what `imutherm adev` prints.
+
+use rayon::prelude::*;
+
+use crate::confidence::chi2_interval;
+use crate::edf::edf_for;
+use crate::noise_id::{self, NoiseIdMethod};
+use crate::phase::PhaseSeries;
+use crate::stats;
+use crate::taus::{self, TauSpec};
+use crate::{AllanError, DataType, Stat};
+
+/// Stable32's and imutherm's default confidence level, "68.3 %".
+pub const DEFAULT_CONFIDENCE: f64 = 0.683;
+
+/// Smallest number of terms a point may rest on; AllanTools drops n ≤ 1 too.
+const MIN_TERMS: usize = 2;
+
+/// What to compute.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Options {
+    /// The statistic.
+    pub stat: Stat,
+    /// Whether the samples are rate (frequency) or phase (integrated) data.
+    pub data_type: DataType,
+    /// Sample rate in Hz (τ0 = 1/rate).
+    pub rate_hz: f64,
+    /// The tau grid.
+    pub taus: TauSpec,
+    /// Two-sided confidence level of the interval, in (0, 1).
+    pub confidence: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            stat: Stat::Oadev,
+            data_type: DataType::Freq,
+            rate_hz: 1.0,
+            taus: TauSpec::Octave,
+            confidence: DEFAULT_CONFIDENCE,
+        }
+    }
+}
+
+/// One point of a stability curve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Point {
+    /// τ in seconds.
+    pub tau: f64,
+    /// Averaging factor, τ = m·τ0 (0.75·m·τ0 for Theo1).
+    pub m: usize,
+    /// The deviation, in the unit of the rate data (of its integral for
+    /// TDEV/TTOTDEV).
+    pub dev: f64,
+    /// Number of terms in the estimate.
+    pub n: usize,
+    /// Equivalent degrees of freedom for the identified noise type.
+    pub edf: f64,
+    /// Lower bound of the confidence interval.
+    pub dev_lo: f64,
+    /// Upper bound of the confidence interval.
+    pub dev_hi: f64,
+    /// Power-law exponent α of the rate noise (S_y ∝ f^α) used for the EDF.
+    pub alpha: i32,
+    /// How α was found.
+    pub noise_id: NoiseIdMethod,
+}
+
+/// A stability curve: one statistic of one series over a tau grid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Curve {
+    /// The statistic.
+    pub stat: Stat,
+    /// The input's data type.
+    pub data_type: DataType,
+    /// The sample rate, Hz.
+    pub rate_hz: f64,
+    /// The confidence level of the intervals.
+    pub confidence: f64,
+    /// Number of input samples, gaps included.
+    pub samples: usize,
+    /// Number of NaN (gap) samples in the input, including trimmed edges.
+    pub nan_samples: usize,
+    /// The points, by increasing τ; taus the data cannot support are absent.
+    pub points: Vec<Point>,
+}
+
+/// Computes `opts.stat` on `data` over the tau grid.
+///
+/// Errors when the options are invalid, when the series is too short for any
+/// requested tau, or when it has gaps and the statistic cannot skip them.
+pub fn analyze(data: &[f64], opts: &Options) -> Result<Curve, AllanError> {
+    let series = PhaseSeries::new(data, opts.data_type, opts.rate_hz)?;
+    let points = analyze_series(&series, opts)?;
+    Ok(Curve {
+        stat: opts.stat,
+        data_type: opts.data_type,
+        rate_hz: opts.rate_hz,
+        confidence: opts.confidence,
+        samples: data.len(),
+        nan_samples: series.nan_samples(),
+        points,
+    })
+}
+
+/// Computes `opts.stat` on an already built phase series (its rate and data
+/// type are those it was built with; the ones in `opts` are not used). Taus
+/// run in parallel.
+pub fn analyze_series(series: &PhaseSeries, opts: &Options) -> Result<Vec<Point>, AllanError> {
+    let stat = opts.stat;
+    if !(opts.confidence > 0.0 && opts.confidence < 1.0) {
+        return Err(AllanError::InvalidConfidence(opts.confidence));
+    }
+    if series.has_gaps() && !stat.supports_gaps() {
+        let first = series
+            .points()
+            .iter()
+            .position(|v| v.is_nan())
+            .unwrap_or_default();
+        return Err(AllanError::GapsNotSupported {
+            stat: stat.name(),
+            count: series.nan_samples(),
+            first,
+        });
+    }
+    let n_phase = series.len();
+    let needed = stat.stop_ratio().max(3);
+    if n_phase < needed {
+        return Err(AllanError::TooShort {
+            stat: stat.name(),
+            needed,
+            got: n_phase,
+        });
+    }
+    let tau0 = series.tau0();
+    let ms = taus::averaging_factors(&opts.taus, stat, n_phase, tau0);
+    // Noise type is identified on data no gap crosses.
+    let clean = series.longest_clean_stretch();
+    let n_valid = n_phase.saturating_sub(series.nan_samples() - series.trimmed_samples());
+
+    let points: Vec<Point> = ms
+        .par_iter()
+        .filter_map(|&m| {
+            let est = stats::compute(stat, series, m)?;
+            if est.n < MIN_TERMS || !est.dev.is_finite() {
+                return None;
+            }
+            let id = noise_id::identify(clean, m, stat);
+            let (alpha, edf) = match edf_for(stat, id.alpha, m, n_valid) {
+                Some(e) if e.is_finite() && e > 0.0 => (id.alpha, e),
+                // Outside the EDF model's range (a noise steeper than the
+                // statistic can converge on): fall back to the number of
+                // terms, which is the white-noise, non-overlapped bound.
+                _ => (id.alpha, est.n as f64),
+            };
+            let (dev_lo, dev_hi) = chi2_interval(est.dev, edf, opts.confidence);
+            Some(Point {
+                tau: taus::tau_of(stat, m, tau0),
+                m,
+                dev: est.dev,
+                n: est.n,
+                edf,
+                dev_lo,
+                dev_hi,
+                alpha,
+                noise_id: id.method,
+            })
+        })
+        .collect();
+    if points.is_empty() {
+        return Err(AllanError::NoUsableTau {
+            stat: stat.name(),
+            n: n_phase,
+            rate_hz: 1.0 / tau0,
+            max_m: taus::max_factor(stat, n_phase),
+        });
+    }
+    Ok(points)
+}

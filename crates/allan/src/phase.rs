@@ -1,0 +1,243 @@
+//! Phase series: the one representation every statistic is computed on.
+//!
+//! Rate samples y (an IMU's output) become phase by
+//! `x = [0, cumsum(y − mean(y))·τ0]` (NIST SP 1065 §5.2; AllanTools
+//! `frequency2phase`): N rate samples give N+1 phase points. Removing the mean
+//! first keeps the cumulative sum small, which matters for precision when a
+//! gyro bias is large against its noise.
+//!
+//! Gap samples (NaN) are kept track of instead of being dropped, because
+//! dropping them would join data from both sides of a gap into terms that
+//! never existed. How a gap invalidates terms depends on the input:
+//! - rate input: a missing rate sample is a missing phase *increment*; a term
+//!   whose phase span covers it is skipped;
+//! - phase input: a missing phase point invalidates only the terms that use
+//!   that point, as AllanTools' gap-resistant `gradev` does.
+
+use crate::{AllanError, DataType};
+
+/// Where the gaps are, as a prefix count so any span is checked in O(1).
+#[derive(Debug, Clone)]
+pub(crate) struct GapIndex {
+    /// `prefix[i]` = number of bad markers among the first `i` markers.
+    prefix: Vec<u32>,
+    /// What a marker stands for.
+    kind: DataType,
+}
+
+impl GapIndex {
+    fn build(bad: impl Iterator<Item = bool>, len: usize, kind: DataType) -> Self {
+        let mut prefix = Vec::with_capacity(len + 1);
+        let mut count = 0u32;
+        prefix.push(0);
+        for b in bad {
+            count += u32::from(b);
+            prefix.push(count);
+        }
+        GapIndex { prefix, kind }
+    }
+
+    /// Whether the phase span `[a, c]` (inclusive phase indices) crosses a gap:
+    /// for rate input, a missing increment in `[a, c)`; for phase input, a
+    /// missing point anywhere in `[a, c]`.
+    #[inline]
+    pub(crate) fn span_has_gap(&self, a: usize, c: usize) -> bool {
+        match self.kind {
+            DataType::Freq => self.prefix[c] != self.prefix[a],
+            DataType::Phase => self.prefix[c + 1] != self.prefix[a],
+        }
+    }
+
+    /// Whether the data were rate samples (gaps are missing increments).
+    pub(crate) fn is_rate(&self) -> bool {
+        self.kind == DataType::Freq
+    }
+}
+
+/// Phase points at a fixed interval τ0, with the record of any gaps.
+#[derive(Debug, Clone)]
+pub struct PhaseSeries {
+    x: Vec<f64>,
+    tau0: f64,
+    gaps: Option<GapIndex>,
+    nan_samples: usize,
+    trimmed: usize,
+}
+
+impl PhaseSeries {
+    /// Builds the phase series from samples of the given type at `rate_hz`.
+    ///
+    /// Leading and trailing NaN samples are trimmed (they are missing edges,
+    /// not gaps; AllanTools trims them too) but still counted in
+    /// [`PhaseSeries::nan_samples`]. Infinite samples are an error.
+    pub fn new(data: &[f64], data_type: DataType, rate_hz: f64) -> Result<Self, AllanError> {
+        if !(rate_hz.is_finite() && rate_hz > 0.0) {
+            return Err(AllanError::InvalidRate(rate_hz));
+        }
+        // One scan for everything the conversion needs to know.
+        let mut nan_samples = 0usize;
+        let mut first = None;
+        let mut last = 0usize;
+        let (mut sum, mut count) = (0.0, 0usize);
+        for (i, &v) in data.iter().enumerate() {
+            if v.is_nan() {
+                nan_samples += 1;
+            } else if v.is_infinite() {
+                return Err(AllanError::Infinite { index: i });
+            } else {
+                first.get_or_insert(i);
+                last = i + 1;
+                sum += v;
+                count += 1;
+            }
+        }
+        let tau0 = 1.0 / rate_hz;
+        let first = first.unwrap_or(data.len());
+        let last = last.max(first);
+        let body = &data[first..last];
+        let trimmed = data.len() - body.len();
+        let interior_gaps = nan_samples - trimmed;
+
+        let (x, gaps) = match data_type {
+            DataType::Freq => {
+                let mean = if count > 0 { sum / count as f64 } else { 0.0 };
+                let mut x = Vec::with_capacity(body.len() + 1);
+                let mut acc = 0.0;
+                x.push(0.0);
+                for &y in body {
+                    // A missing increment adds nothing; the gap index marks
+                    // every span across it as unusable.
+                    if !y.is_nan() {
+                        acc += (y - mean) * tau0;
+                    }
+                    x.push(acc);
+                }
+                let gaps = (interior_gaps > 0)
+                    .then(|| GapIndex::build(body.iter().map(|v| v.is_nan()), body.len(), DataType::Freq));
+                (x, gaps)
+            }
+            DataType::Phase => {
+                let gaps = (interior_gaps > 0)
+                    .then(|| GapIndex::build(body.iter().map(|v| v.is_nan()), body.len(), DataType::Phase));
+                (body.to_vec(), gaps)
+            }
+        };
+        Ok(PhaseSeries {
+            x,
+            tau0,
+            gaps,
+            nan_samples,
+            trimmed,
+        })
+    }
+
+    /// The phase points (NaN where a phase input had a gap).
+    pub fn points(&self) -> &[f64] {
+        &self.x
+    }
+
+    /// The sampling interval τ0 in seconds.
+    pub fn tau0(&self) -> f64 {
+        self.tau0
+    }
+
+    /// Number of phase points.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// Whether there are no phase points at all.
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    /// Number of NaN samples in the input, edges included.
+    pub fn nan_samples(&self) -> usize {
+        self.nan_samples
+    }
+
+    /// Number of NaN samples trimmed from the two ends.
+    pub fn trimmed_samples(&self) -> usize {
+        self.trimmed
+    }
+
+    /// Whether there are gaps inside the series.
+    pub fn has_gaps(&self) -> bool {
+        self.gaps.is_some()
+    }
+
+    pub(crate) fn gap_index(&self) -> Option<&GapIndex> {
+        self.gaps.as_ref()
+    }
+
+    /// The longest stretch of phase points that no gap crosses: the data used
+    /// for noise identification when the series has gaps.
+    pub(crate) fn longest_clean_stretch(&self) -> &[f64] {
+        let Some(g) = &self.gaps else {
+            return &self.x;
+        };
+        let n = self.x.len();
+        let mut best = (0, 0);
+        let mut start = 0;
+        for i in 1..=n {
+            let cut = i == n
+                || if g.is_rate() {
+                    g.span_has_gap(i - 1, i)
+                } else {
+                    self.x[i].is_nan()
+                };
+            if cut {
+                if i - start.min(i) > best.1 - best.0 {
+                    best = (start.min(i), i);
+                }
+                // A missing phase point is itself excluded; a missing
+                // increment only separates its two neighbours.
+                start = if g.is_rate() { i } else { i + 1 };
+            }
+        }
+        &self.x[best.0..best.1]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rate_to_phase_matches_sp1065_table_30() {
+        // NIST SP 1065 Table 30 input and the phase AllanTools' test quotes.
+        let y = [892.0, 809.0, 823.0, 798.0, 671.0, 644.0, 883.0, 903.0, 677.0];
+        let p = PhaseSeries::new(&y, DataType::Freq, 1.0).unwrap();
+        let expect = [
+            0.0, 103.11111, 123.22222, 157.33333, 166.44444, 48.55555, -96.33333, -2.22222, 111.88889, 0.0,
+        ];
+        assert_eq!(p.len(), 10);
+        for (a, b) in p.points().iter().zip(expect) {
+            assert!((a - b).abs() < 1e-4, "{a} vs {b}");
+        }
+    }
+
+    #[test]
+    fn edges_are_trimmed_and_gaps_indexed() {
+        let y = [f64::NAN, 1.0, 2.0, f64::NAN, 3.0, 4.0, f64::NAN];
+        let p = PhaseSeries::new(&y, DataType::Freq, 2.0).unwrap();
+        assert_eq!(p.nan_samples(), 3);
+        assert_eq!(p.trimmed_samples(), 2);
+        assert_eq!(p.len(), 6);
+        assert!(p.has_gaps());
+        let g = p.gap_index().unwrap();
+        assert!(!g.span_has_gap(0, 2));
+        assert!(g.span_has_gap(0, 3));
+        assert!(g.span_has_gap(2, 3));
+        assert!(!g.span_has_gap(3, 5));
+        assert_eq!(p.longest_clean_stretch().len(), 3);
+    }
+
+    #[test]
+    fn rejects_bad_rate_and_infinity() {
+        assert!(PhaseSeries::new(&[1.0], DataType::Freq, 0.0).is_err());
+        assert!(PhaseSeries::new(&[1.0, f64::INFINITY], DataType::Freq, 1.0).is_err());
+        let all_nan = PhaseSeries::new(&[f64::NAN; 4], DataType::Freq, 1.0).unwrap();
+        assert_eq!(all_nan.len(), 1);
+    }
+}

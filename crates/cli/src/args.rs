@@ -1,0 +1,76 @@
+//! Every subcommand and flag of `imutherm`, with its help text, in one place.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+
+/// imutherm — tells the truth about low-cost MEMS IMUs and their temperature
+/// dependency: Allan statistics, noise terms, temperature compensation.
+#[derive(Debug, Parser)]
+#[command(name = "imutherm", version, about, long_about = None, propagate_version = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Allan-family deviations (adev, oadev, mdev, tdev, hdev, ohdev, totdev…)
+    /// of every column of one or more files, with EDF and confidence intervals.
+    #[command(after_help = ADEV_EXAMPLES)]
+    Adev(AdevArgs),
+}
+
+const ADEV_EXAMPLES: &str = "\
+Examples:
+  imutherm adev gyro.txt --rate 200
+      overlapping ADEV of every column, octave taus, 68.3 % intervals
+  imutherm adev log.csv --channels gyro_x,3 --stat mdev --taus many --json > mdev.json
+  imutherm adev phase.dat --data-type phase --taus 1,10,100 --stat totdev
+
+Input: plain numeric columns separated by commas, tabs or spaces, with an optional
+header line and '#' comment lines; gzip files are read as they are. NaN cells are
+gaps: adev, oadev, mdev, tdev, hdev and ohdev skip the terms that cross them.
+Rate data (--data-type freq, the default) is what an IMU gives: the deviation is
+in the unit of the data (rad/s, m/s², or fractional frequency).";
+
+#[derive(Debug, Args)]
+pub struct AdevArgs {
+    /// Input files (plain numeric columns; .gz read transparently).
+    #[arg(required = true, value_name = "FILE")]
+    pub files: Vec<PathBuf>,
+
+    /// Statistic: adev, oadev, mdev, tdev, hdev, ohdev, totdev, mtotdev,
+    /// ttotdev, htotdev or theo1 (mtotdev/ttotdev/htotdev/theo1 without bias
+    /// correction, as Stable32 and AllanTools print them).
+    #[arg(long, short = 's', default_value = "oadev", value_name = "S")]
+    pub stat: String,
+
+    /// Tau grid: octave, decade, all, many (log-spaced, 50 per decade), or a
+    /// comma list of taus in seconds. Taus the data cannot support are dropped.
+    #[arg(long, short = 't', default_value = "octave", value_name = "T")]
+    pub taus: String,
+
+    /// Columns to analyse, by header name or 1-based index, comma separated
+    /// (default: every column).
+    #[arg(long, short = 'c', value_name = "C", value_delimiter = ',')]
+    pub channels: Vec<String>,
+
+    /// Sample rate in Hz.
+    #[arg(long, short = 'r', default_value_t = 1.0, value_name = "HZ")]
+    pub rate: f64,
+
+    /// What the samples are: freq (rate samples, as an IMU gives) or phase
+    /// (integrated samples).
+    #[arg(long, default_value = "freq", value_name = "freq|phase")]
+    pub data_type: String,
+
+    /// Confidence level of the intervals, as a fraction (0.683) or a
+    /// percentage (68.3).
+    #[arg(long, default_value_t = 0.683, value_name = "LEVEL")]
+    pub confidence: f64,
+
+    /// Print one JSON document (schema imutherm.adev/1) instead of tables.
+    #[arg(long)]
+    pub json: bool,
+}

@@ -1,0 +1,271 @@
+//! `imutherm adev`: Allan-family deviations of the columns of plain files.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use allan::{Curve, DataType, Options, Stat, TauSpec};
+use imu::header::split_name_unit;
+use imu::table::TableReader;
+
+use crate::args::AdevArgs;
+
+/// The JSON schema name, versioned: scripts rely on its fields.
+const SCHEMA: &str = "imutherm.adev/1";
+
+/// One column to analyse.
+struct Channel {
+    file: PathBuf,
+    /// 1-based column number in the file.
+    column: usize,
+    name: String,
+    unit: String,
+    /// Lines in the file, to say where the data ended.
+    lines: u64,
+    data: Vec<f64>,
+}
+
+pub fn run(a: &AdevArgs) -> Result<()> {
+    let opts = options(a)?;
+    let mut channels = Vec::new();
+    for file in &a.files {
+        channels.extend(read_channels(file, &a.channels)?);
+    }
+    let curves: Vec<Result<Curve>> = channels
+        .par_iter()
+        .map(|ch| {
+            allan::analyze(&ch.data, &opts).with_context(|| {
+                format!(
+                    "{}: column {} ({}): {} samples, data ends at line {}",
+                    ch.file.display(),
+                    ch.column,
+                    ch.name,
+                    ch.data.len(),
+                    ch.lines
+                )
+            })
+        })
+        .collect();
+    let curves = curves.into_iter().collect::<Result<Vec<_>>>()?;
+
+    for (ch, curve) in channels.iter().zip(&curves) {
+        if curve.nan_samples > 0 {
+            eprintln!(
+                "note: {}: {}: {} NaN samples treated as gaps (terms across them skipped)",
+                ch.file.display(),
+                ch.name,
+                curve.nan_samples
+            );
+        }
+    }
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    if a.json {
+        write_json(&mut out, &opts, &channels, &curves)?;
+    } else {
+        write_tables(&mut out, &opts, &channels, &curves)?;
+    }
+    out.flush()?;
+    Ok(())
+}
+
+fn options(a: &AdevArgs) -> Result<Options> {
+    let stat: Stat = a.stat.parse()?;
+    let taus: TauSpec = a.taus.parse()?;
+    let data_type: DataType = a.data_type.parse()?;
+    // "68.3" is as natural to type as "0.683"; anything else is a mistake.
+    let confidence = if a.confidence >= 1.0 && a.confidence < 100.0 {
+        a.confidence / 100.0
+    } else {
+        a.confidence
+    };
+    if !(confidence > 0.0 && confidence < 1.0) {
+        bail!(
+            "--confidence {}: give a level between 0 and 1 (0.683) or a percentage (68.3)",
+            a.confidence
+        );
+    }
+    if !(a.rate.is_finite() && a.rate > 0.0) {
+        bail!(
+            "--rate {}: the sample rate must be a positive number of Hz",
+            a.rate
+        );
+    }
+    Ok(Options {
+        stat,
+        data_type,
+        rate_hz: a.rate,
+        taus,
+        confidence,
+    })
+}
+
+fn read_channels(file: &Path, wanted: &[String]) -> Result<Vec<Channel>> {
+    let reader = TableReader::open(file)?;
+    let select: Vec<usize> = if wanted.is_empty() {
+        (0..reader.names().len()).collect()
+    } else {
+        wanted
+            .iter()
+            .map(|w| reader.column_index(w))
+            .collect::<Result<_, _>>()?
+    };
+    let table = reader.read(Some(&select))?;
+    let lines = table.lines;
+    Ok(table
+        .names
+        .iter()
+        .zip(table.columns)
+        .zip(&select)
+        .map(|((header, data), &idx)| {
+            let (name, unit) = split_name_unit(header);
+            Channel {
+                file: file.to_path_buf(),
+                column: idx + 1,
+                name: name.to_string(),
+                unit: unit.to_string(),
+                lines,
+                data,
+            }
+        })
+        .collect())
+}
+
+#[derive(Serialize)]
+struct JsonDoc<'a> {
+    schema: &'static str,
+    imutherm_version: &'static str,
+    stat: &'static str,
+    data_type: &'static str,
+    rate_hz: f64,
+    confidence: f64,
+    channels: Vec<JsonChannel<'a>>,
+}
+
+#[derive(Serialize)]
+struct JsonChannel<'a> {
+    name: &'a str,
+    unit: &'a str,
+    file: String,
+    column: usize,
+    samples: usize,
+    nan_samples: usize,
+    points: Vec<JsonPoint>,
+}
+
+#[derive(Serialize)]
+struct JsonPoint {
+    tau: f64,
+    m: usize,
+    dev: f64,
+    n: usize,
+    edf: f64,
+    dev_lo: f64,
+    dev_hi: f64,
+    alpha: i32,
+    noise_id: &'static str,
+}
+
+fn write_json(out: &mut impl Write, opts: &Options, channels: &[Channel], curves: &[Curve]) -> Result<()> {
+    let doc = JsonDoc {
+        schema: SCHEMA,
+        imutherm_version: env!("CARGO_PKG_VERSION"),
+        stat: opts.stat.name(),
+        data_type: opts.data_type.name(),
+        rate_hz: opts.rate_hz,
+        confidence: opts.confidence,
+        channels: channels
+            .iter()
+            .zip(curves)
+            .map(|(ch, c)| JsonChannel {
+                name: &ch.name,
+                unit: &ch.unit,
+                file: ch.file.display().to_string(),
+                column: ch.column,
+                samples: c.samples,
+                nan_samples: c.nan_samples,
+                points: c
+                    .points
+                    .iter()
+                    .map(|p| JsonPoint {
+                        tau: p.tau,
+                        m: p.m,
+                        dev: p.dev,
+                        n: p.n,
+                        edf: p.edf,
+                        dev_lo: p.dev_lo,
+                        dev_hi: p.dev_hi,
+                        alpha: p.alpha,
+                        noise_id: p.noise_id.name(),
+                    })
+                    .collect(),
+            })
+            .collect(),
+    };
+    serde_json::to_writer(&mut *out, &doc)?;
+    writeln!(out)?;
+    Ok(())
+}
+
+/// The unit of the deviation: the data's own, or its integral for the time
+/// deviations (rad/s → rad, m/s² → m/s, fractional frequency → s).
+fn deviation_unit(stat: Stat, data_type: DataType, unit: &str) -> String {
+    let integral = stat.is_time_deviation();
+    match (integral, data_type, unit) {
+        (false, DataType::Freq, u) => u.to_string(),
+        (true, DataType::Phase, u) => u.to_string(),
+        (true, DataType::Freq, "") => "s".to_string(),
+        (true, DataType::Freq, u) => format!("({u})·s"),
+        (false, DataType::Phase, "") => String::new(),
+        (false, DataType::Phase, u) => format!("({u})/s"),
+    }
+}
+
+fn write_tables(out: &mut impl Write, opts: &Options, channels: &[Channel], curves: &[Curve]) -> Result<()> {
+    for (i, (ch, c)) in channels.iter().zip(curves).enumerate() {
+        if i > 0 {
+            writeln!(out)?;
+        }
+        let unit = deviation_unit(opts.stat, opts.data_type, &ch.unit);
+        let unit_label = if unit.is_empty() {
+            String::new()
+        } else {
+            format!(" [{unit}]")
+        };
+        writeln!(
+            out,
+            "# {} — column {} '{}'{}: {} of {} data at {} Hz, {} samples, {} NaN gaps, {:.1} % intervals",
+            ch.file.display(),
+            ch.column,
+            ch.name,
+            if ch.unit.is_empty() {
+                String::new()
+            } else {
+                format!(" [{}]", ch.unit)
+            },
+            opts.stat,
+            opts.data_type,
+            opts.rate_hz,
+            c.samples,
+            c.nan_samples,
+            100.0 * opts.confidence
+        )?;
+        let dev_head = format!("{}{}", opts.stat, unit_label);
+        writeln!(
+            out,
+            "{:>12} {:>9} {:>14} {:>10} {:>10} {:>12} {:>12} {:>6}",
+            "tau [s]", "m", dev_head, "n", "edf", "dev_lo", "dev_hi", "alpha"
+        )?;
+        for p in &c.points {
+            writeln!(
+                out,
+                "{:>12.6e} {:>9} {:>14.6e} {:>10} {:>10.2} {:>12.5e} {:>12.5e} {:>6}",
+                p.tau, p.m, p.dev, p.n, p.edf, p.dev_lo, p.dev_hi, p.alpha
+            )?;
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,26 @@
+//! `imutherm`: the command line over imutherm's libraries.
+//!
+//! Thin glue: flags are defined in [`args`], each subcommand lives in
+//! [`commands`], and this is the only crate that prints. Exit status: 0
+//! success, 1 runtime error, 2 usage error.
+
+mod args;
+mod commands;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+fn main() -> ExitCode {
+    let cli = args::Cli::parse();
+    let result = match cli.command {
+        args::Command::Adev(a) => commands::adev::run(&a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}

@@ -1,0 +1,200 @@
+//! `imutherm adev` end to end: output contract, reference values, bad input.
+
+use std::io::Write;
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+
+fn imutherm() -> Command {
+    Command::cargo_bin("imutherm").unwrap()
+}
+
+fn file(name: &str, content: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(name);
+    std::fs::File::create(&path)
+        .unwrap()
+        .write_all(content.as_bytes())
+        .unwrap();
+    (dir, path)
+}
+
+/// NIST SP 1065 Table 30 input.
+const NBS14_10: &str = "892\n809\n823\n798\n671\n644\n883\n903\n677\n";
+
+#[test]
+fn json_document_follows_the_schema_and_table_30() {
+    let (_d, p) = file("nbs14.txt", NBS14_10);
+    let out = imutherm()
+        .args(["adev", "--stat", "adev", "--json"])
+        .arg(&p)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(doc["schema"], "imutherm.adev/1");
+    assert_eq!(doc["stat"], "adev");
+    assert_eq!(doc["data_type"], "freq");
+    assert_eq!(doc["rate_hz"], 1.0);
+    let ch = &doc["channels"][0];
+    assert_eq!(ch["name"], "col1");
+    assert_eq!(ch["unit"], "");
+    let pts = ch["points"].as_array().unwrap();
+    assert_eq!(pts.len(), 2);
+    // SP 1065 Table 30: ADEV 91.22945 at τ = 1, 115.8082 at τ = 2.
+    for (p, want) in pts.iter().zip([91.22945, 115.8082]) {
+        let dev = p["dev"].as_f64().unwrap();
+        assert!(((dev - want) / want).abs() < 1e-6);
+        for key in ["tau", "m", "n", "edf", "dev_lo", "dev_hi"] {
+            assert!(p[key].is_number(), "{key} missing");
+        }
+        assert!(p["dev_lo"].as_f64().unwrap() < dev && dev < p["dev_hi"].as_f64().unwrap());
+    }
+    assert_eq!(pts[1]["tau"], 2.0);
+    assert_eq!(pts[1]["m"], 2);
+    assert_eq!(pts[1]["n"], 3);
+}
+
+#[test]
+fn header_names_units_channel_selection_and_rate() {
+    let mut body = String::from("# rate 10 Hz\ngyro_x[rad/s], temp[degC]\n");
+    for i in 0..400 {
+        body.push_str(&format!(
+            "{}, {}\n",
+            ((i * 7919) % 101) as f64 * 1e-3,
+            20.0 + i as f64 * 1e-3
+        ));
+    }
+    let (_d, p) = file("imu.csv", &body);
+    let out = imutherm()
+        .args([
+            "adev",
+            "--channels",
+            "gyro_x",
+            "--rate",
+            "10",
+            "--taus",
+            "0.1,0.4,1",
+            "--json",
+        ])
+        .arg(&p)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let chans = doc["channels"].as_array().unwrap();
+    assert_eq!(chans.len(), 1);
+    assert_eq!(chans[0]["name"], "gyro_x");
+    assert_eq!(chans[0]["unit"], "rad/s");
+    let taus: Vec<f64> = chans[0]["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["tau"].as_f64().unwrap())
+        .collect();
+    assert_eq!(taus, [0.1, 0.4, 1.0]);
+
+    // The readable table carries units and the statistic.
+    imutherm()
+        .args(["adev", "--rate", "10"])
+        .arg(&p)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("oadev [rad/s]").and(predicate::str::contains("tau [s]")));
+}
+
+#[test]
+fn gaps_are_counted_and_reported() {
+    let mut body = String::new();
+    for i in 0..300 {
+        if i == 120 {
+            body.push_str("nan\n");
+        } else {
+            body.push_str(&format!("{}\n", ((i * 31) % 17) as f64));
+        }
+    }
+    let (_d, p) = file("gap.txt", &body);
+    let out = imutherm().args(["adev", "--json"]).arg(&p).output().unwrap();
+    assert!(out.status.success());
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(doc["channels"][0]["nan_samples"], 1);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("1 NaN samples treated as gaps"));
+}
+
+#[test]
+fn bad_input_names_file_line_and_column() {
+    let (_d, p) = file("bad.txt", "a,b\n1,2\n3,4\n5,x\n");
+    imutherm()
+        .arg("adev")
+        .arg(&p)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "bad.txt:4: column 2: cannot read 'x' as a number",
+        ));
+
+    let (_d, p) = file("empty.txt", "");
+    imutherm()
+        .arg("adev")
+        .arg(&p)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("empty.txt").and(predicate::str::contains("no data rows")));
+
+    let (_d, p) = file("short.txt", "1\n2\n");
+    imutherm().arg("adev").arg(&p).assert().code(1).stderr(
+        predicate::str::contains("short.txt: column 1 (col1)")
+            .and(predicate::str::contains("data ends at line 2"))
+            .and(predicate::str::contains("needs at least")),
+    );
+
+    let (_d, p) = file("ragged.txt", "1 2\n3 4\n5\n6 7\n");
+    imutherm()
+        .arg("adev")
+        .arg(&p)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "ragged.txt:3: expected 2 fields, found 1",
+        ));
+
+    imutherm()
+        .args(["adev", "/nonexistent/file.txt"])
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("/nonexistent/file.txt"));
+}
+
+#[test]
+fn usage_errors_exit_2_and_bad_values_exit_1() {
+    imutherm().arg("adev").assert().code(2);
+    imutherm().args(["adev", "--bogus", "x"]).assert().code(2);
+    let (_d, p) = file("ok.txt", NBS14_10);
+    imutherm()
+        .args(["adev", "--stat", "fastdev"])
+        .arg(&p)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("unknown statistic 'fastdev'"));
+    imutherm()
+        .args(["adev", "--rate", "0"])
+        .arg(&p)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("--rate"));
+    imutherm()
+        .args(["adev", "--channels", "nope"])
+        .arg(&p)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("no column 'nope'"));
+}
+
+#[test]
+fn help_has_an_example() {
+    imutherm()
+        .args(["adev", "--help"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("Examples:").and(predicate::str::contains("imutherm adev")));
+}
