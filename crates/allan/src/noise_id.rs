@@ -1,0 +1,667 @@
+//! Power-law noise identification at one averaging factor.
+//!
+//! The EDF of a stability estimate, hence its confidence interval, depends on
+//! the dominant power-law noise at that τ: S_y(f) ∝ f^α with α = 2 white PM,
+//! 1 flicker PM, 0 white FM, −1 flicker FM, −2 random-walk FM (and −3, −4 for
+//! the Hadamard statistics). For an IMU's rate output these are, in the
+//! IEEE Std 952 words, quantization-like noise (α = 2), angle/velocity random
+//! walk (α = 0), bias instability (α = −1) and rate random walk (α = −2).
+//!
+//! Methods, in the order tried (as Stable32 and AllanTools do):
+//! 1. **Lag-1 autocorrelation** ([`NoiseIdMethod::Lag1Acf`]), W. J. Riley and
+//!    C. A. Greenhall, "Power law noise identification using the lag 1
+//!    autocorrelation", Proc. 18th EFTF, 2004: needs at least
+//!    [`MIN_ACF_POINTS`] phase points after decimation by m.
+//! 2. **B1 ratio with R(n)** ([`NoiseIdMethod::B1Ratio`]), NIST SP 1065
+//!    (Barnes' B1 bias function, Howe's R(n) = MVAR/AVAR to split white from
+//!    flicker PM): for shorter decimated series, down to
+//!    [`MIN_B1_AVERAGES`] averages of the rate.
+//! 3. Otherwise the documented default [`DEFAULT_ALPHA`] (white FM),
+//!    [`NoiseIdMethod::Assumed`].
+
+use std::f64::consts::PI;
+use std::fmt;
+
+use crate::Stat;
+
+/// Riley & Greenhall's minimum length of the decimated phase series for the
+/// lag-1 autocorrelation method.
+pub const MIN_ACF_POINTS: usize = 30;
+
+/// Fewest rate averages (of m samples each) on which the B1 ratio is still
+/// computed: with fewer, the ratio of the standard to the Allan variance of
+/// the averages carries no information (it is identically 1 for two).
+pub const MIN_B1_AVERAGES: usize = 4;
+
+/// The α assumed when no identification is possible: white FM (α = 0).
+///
+/// It is the noise the stability statistics were designed around, the one
+/// Stable32's and AllanTools' published interval tables assume when noise
+/// identification is off, and the dominant noise of an IMU's rate output at
+/// short and medium τ (angle/velocity random walk).
+pub const DEFAULT_ALPHA: i32 = 0;
+
+/// How the noise type of a point was found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum NoiseIdMethod {
+    /// Lag-1 autocorrelation of the decimated, detrended, differenced phase
+    /// (Riley & Greenhall 2004).
+    Lag1Acf,
+    /// Barnes' B1 ratio (standard / Allan variance of the rate averages),
+    /// with R(n) = MVAR/AVAR separating white and flicker PM (SP 1065).
+    B1Ratio,
+    /// Not identified: the data were too short or degenerate, and α was
+    /// assumed (see [`DEFAULT_ALPHA`]) or given by the caller.
+    Assumed,
+}
+
+impl NoiseIdMethod {
+    /// Short name for tables and JSON: `acf`, `b1`, `assumed`.
+    pub fn name(self) -> &'static str {
+        match self {
+            NoiseIdMethod::Lag1Acf => "acf",
+            NoiseIdMethod::B1Ratio => "b1",
+            NoiseIdMethod::Assumed => "assumed",
+        }
+    }
+}
+
+impl fmt::Display for NoiseIdMethod {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The identified noise type at one averaging factor, with the diagnostics
+/// of the method that found it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NoiseId {
+    /// Power-law exponent α of the rate noise, S_y ∝ f^α, clamped to the
+    /// statistic family's range (−2..=2 Allan, −4..=2 Hadamard).
+    pub alpha: i32,
+    /// How α was found.
+    pub method: NoiseIdMethod,
+    /// Lag-1 autocorrelation r1 of the series after the final differencing
+    /// (lag-1 method only).
+    pub rho: Option<f64>,
+    /// Non-integer estimate of α before rounding and clamping:
+    /// 2 − 2(δ + d) with δ = r1/(1 + r1) (lag-1 method only).
+    pub alpha_estimate: Option<f64>,
+    /// Number of differences d taken (lag-1 method only).
+    pub differences: Option<u32>,
+    /// Measured B1 ratio (B1 method only).
+    pub b1: Option<f64>,
+    /// Measured R(n) = MVAR/AVAR, when it was needed to split white from
+    /// flicker PM (B1 method only).
+    pub rn: Option<f64>,
+}
+
+impl NoiseId {
+    /// A noise type not identified from data but assumed (or given).
+    pub fn assumed(alpha: i32) -> Self {
+        NoiseId {
+            alpha,
+            method: NoiseIdMethod::Assumed,
+            rho: None,
+            alpha_estimate: None,
+            differences: None,
+            b1: None,
+            rn: None,
+        }
+    }
+}
+
+/// Identifies the dominant power-law noise at averaging factor `m` from the
+/// phase series `phase` (integrated rate, no NaN), for the statistic family
+/// of `stat`.
+///
+/// 1. With ≥ [`MIN_ACF_POINTS`] points in `phase[0], phase[m], phase[2m], …`:
+///    Riley & Greenhall's lag-1 ACF method, as AllanTools'
+///    `autocorr_noise_id` (dmin = 0): remove a quadratic fit (frequency
+///    offset and drift), then for d = 0, 1, … compute the lag-1
+///    autocorrelation r1, δ = r1/(1 + r1), and stop when δ < 0.25 or
+///    d = dmax (2 for the Allan family, 3 for HDEV, OHDEV, HTOTDEV);
+///    otherwise difference once more. Then α = 2 − round(2δ) − 2d (rounding
+///    half to even, as NumPy).
+/// 2. Otherwise, with ≥ [`MIN_B1_AVERAGES`] averages of m rate samples: the
+///    B1 ratio of their standard to their Allan variance is compared with
+///    Barnes' theoretical B1(N, μ) at the geometric-mean boundaries between
+///    neighbouring μ (as AllanTools' `b1_boundary`); μ = −2 (white or
+///    flicker PM) is split by R(n) = MVAR/AVAR against its white-PM (1/m)
+///    and flicker-PM (f_h = 1/(2τ0)) values (AllanTools' `rn_boundary`).
+/// 3. Otherwise, or when the data are degenerate (constant after detrending,
+///    non-finite, `m = 0`): [`DEFAULT_ALPHA`], method `Assumed`.
+///
+/// The result is clamped to −2..=2 for the Allan family and −4..=2 for the
+/// Hadamard family. Never panics.
+pub fn identify(phase: &[f64], m: usize, stat: Stat) -> NoiseId {
+    let (alpha_min, d_max) = family_limits(stat);
+    if m == 0 {
+        return NoiseId::assumed(DEFAULT_ALPHA);
+    }
+    if let Some(acf) = lag1_acf_id(phase, m, d_max) {
+        return NoiseId {
+            alpha: acf.alpha.clamp(alpha_min, 2),
+            method: NoiseIdMethod::Lag1Acf,
+            rho: Some(acf.r1),
+            alpha_estimate: Some(acf.alpha_estimate),
+            differences: Some(acf.d),
+            b1: None,
+            rn: None,
+        };
+    }
+    // The ACF path checks the points it uses; this one scans them all, but
+    // runs only at the largest factors, where too few points remain.
+    if phase.iter().any(|v| !v.is_finite()) {
+        return NoiseId::assumed(DEFAULT_ALPHA);
+    }
+    if let Some((alpha, b1, rn)) = b1_id(phase, m, alpha_min) {
+        return NoiseId {
+            alpha: alpha.clamp(alpha_min, 2),
+            method: NoiseIdMethod::B1Ratio,
+            rho: None,
+            alpha_estimate: None,
+            differences: None,
+            b1: Some(b1),
+            rn,
+        };
+    }
+    NoiseId::assumed(DEFAULT_ALPHA)
+}
+
+/// (smallest α, dmax) of the statistic's family: the Hadamard statistics
+/// converge down to α = −4 and are identified with up to three differences.
+fn family_limits(stat: Stat) -> (i32, u32) {
+    match stat {
+        Stat::Hdev | Stat::Ohdev | Stat::Htotdev => (-4, 3),
+        _ => (-2, 2),
+    }
+}
+
+/// Outcome of the lag-1 ACF method before clamping.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct AcfId {
+    alpha: i32,
+    alpha_estimate: f64,
+    d: u32,
+    r1: f64,
+}
+
+/// Riley & Greenhall's lag-1 ACF identification on phase decimated by `m`,
+/// unclamped; `None` below [`MIN_ACF_POINTS`] points or on degenerate data.
+fn lag1_acf_id(phase: &[f64], m: usize, d_max: u32) -> Option<AcfId> {
+    let mut x: Vec<f64> = phase.iter().copied().step_by(m).collect();
+    if x.len() < MIN_ACF_POINTS || x.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    detrend_quadratic(&mut x);
+    let mut d = 0u32;
+    loop {
+        let r1 = lag1_autocorrelation(&x)?;
+        let delta = r1 / (1.0 + r1);
+        if delta < 0.25 || d >= d_max {
+            let p = -2.0 * (delta + f64::from(d));
+            let alpha = -(2.0 * delta).round_ties_even() - 2.0 * f64::from(d) + 2.0;
+            if !alpha.is_finite() {
+                return None;
+            }
+            // |alpha| is small here (r1 ∈ [−1, 1]); clamp before the cast.
+            let alpha = alpha.clamp(-100.0, 100.0) as i32;
+            return Some(AcfId {
+                alpha,
+                alpha_estimate: p + 2.0,
+                d,
+                r1,
+            });
+        }
+        // Difference in place: the series is the largest allocation here.
+        for i in 0..x.len() - 1 {
+            x[i] = x[i + 1] - x[i];
+        }
+        x.pop();
+        d += 1;
+    }
+}
+
+/// Least-squares residual of `x` after removing a quadratic in the sample
+/// index, computed with the discrete orthogonal polynomials 1, t, t² − c on
+/// the centred index t (exact for an evenly spaced grid, and well
+/// conditioned for any length).
+fn detrend_quadratic(x: &mut [f64]) {
+    let n = x.len() as f64;
+    let centre = 0.5 * (n - 1.0);
+    let c = (n * n - 1.0) / 12.0; // mean of t² over the centred grid
+    let (mut s0, mut s1, mut s2, mut q1, mut q2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for (i, &v) in x.iter().enumerate() {
+        let t = i as f64 - centre;
+        let p2 = t * t - c;
+        s0 += v;
+        s1 += v * t;
+        s2 += v * p2;
+        q1 += t * t;
+        q2 += p2 * p2;
+    }
+    let b0 = s0 / n;
+    let b1 = if q1 > 0.0 { s1 / q1 } else { 0.0 };
+    let b2 = if q2 > 0.0 { s2 / q2 } else { 0.0 };
+    for (i, v) in x.iter_mut().enumerate() {
+        let t = i as f64 - centre;
+        *v -= b0 + b1 * t + b2 * (t * t - c);
+    }
+}
+
+/// Lag-1 autocorrelation, Riley & Greenhall eq. (2):
+/// Σ (x_i − x̄)(x_{i+1} − x̄) / Σ (x_i − x̄)². `None` for a constant series.
+fn lag1_autocorrelation(x: &[f64]) -> Option<f64> {
+    if x.len() < 2 {
+        return None;
+    }
+    let mean = x.iter().sum::<f64>() / x.len() as f64;
+    let num: f64 = x.windows(2).map(|w| (w[0] - mean) * (w[1] - mean)).sum();
+    let den: f64 = x.iter().map(|v| (v - mean).powi(2)).sum();
+    let r1 = num / den;
+    (den > 0.0 && r1.is_finite()).then_some(r1)
+}
+
+/// Barnes' B1(N, μ): expected ratio of the N-sample to the two-sample
+/// variance for noise whose Allan variance goes as τ^μ (SP 1065; Barnes
+/// 1974): N(1 − N^μ)/(2(N − 1)(1 − 2^μ)), and N·ln N/(2(N − 1)·ln 2) at μ = 0.
+fn b1_theory(n: f64, mu: i32) -> f64 {
+    if mu == 0 {
+        n * n.ln() / (2.0 * (n - 1.0) * 2f64.ln())
+    } else {
+        n * (1.0 - n.powi(mu)) / (2.0 * (n - 1.0) * (1.0 - 2f64.powi(mu)))
+    }
+}
+
+/// α for Barnes' μ (μ = −2 is white *or* flicker PM, split by R(n)).
+fn mu_to_alpha(mu: i32) -> i32 {
+    -1 - mu
+}
+
+/// The B1-ratio identification of Stable32 and AllanTools: `Some((alpha, b1,
+/// rn))`, or `None` when fewer than [`MIN_B1_AVERAGES`] averages exist or the
+/// data are degenerate.
+fn b1_id(phase: &[f64], m: usize, alpha_min: i32) -> Option<(i32, f64, Option<f64>)> {
+    let n_avg = phase.len().saturating_sub(1) / m;
+    if n_avg < MIN_B1_AVERAGES {
+        return None;
+    }
+    // Rate averages over m samples (any common scale cancels in the ratio).
+    let y: Vec<f64> = (0..n_avg).map(|k| phase[(k + 1) * m] - phase[k * m]).collect();
+    let n = n_avg as f64;
+    let mean = y.iter().sum::<f64>() / n;
+    let var = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    let avar = 0.5 * y.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() / (n - 1.0);
+    let b1 = var / avar;
+    if !(b1.is_finite() && avar > 0.0) {
+        return None;
+    }
+    // Candidate μ from white/flicker PM (−2) up to the family's reddest noise.
+    let mu_max = -1 - alpha_min;
+    let mut mu = -2;
+    while mu < mu_max {
+        let boundary = (b1_theory(n, mu) * b1_theory(n, mu + 1)).sqrt();
+        if b1 < boundary {
+            break;
+        }
+        mu += 1;
+    }
+    if mu != -2 {
+        return Some((mu_to_alpha(mu), b1, None));
+    }
+    // White vs flicker PM by R(n) = MVAR/AVAR at m.
+    let rn = modified_to_allan_ratio(phase, m)?;
+    let mf = m as f64;
+    let rn_white = 1.0 / mf;
+    // SP 1065 / IEEE 1139: flicker PM AVAR ∝ (1.038 + 3 ln(2π f_h τ))/(4π²),
+    // MVAR ∝ 3 ln(256/27)/(8π²), with f_h = 1/(2τ0).
+    let avar_flicker = (1.038 + 3.0 * (2.0 * PI * 0.5 * mf).ln()) / (4.0 * PI * PI);
+    let mvar_flicker = 3.0 * (256.0f64 / 27.0).ln() / (8.0 * PI * PI);
+    let rn_flicker = mvar_flicker / avar_flicker;
+    let boundary = (rn_white * rn_flicker).sqrt();
+    let alpha = if rn < boundary { 2 } else { 1 };
+    Some((alpha, b1, Some(rn)))
+}
+
+/// R(n) = MVAR/AVAR at averaging factor m, both overlapped estimators on the
+/// full phase series (SP 1065 eqs. 11 and 15; τ cancels).
+fn modified_to_allan_ratio(x: &[f64], m: usize) -> Option<f64> {
+    let n = x.len();
+    let terms_mod = n.checked_sub(3 * m)?.checked_add(1)?;
+    if terms_mod == 0 {
+        return None;
+    }
+    let second = |i: usize| x[i + 2 * m] - 2.0 * x[i + m] + x[i];
+    let terms_avar = n - 2 * m;
+    let avar = (0..terms_avar).map(|i| second(i).powi(2)).sum::<f64>() / terms_avar as f64;
+    // Running sum of m consecutive second differences.
+    let mut window: f64 = (0..m).map(second).sum();
+    let mut mvar = window * window;
+    for j in 1..terms_mod {
+        window += second(j + m - 1) - second(j - 1);
+        mvar += window * window;
+    }
+    let mf = m as f64;
+    let mvar = mvar / (terms_mod as f64 * mf * mf);
+    let rn = mvar / avar;
+    (rn.is_finite() && avar > 0.0).then_some(rn)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The NBS14 1000-point rate set: LCG n0 = 1234567890,
+    /// n' = 16807·n mod (2³¹ − 1), y = n/(2³¹ − 1) (NIST SP 1065 test data).
+    fn lcg_rate() -> Vec<f64> {
+        let mut v: u64 = 1_234_567_890;
+        (0..1000)
+            .map(|_| {
+                let y = v as f64 / 2_147_483_647.0;
+                v = 16_807 * v % 2_147_483_647;
+                y
+            })
+            .collect()
+    }
+
+    /// [0, cumsum(y − mean y)]: rate integrated to phase.
+    fn integrate(y: &[f64]) -> Vec<f64> {
+        let mean = y.iter().sum::<f64>() / y.len() as f64;
+        let mut x = Vec::with_capacity(y.len() + 1);
+        let mut acc = 0.0;
+        x.push(acc);
+        for v in y {
+            acc += v - mean;
+            x.push(acc);
+        }
+        x
+    }
+
+    /// Deterministic series for the AllanTools comparison, built as the
+    /// generator builds them: "wpm" the LCG values used as phase, "wfm"
+    /// PHASE.DAT (integrated LCG), "rwfm" PHASE.DAT integrated once more.
+    fn lcg_series(name: &str) -> Vec<f64> {
+        let y = lcg_rate();
+        let wfm = integrate(&y);
+        match name {
+            "wpm" => y,
+            "wfm" => wfm,
+            _ => {
+                let mut acc = 0.0;
+                let mut x = vec![0.0];
+                for v in &wfm {
+                    acc += v;
+                    x.push(acc);
+                }
+                x
+            }
+        }
+    }
+
+    /// AllanTools 2024.6 `ci.autocorr_noise_id(x, af, data_type="phase",
+    /// dmin=0, dmax)`: (series, dmax, af, alpha_int, alpha, d, rho) with
+    /// AllanTools' rho = r1/(1 + r1). Generator:
+    /// crates/allan/tests/fixtures/edf_ci_noise_id_reference.py, section "acf".
+    #[rustfmt::skip]
+    const ALLANTOOLS_ACF: &[(&str, u32, usize, i32, f64, u32, f64)] = &[
+        ("wpm", 2, 1, 2, 2.055974805742119, 0, -0.027987402871059705),
+        ("wpm", 2, 2, 2, 1.9893144085183945, 0, 0.005342795740802787),
+        ("wpm", 2, 4, 2, 1.7528875875077206, 0, 0.12355620624613967),
+        ("wpm", 2, 8, 2, 1.763806561818435, 0, 0.1180967190907825),
+        ("wpm", 2, 16, 2, 2.0532885438457367, 0, -0.02664427192286837),
+        ("wpm", 2, 32, 2, 1.84511265296844, 0, 0.07744367351577998),
+        ("wpm", 3, 1, 2, 2.055974805742119, 0, -0.027987402871059705),
+        ("wpm", 3, 2, 2, 1.9893144085183945, 0, 0.005342795740802787),
+        ("wpm", 3, 4, 2, 1.7528875875077206, 0, 0.12355620624613967),
+        ("wpm", 3, 8, 2, 1.763806561818435, 0, 0.1180967190907825),
+        ("wpm", 3, 16, 2, 2.0532885438457367, 0, -0.02664427192286837),
+        ("wpm", 3, 32, 2, 1.84511265296844, 0, 0.07744367351577998),
+        ("wfm", 2, 1, 0, 0.0548546443509248, 1, -0.027427322175462412),
+        ("wfm", 2, 2, 0, 0.058516077729898086, 1, -0.029258038864949),
+        ("wfm", 2, 4, 0, 0.10663215247008262, 1, -0.05331607623504134),
+        ("wfm", 2, 8, 0, 0.39808903862923906, 1, -0.19904451931461953),
+        ("wfm", 2, 16, 0, -0.3039411567852346, 1, 0.15197057839261735),
+        ("wfm", 2, 32, 0, 0.11008186424207644, 1, -0.05504093212103817),
+        ("wfm", 3, 1, 0, 0.0548546443509248, 1, -0.027427322175462412),
+        ("wfm", 3, 2, 0, 0.058516077729898086, 1, -0.029258038864949),
+        ("wfm", 3, 4, 0, 0.10663215247008262, 1, -0.05331607623504134),
+        ("wfm", 3, 8, 0, 0.39808903862923906, 1, -0.19904451931461953),
+        ("wfm", 3, 16, 0, -0.3039411567852346, 1, 0.15197057839261735),
+        ("wfm", 3, 32, 0, 0.11008186424207644, 1, -0.05504093212103817),
+        ("rwfm", 2, 1, -2, -1.9452234882116861, 2, -0.027388255894156888),
+        ("rwfm", 2, 2, -2, -2.3119555759238075, 2, 0.15597778796190365),
+        ("rwfm", 2, 4, -2, -2.2812990923585366, 2, 0.14064954617926842),
+        ("rwfm", 2, 8, -2, -2.3319965543015178, 2, 0.16599827715075874),
+        ("rwfm", 2, 16, -3, -2.601443027728916, 2, 0.3007215138644577),
+        ("rwfm", 2, 32, -2, -2.425750134157326, 2, 0.2128750670786631),
+        ("rwfm", 3, 1, -2, -1.9452234882116861, 2, -0.027388255894156888),
+        ("rwfm", 3, 2, -2, -2.3119555759238075, 2, 0.15597778796190365),
+        ("rwfm", 3, 4, -2, -2.2812990923585366, 2, 0.14064954617926842),
+        ("rwfm", 3, 8, -2, -2.3319965543015178, 2, 0.16599827715075874),
+        ("rwfm", 3, 16, -4, -3.675762253608669, 3, -0.1621188731956656),
+        ("rwfm", 3, 32, -2, -2.425750134157326, 2, 0.2128750670786631),
+    ];
+
+    #[test]
+    fn lag1_acf_matches_allantools() {
+        for &(name, d_max, m, alpha_int, alpha, d, delta) in ALLANTOOLS_ACF {
+            let x = lcg_series(name);
+            let got = lag1_acf_id(&x, m, d_max).expect("acf id");
+            let ctx = format!("{name} dmax={d_max} m={m}: {got:?}");
+            assert_eq!(got.alpha, alpha_int, "{ctx}");
+            assert_eq!(got.d, d, "{ctx}");
+            assert!((got.alpha_estimate - alpha).abs() < 1e-10, "{ctx} vs {alpha}");
+            let got_delta = got.r1 / (1.0 + got.r1);
+            assert!((got_delta - delta).abs() < 1e-10, "{ctx} vs {delta}");
+        }
+    }
+
+    #[test]
+    fn identify_clamps_to_the_family_range() {
+        // Integrated PHASE.DAT at m = 16: AllanTools says α = −3 with dmax = 2
+        // and −4 with dmax = 3 (table above).
+        let x = lcg_series("rwfm");
+        let allan = identify(&x, 16, Stat::Oadev);
+        assert_eq!(allan.method, NoiseIdMethod::Lag1Acf);
+        assert_eq!(allan.alpha, -2);
+        assert_eq!(allan.differences, Some(2));
+        let hadamard = identify(&x, 16, Stat::Ohdev);
+        assert_eq!(hadamard.alpha, -4);
+        assert_eq!(hadamard.differences, Some(3));
+        // PHASE.DAT itself is white FM at every octave Stable32 lists
+        // (allantools_phasedat/phase_dat_oadev_octave.txt, Alpha column 0).
+        let x = lcg_series("wfm");
+        for m in [1, 2, 4, 8, 16, 32] {
+            let id = identify(&x, m, Stat::Oadev);
+            assert_eq!((id.alpha, id.method), (0, NoiseIdMethod::Lag1Acf), "m={m}");
+        }
+    }
+
+    /// splitmix64 (Steele, Lea & Flood 2014): a tiny deterministic generator.
+    struct SplitMix(u64);
+
+    impl SplitMix {
+        fn next_u64(&mut self) -> u64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        }
+
+        /// Uniform in (0, 1].
+        fn uniform(&mut self) -> f64 {
+            ((self.next_u64() >> 11) as f64 + 1.0) / (1u64 << 53) as f64
+        }
+
+        /// Standard normal by Box–Muller.
+        fn gauss(&mut self) -> f64 {
+            let (u1, u2) = (self.uniform(), self.uniform());
+            (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+        }
+
+        fn white(&mut self, n: usize) -> Vec<f64> {
+            (0..n).map(|_| self.gauss()).collect()
+        }
+    }
+
+    fn cumsum(y: &[f64]) -> Vec<f64> {
+        let mut acc = 0.0;
+        std::iter::once(0.0)
+            .chain(y.iter().map(|v| {
+                acc += v;
+                acc
+            }))
+            .collect()
+    }
+
+    const N_RATE: usize = 8192;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(24))]
+
+        /// White FM: i.i.d. rate samples integrated to phase → α = 0.
+        #[test]
+        fn white_fm_is_identified(seed in any::<u64>()) {
+            let phase = cumsum(&SplitMix(seed).white(N_RATE));
+            for m in [1, 2, 4, 8, 16] {
+                for stat in [Stat::Oadev, Stat::Mdev, Stat::Ohdev] {
+                    let id = identify(&phase, m, stat);
+                    prop_assert_eq!(id.method, NoiseIdMethod::Lag1Acf);
+                    prop_assert_eq!(id.alpha, 0, "m={} {} {:?}", m, stat, id);
+                }
+            }
+        }
+
+        /// Random-walk FM: the rate is a random walk → α = −2.
+        #[test]
+        fn random_walk_fm_is_identified(seed in any::<u64>()) {
+            let rate = cumsum(&SplitMix(seed).white(N_RATE));
+            let phase = cumsum(&rate);
+            for m in [1, 2, 4] {
+                for stat in [Stat::Oadev, Stat::Hdev] {
+                    let id = identify(&phase, m, stat);
+                    prop_assert_eq!(id.alpha, -2, "m={} {} {:?}", m, stat, id);
+                }
+            }
+        }
+
+        /// White PM: i.i.d. phase samples → α = 2.
+        #[test]
+        fn white_pm_is_identified(seed in any::<u64>()) {
+            let phase = SplitMix(seed).white(N_RATE);
+            for m in [1, 2, 4, 8, 16] {
+                for stat in [Stat::Adev, Stat::Ohdev] {
+                    let id = identify(&phase, m, stat);
+                    prop_assert_eq!(id.alpha, 2, "m={} {} {:?}", m, stat, id);
+                }
+            }
+        }
+    }
+
+    /// Fraction of `seeds` series for which the B1 fallback finds `want`.
+    fn b1_hit_rate(make: impl Fn(&mut SplitMix) -> Vec<f64>, m: usize, want: i32) -> f64 {
+        let seeds = 200u64;
+        let mut hits = 0;
+        for seed in 0..seeds {
+            let phase = make(&mut SplitMix(seed));
+            let id = identify(&phase, m, Stat::Oadev);
+            assert_eq!(id.method, NoiseIdMethod::B1Ratio, "{id:?}");
+            assert!(id.b1.is_some());
+            hits += usize::from(id.alpha == want);
+        }
+        hits as f64 / seeds as f64
+    }
+
+    #[test]
+    fn b1_fallback_below_thirty_points() {
+        // 200 rate samples at m = 10: 21 decimated phase points (< 30), 20
+        // averages. B1 is a coarse statistic on so few averages: the right
+        // noise must still win clearly over 200 seeded series.
+        let wfm = b1_hit_rate(|g| cumsum(&g.white(200)), 10, 0);
+        let rwfm = b1_hit_rate(|g| cumsum(&cumsum(&g.white(200))), 10, -2);
+        let wpm = b1_hit_rate(|g| g.white(201), 10, 2);
+        assert!(wfm > 0.6, "white FM hit rate {wfm}");
+        assert!(rwfm > 0.6, "random-walk FM hit rate {rwfm}");
+        assert!(wpm > 0.6, "white PM hit rate {wpm}");
+    }
+
+    #[test]
+    fn b1_theory_limits() {
+        // Barnes' B1 at μ = −1 is 1 for every N; at μ = 1 it is N/2; μ = 2
+        // N(N+1)/6; μ = −2 (N² − 1)/(1.5·N(N − 1)) (AllanTools' b1_theory).
+        for n in [4.0, 20.0, 1000.0] {
+            assert!((b1_theory(n, -1) - 1.0).abs() < 1e-14);
+            assert!((b1_theory(n, 1) - n / 2.0).abs() < 1e-12 * n);
+            assert!((b1_theory(n, 2) - n * (n + 1.0) / 6.0).abs() < 1e-12 * n * n);
+            let want = (n * n - 1.0) / (1.5 * n * (n - 1.0));
+            assert!((b1_theory(n, -2) - want).abs() < 1e-14);
+        }
+        assert_eq!(mu_to_alpha(-1), 0);
+        assert_eq!(mu_to_alpha(1), -2);
+        assert_eq!(mu_to_alpha(3), -4);
+    }
+
+    #[test]
+    fn modified_to_allan_ratio_is_one_at_m1_and_small_for_white_pm() {
+        let x = SplitMix(7).white(4000);
+        let r1 = modified_to_allan_ratio(&x, 1).expect("rn");
+        assert!((r1 - 1.0).abs() < 1e-12);
+        let r10 = modified_to_allan_ratio(&x, 10).expect("rn");
+        assert!((r10 - 0.1).abs() < 0.02, "{r10}");
+    }
+
+    #[test]
+    fn detrend_removes_a_quadratic_exactly() {
+        let mut x: Vec<f64> = (0..50)
+            .map(|i| 3.0 - 0.5 * i as f64 + 0.01 * (i * i) as f64)
+            .collect();
+        detrend_quadratic(&mut x);
+        assert!(x.iter().all(|r| r.abs() < 1e-12));
+    }
+
+    #[test]
+    fn defaults_and_degenerate_inputs() {
+        let assumed = NoiseId::assumed(DEFAULT_ALPHA);
+        assert_eq!(assumed.method, NoiseIdMethod::Assumed);
+        assert_eq!(assumed.alpha, 0);
+        let x = lcg_series("wfm");
+        assert_eq!(identify(&x, 0, Stat::Adev), assumed);
+        assert_eq!(identify(&[], 1, Stat::Adev), assumed);
+        assert_eq!(identify(&x, 5000, Stat::Adev), assumed);
+        assert_eq!(identify(&x, 300, Stat::Adev), assumed); // 3 averages
+        assert_eq!(identify(&vec![1.5; 100], 1, Stat::Adev), assumed);
+        let linear: Vec<f64> = (0..100).map(|i| i as f64).collect();
+        assert_eq!(identify(&linear, 2, Stat::Hdev), assumed);
+        let mut gap = x.clone();
+        gap[10] = f64::NAN;
+        assert_eq!(identify(&gap, 1, Stat::Adev), assumed);
+        gap[10] = f64::INFINITY;
+        assert_eq!(identify(&gap, 1, Stat::Adev), assumed);
+        assert_eq!(NoiseIdMethod::Lag1Acf.to_string(), "acf");
+    }
+
+    #[test]
+    fn never_panics_on_short_series() {
+        let x = lcg_series("wfm");
+        for len in 0..45 {
+            for m in 1..50 {
+                for stat in Stat::ALL {
+                    let id = identify(&x[..len], m, stat);
+                    let lo = if matches!(stat, Stat::Hdev | Stat::Ohdev | Stat::Htotdev) {
+                        -4
+                    } else {
+                        -2
+                    };
+                    assert!((lo..=2).contains(&id.alpha), "{len} {m} {stat}: {id:?}");
+                }
+            }
+        }
+        // Alternating phase: r1 = −1 exactly.
+        let alt: Vec<f64> = (0..64).map(|i| if i % 2 == 0 { 1.0 } else { -1.0 }).collect();
+        let id = identify(&alt, 1, Stat::Adev);
+        assert!((-2..=2).contains(&id.alpha), "{id:?}");
+    }
+}
