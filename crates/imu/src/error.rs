@@ -44,6 +44,16 @@ pub enum ReadErrorKind {
         /// The columns there are.
         available: String,
     },
+    /// A unit imutherm does not know, given for a column.
+    #[error(
+        "unknown unit '{unit}' for column '{column}' (known: m/s^2, g, mg, ug, rad/s, deg/s, deg/h, degC, K, s, ms, us, ns)"
+    )]
+    UnknownUnit {
+        /// The column.
+        column: String,
+        /// The unit text.
+        unit: String,
+    },
     /// A line that is not valid UTF-8 text.
     #[error("the line is not UTF-8 text")]
     NotText,

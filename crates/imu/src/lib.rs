@@ -22,6 +22,12 @@
 
 pub mod error;
 pub mod header;
+pub mod log;
+pub mod recording;
 pub mod table;
+pub mod units;
 
 pub use error::{ReadError, ReadErrorKind};
+pub use log::{LogFormat, LogWriter, RecordingOptions, read_recording, write_recording};
+pub use recording::{Axis, Channel, Metadata, Recording};
+pub use units::{Quantity, Unit};

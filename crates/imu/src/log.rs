@@ -1,0 +1,386 @@
+//! The thesis log and imutherm's own log: writing, and reading into a
+//! [`Recording`].
+//!
+//! The thesis log is a header line
+//! `mpu_accel_1[m/^2], …, mpu_gyro_3[rad/s], temp[degC]` and one
+//! comma-separated row per sample, with no time column. imutherm's log is the
+//! same body after `# key: value` metadata lines (format, sample rate,
+//! device, configuration, start time, version): anything that reads the
+//! thesis format after skipping `#` lines reads it.
+
+use std::io::{self, Write};
+use std::path::Path;
+
+use crate::error::{ReadError, ReadErrorKind};
+use crate::header::split_name_unit;
+use crate::recording::{Axis, Channel, Metadata, Recording, standard_name};
+use crate::table::TableReader;
+use crate::units::{Quantity, Unit, parse_unit};
+
+/// The thesis log's header, exactly as its logger wrote it (with the `m/^2`
+/// misprint, which readers of that format expect).
+pub const THESIS_HEADER: &str = "mpu_accel_1[m/^2], mpu_accel_2[m/^2], mpu_accel_3[m/^2], \
+mpu_gyro_1[rad/s], mpu_gyro_2[rad/s], mpu_gyro_3[rad/s], temp[degC]";
+
+/// The value of imutherm's `# format:` line.
+pub const IMUTHERM_FORMAT: &str = "imutherm-log/1";
+
+/// Metadata key of the sample rate.
+pub const KEY_RATE: &str = "sample_rate_hz";
+
+/// Which flavour to write.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LogFormat {
+    /// Header and rows only.
+    Thesis,
+    /// `# key: value` metadata, then the thesis body.
+    Imutherm,
+}
+
+/// Writes IMU samples row by row: accel x/y/z (m/s²), gyro x/y/z (rad/s),
+/// temperature (°C). Numbers are written in their shortest exact form, so
+/// reading the file back gives the same bits.
+pub struct LogWriter<W: Write> {
+    out: W,
+    line: Vec<u8>,
+    rows: u64,
+}
+
+impl<W: Write> LogWriter<W> {
+    /// Starts a log: metadata (imutherm format only) and the header.
+    /// `rate_hz` goes into the metadata as `sample_rate_hz`.
+    pub fn new(mut out: W, format: LogFormat, meta: &Metadata, rate_hz: Option<f64>) -> io::Result<Self> {
+        if format == LogFormat::Imutherm {
+            writeln!(out, "# format: {IMUTHERM_FORMAT}")?;
+            if let Some(r) = rate_hz {
+                writeln!(out, "# {KEY_RATE}: {r}")?;
+            }
+            if let Some(d) = &meta.device {
+                writeln!(out, "# device: {}", one_line(d))?;
+            }
+            if let Some(t) = &meta.start_time {
+                writeln!(out, "# start_time: {}", one_line(t))?;
+            }
+            for (k, v) in &meta.entries {
+                let reserved = ["format", KEY_RATE, "device", "start_time"];
+                if !reserved.contains(&k.as_str()) {
+                    writeln!(out, "# {}: {}", one_line(k).replace(':', "_"), one_line(v))?;
+                }
+            }
+        }
+        writeln!(out, "{THESIS_HEADER}")?;
+        Ok(LogWriter {
+            out,
+            line: Vec::with_capacity(192),
+            rows: 0,
+        })
+    }
+
+    /// Writes one sample: `[ax, ay, az, gx, gy, gz, temp]` in SI.
+    pub fn write_row(&mut self, row: &[f64; 7]) -> io::Result<()> {
+        self.line.clear();
+        let mut buf = ryu::Buffer::new();
+        for (i, v) in row.iter().enumerate() {
+            if i > 0 {
+                self.line.extend_from_slice(b", ");
+            }
+            let text = if v.is_finite() {
+                buf.format_finite(*v)
+            } else {
+                "nan"
+            };
+            self.line.extend_from_slice(text.as_bytes());
+        }
+        self.line.push(b'\n');
+        self.rows += 1;
+        self.out.write_all(&self.line)
+    }
+
+    /// Rows written so far.
+    pub fn rows(&self) -> u64 {
+        self.rows
+    }
+
+    /// Flushes the underlying writer.
+    pub fn flush(&mut self) -> io::Result<()> {
+        self.out.flush()
+    }
+
+    /// Gives the writer back.
+    pub fn into_inner(self) -> W {
+        self.out
+    }
+}
+
+fn one_line(s: &str) -> String {
+    s.replace(['\n', '\r'], " ")
+}
+
+/// Writes a whole recording that has the six inertial channels and the
+/// temperature. Missing channels are an error, not zeros.
+pub fn write_recording<W: Write>(out: W, rec: &Recording, format: LogFormat) -> io::Result<W> {
+    let order = [
+        (Quantity::Acceleration, Axis::X),
+        (Quantity::Acceleration, Axis::Y),
+        (Quantity::Acceleration, Axis::Z),
+        (Quantity::AngularRate, Axis::X),
+        (Quantity::AngularRate, Axis::Y),
+        (Quantity::AngularRate, Axis::Z),
+    ];
+    let mut cols: Vec<&[f64]> = Vec::with_capacity(7);
+    for (q, a) in order {
+        let ch = rec
+            .channels
+            .iter()
+            .find(|c| c.quantity == q && c.axis == Some(a))
+            .ok_or_else(|| {
+                io::Error::new(
+                    io::ErrorKind::InvalidInput,
+                    format!("the recording has no {} channel", standard_name(q, Some(a))),
+                )
+            })?;
+        cols.push(&ch.data);
+    }
+    let temp = rec.temperature().ok_or_else(|| {
+        io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "the recording has no temperature channel",
+        )
+    })?;
+    cols.push(&temp.data);
+    let mut w = LogWriter::new(out, format, &rec.meta, rec.rate_hz)?;
+    for i in 0..rec.len() {
+        let mut row = [0.0; 7];
+        for (dst, col) in row.iter_mut().zip(&cols) {
+            *dst = col.get(i).copied().unwrap_or(f64::NAN);
+        }
+        w.write_row(&row)?;
+    }
+    w.flush()?;
+    Ok(w.into_inner())
+}
+
+/// How to read a recording.
+#[derive(Debug, Clone, Default)]
+pub struct RecordingOptions {
+    /// Sample rate in Hz; overrides the file's metadata.
+    pub rate_hz: Option<f64>,
+    /// Unit per column (by header name or imutherm name), overriding the
+    /// header's: `("gyro_x", "deg/s")`.
+    pub units: Vec<(String, String)>,
+}
+
+/// What a column is, judged from its header.
+fn classify(header: &str, unit_override: Option<&str>) -> (String, Quantity, Option<Axis>, Unit, String) {
+    let (name, unit_text) = split_name_unit(header);
+    let unit_text = unit_override.unwrap_or(unit_text);
+    let lower = name.to_ascii_lowercase();
+    let axis = match lower.chars().last() {
+        Some('1' | 'x') => Some(Axis::X),
+        Some('2' | 'y') => Some(Axis::Y),
+        Some('3' | 'z') => Some(Axis::Z),
+        _ => None,
+    };
+    let by_name = if lower.contains("acc") {
+        Some(Quantity::Acceleration)
+    } else if lower.contains("gyr") {
+        Some(Quantity::AngularRate)
+    } else if lower.starts_with("temp") || lower.ends_with("temp") || lower.contains("temperature") {
+        Some(Quantity::Temperature)
+    } else {
+        None
+    };
+    let parsed = parse_unit(unit_text);
+    // The unit decides the quantity when it is known; the name only when the
+    // header carries no unit (imutherm's names are in SI).
+    let unit = match (parsed, by_name) {
+        (Some(u), _) => u,
+        (None, Some(q)) if unit_text.is_empty() => Unit::si(q),
+        _ => Unit {
+            quantity: Quantity::Other,
+            scale: 1.0,
+            offset: 0.0,
+        },
+    };
+    let quantity = unit.quantity;
+    let axis = if matches!(quantity, Quantity::Acceleration | Quantity::AngularRate) {
+        axis
+    } else {
+        None
+    };
+    let imu_name = match (quantity, axis) {
+        (Quantity::Acceleration | Quantity::AngularRate, Some(_)) | (Quantity::Temperature, _) => {
+            standard_name(quantity, axis)
+        }
+        _ => name.to_string(),
+    };
+    let unit_label = match quantity {
+        Quantity::Other => unit_text.to_string(),
+        q => q.si_unit().to_string(),
+    };
+    (imu_name, quantity, axis, unit, unit_label)
+}
+
+/// Reads a thesis log, an imutherm log, or any numeric column file with a
+/// header into a [`Recording`] in SI units.
+pub fn read_recording(path: &Path, opts: &RecordingOptions) -> Result<Recording, ReadError> {
+    let reader = TableReader::open(path)?;
+    let mut meta = Metadata {
+        source: Some(path.to_path_buf()),
+        ..Metadata::default()
+    };
+    for c in reader.comments() {
+        if let Some((k, v)) = c.split_once(':') {
+            let (k, v) = (k.trim(), v.trim());
+            if !k.is_empty() && !k.contains(' ') {
+                match k {
+                    "device" => meta.device = Some(v.to_string()),
+                    "start_time" => meta.start_time = Some(v.to_string()),
+                    _ => {}
+                }
+                meta.set(k, v);
+            }
+        }
+    }
+    let file_rate = meta.get(KEY_RATE).and_then(|v| v.parse::<f64>().ok());
+    let headers: Vec<String> = reader.names().to_vec();
+    let table = reader.read(None)?;
+    let mut channels = Vec::with_capacity(headers.len());
+    for (header, mut data) in headers.iter().zip(table.columns) {
+        let (name, _) = split_name_unit(header);
+        let over = opts
+            .units
+            .iter()
+            .find(|(k, _)| k.eq_ignore_ascii_case(name) || k.eq_ignore_ascii_case(header))
+            .map(|(_, u)| u.as_str());
+        if let Some(u) = over
+            && parse_unit(u).is_none()
+        {
+            return Err(ReadError::new(
+                path,
+                ReadErrorKind::UnknownUnit {
+                    column: header.clone(),
+                    unit: u.to_string(),
+                },
+            ));
+        }
+        let (imu_name, quantity, axis, unit, unit_label) = classify(header, over);
+        if !unit.is_identity() {
+            data.iter_mut().for_each(|v| *v = unit.to_si(*v));
+        }
+        channels.push(Channel {
+            name: imu_name,
+            source_name: header.clone(),
+            quantity,
+            axis,
+            unit: unit_label,
+            data,
+        });
+    }
+    Ok(Recording {
+        channels,
+        rate_hz: opts.rate_hz.or(file_rate),
+        timestamps: None,
+        meta,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The first rows of the thesis's own log (slides, "Software Design").
+    const THESIS_ROWS: &str = "mpu_accel_1[m/^2], mpu_accel_2[m/^2], mpu_accel_3[m/^2], mpu_gyro_1[rad/s], mpu_gyro_2[rad/s], mpu_gyro_3[rad/s], temp[degC]
+0.8786720092773437, 0.19632453613281248, 9.344569079589844, -0.03677179134860051, 0.022649291772688717, 0.01891882018659881, 4.062269745709408
+0.8810662109374999, 0.22026655273437498, 9.363722692871093, -0.036238866836301946, 0.023182216284987275, 0.01945174469889737, 4.074250456764609
+";
+
+    #[test]
+    fn reads_the_thesis_log() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("thesis.txt");
+        std::fs::write(&p, THESIS_ROWS).unwrap();
+        let rec = read_recording(&p, &RecordingOptions::default()).unwrap();
+        let names: Vec<&str> = rec.channels.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z", "temp"
+            ]
+        );
+        assert_eq!(rec.inertial().len(), 6);
+        assert_eq!(rec.channel("gyro_x").unwrap().data[1], -0.036238866836301946);
+        assert_eq!(rec.channel("mpu_gyro_1[rad/s]").unwrap().unit, "rad/s");
+        assert_eq!(rec.channel("accel_z").unwrap().unit, "m/s^2");
+        assert_eq!(rec.rate_hz, None);
+        assert_eq!(rec.len(), 2);
+    }
+
+    #[test]
+    fn imutherm_log_round_trips_bit_for_bit() {
+        let mut meta = Metadata {
+            device: Some("sim:mpu9250-thesis".into()),
+            start_time: Some("2026-11-22T10:00:00Z".into()),
+            ..Metadata::default()
+        };
+        meta.set("gyro_full_scale_dps", "250");
+        let mut rec = Recording {
+            rate_hz: Some(200.0),
+            meta,
+            ..Recording::default()
+        };
+        let vals = |k: f64| {
+            (0..5)
+                .map(|i| (i as f64 + k) * 0.1 + 1e-9 / 3.0)
+                .collect::<Vec<_>>()
+        };
+        for (i, q) in [Quantity::Acceleration, Quantity::AngularRate]
+            .into_iter()
+            .enumerate()
+        {
+            for (j, a) in Axis::ALL.into_iter().enumerate() {
+                rec.channels
+                    .push(Channel::inertial(q, a, vals((3 * i + j) as f64)));
+            }
+        }
+        rec.channels.push(Channel::temperature(vals(40.0)));
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("log.txt");
+        write_recording(std::fs::File::create(&p).unwrap(), &rec, LogFormat::Imutherm).unwrap();
+        let back = read_recording(&p, &RecordingOptions::default()).unwrap();
+        assert_eq!(back.rate_hz, Some(200.0));
+        assert_eq!(back.meta.device.as_deref(), Some("sim:mpu9250-thesis"));
+        assert_eq!(back.meta.get("gyro_full_scale_dps"), Some("250"));
+        for (a, b) in rec.channels.iter().zip(&back.channels) {
+            assert_eq!(a.name, b.name);
+            assert_eq!(a.data, b.data);
+        }
+        // Still a thesis file once the comments are skipped.
+        let text = std::fs::read_to_string(&p).unwrap();
+        let body: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+        assert_eq!(body[0], THESIS_HEADER);
+    }
+
+    #[test]
+    fn units_convert_and_can_be_overridden() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("g.csv");
+        std::fs::write(&p, "gyro_x[deg/s],acc_z[g],gyro_y,pressure[hPa]\n180,1,90,1013\n").unwrap();
+        let opts = RecordingOptions {
+            units: vec![("gyro_y".into(), "deg/s".into())],
+            ..RecordingOptions::default()
+        };
+        let rec = read_recording(&p, &opts).unwrap();
+        assert!((rec.channel("gyro_x").unwrap().data[0] - std::f64::consts::PI).abs() < 1e-15);
+        assert!((rec.channel("accel_z").unwrap().data[0] - 9.80665).abs() < 1e-15);
+        assert!((rec.channel("gyro_y").unwrap().data[0] - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        let p_ch = rec.channel("pressure").unwrap();
+        assert_eq!((p_ch.quantity, p_ch.unit.as_str()), (Quantity::Other, "hPa"));
+        let bad = RecordingOptions {
+            units: vec![("gyro_y".into(), "parsec".into())],
+            ..RecordingOptions::default()
+        };
+        let e = read_recording(&p, &bad).unwrap_err();
+        assert!(e.to_string().contains("parsec"), "{e}");
+    }
+}

@@ -1,0 +1,167 @@
+//! Units as they appear in IMU files, and their conversion to SI.
+//!
+//! imutherm works in SI inside (m/s², rad/s, °C, s). A file's unit text is
+//! parsed into the quantity it measures and the affine map to SI, so that
+//! `deg/s` columns become rad/s and `mg` columns m/s² on reading. The thesis
+//! log's misprint `m/^2` is read as m/s².
+
+use std::f64::consts::PI;
+use std::fmt;
+
+/// Standard gravity, m/s² (CGPM 1901; the g of every datasheet).
+pub const STANDARD_GRAVITY: f64 = 9.806_65;
+
+/// What a channel measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Quantity {
+    /// Specific force, m/s² (accelerometer).
+    Acceleration,
+    /// Angular rate, rad/s (gyroscope).
+    AngularRate,
+    /// Temperature, °C.
+    Temperature,
+    /// Time, s.
+    Time,
+    /// Anything else; kept in the file's own unit.
+    Other,
+}
+
+impl Quantity {
+    /// The SI (or °C) unit imutherm stores this quantity in.
+    pub fn si_unit(self) -> &'static str {
+        match self {
+            Quantity::Acceleration => "m/s^2",
+            Quantity::AngularRate => "rad/s",
+            Quantity::Temperature => "degC",
+            Quantity::Time => "s",
+            Quantity::Other => "",
+        }
+    }
+
+    /// A short lower-case name used in JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Quantity::Acceleration => "acceleration",
+            Quantity::AngularRate => "angular_rate",
+            Quantity::Temperature => "temperature",
+            Quantity::Time => "time",
+            Quantity::Other => "other",
+        }
+    }
+}
+
+impl fmt::Display for Quantity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// A parsed unit: SI value = raw · scale + offset.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Unit {
+    /// The quantity measured.
+    pub quantity: Quantity,
+    /// Multiplier to SI.
+    pub scale: f64,
+    /// Offset added after scaling (kelvin → °C).
+    pub offset: f64,
+}
+
+impl Unit {
+    /// The identity for a quantity's SI unit.
+    pub fn si(quantity: Quantity) -> Unit {
+        Unit {
+            quantity,
+            scale: 1.0,
+            offset: 0.0,
+        }
+    }
+
+    /// Converts a raw value to SI.
+    #[inline]
+    pub fn to_si(self, raw: f64) -> f64 {
+        raw * self.scale + self.offset
+    }
+
+    /// Whether conversion changes nothing.
+    pub fn is_identity(self) -> bool {
+        self.scale == 1.0 && self.offset == 0.0
+    }
+}
+
+/// Parses a unit text; `None` when it is not one imutherm knows (the
+/// channel is then kept as [`Quantity::Other`] in its own unit).
+///
+/// ```
+/// use imu::units::{parse_unit, Quantity};
+/// let u = parse_unit("deg/s").unwrap();
+/// assert_eq!(u.quantity, Quantity::AngularRate);
+/// assert!((u.to_si(180.0) - std::f64::consts::PI).abs() < 1e-15);
+/// assert_eq!(parse_unit("m/^2").unwrap().quantity, Quantity::Acceleration);
+/// ```
+pub fn parse_unit(text: &str) -> Option<Unit> {
+    let t: String = text
+        .trim()
+        .chars()
+        .filter(|c| !c.is_whitespace())
+        .collect::<String>()
+        .to_ascii_lowercase()
+        .replace('²', "^2")
+        .replace('°', "deg")
+        .replace('µ', "u")
+        .replace('μ', "u");
+    let u = |quantity, scale| {
+        Some(Unit {
+            quantity,
+            scale,
+            offset: 0.0,
+        })
+    };
+    let deg = PI / 180.0;
+    match t.as_str() {
+        "m/s^2" | "m/s2" | "m/s/s" | "ms^-2" | "ms-2" | "mps2" | "m/^2" => u(Quantity::Acceleration, 1.0),
+        "g" | "g0" | "gee" => u(Quantity::Acceleration, STANDARD_GRAVITY),
+        "mg" => u(Quantity::Acceleration, STANDARD_GRAVITY * 1e-3),
+        "ug" => u(Quantity::Acceleration, STANDARD_GRAVITY * 1e-6),
+        "rad/s" | "rads^-1" | "rad/sec" | "rps" => u(Quantity::AngularRate, 1.0),
+        "mrad/s" => u(Quantity::AngularRate, 1e-3),
+        "deg/s" | "dps" | "deg/sec" | "degs^-1" => u(Quantity::AngularRate, deg),
+        "deg/h" | "deg/hr" | "dph" => u(Quantity::AngularRate, deg / 3600.0),
+        "degc" | "c" | "celsius" | "degreesc" => u(Quantity::Temperature, 1.0),
+        "k" | "kelvin" => Some(Unit {
+            quantity: Quantity::Temperature,
+            scale: 1.0,
+            offset: -273.15,
+        }),
+        "s" | "sec" => u(Quantity::Time, 1.0),
+        "ms" => u(Quantity::Time, 1e-3),
+        "us" => u(Quantity::Time, 1e-6),
+        "ns" => u(Quantity::Time, 1e-9),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn known_units_convert_to_si() {
+        let cases = [
+            ("m/s²", Quantity::Acceleration, 2.0, 2.0),
+            ("g", Quantity::Acceleration, 1.0, 9.80665),
+            ("mg", Quantity::Acceleration, 1000.0, 9.80665),
+            ("°/s", Quantity::AngularRate, 1.0, PI / 180.0),
+            ("rad/s", Quantity::AngularRate, 0.5, 0.5),
+            ("K", Quantity::Temperature, 300.0, 26.85),
+            ("degC", Quantity::Temperature, 21.0, 21.0),
+            ("ns", Quantity::Time, 1e9, 1.0),
+        ];
+        for (text, q, raw, si) in cases {
+            let u = parse_unit(text).unwrap_or_else(|| panic!("{text}"));
+            assert_eq!(u.quantity, q, "{text}");
+            assert!((u.to_si(raw) - si).abs() < 1e-12, "{text}");
+        }
+        assert!(parse_unit("furlong/fortnight").is_none());
+    }
+}
