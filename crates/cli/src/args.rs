@@ -26,10 +26,12 @@ Examples:
   imutherm adev gyro.txt --rate 200
       overlapping ADEV of every column, octave taus, 68.3 % intervals
   imutherm adev log.csv --channels gyro_x,3 --stat mdev --taus many --json > mdev.json
+  imutherm adev imu_log.txt --channels gyro --unit gyro_x=deg/s
   imutherm adev phase.dat --data-type phase --taus 1,10,100 --stat totdev
 
-Input: plain numeric columns separated by commas, tabs or spaces, with an optional
-header line and '#' comment lines; gzip files are read as they are. NaN cells are
+Input: the thesis/imutherm IMU log, or plain numeric columns separated by commas,
+tabs or spaces, with an optional header line and '#' comment lines; gzip files are
+read as they are. Units in header brackets (gyro_x[deg/s]) are converted to SI. NaN cells are
 gaps: adev, oadev, mdev, tdev, hdev and ohdev skip the terms that cross them.
 Rate data (--data-type freq, the default) is what an IMU gives: the deviation is
 in the unit of the data (rad/s, m/s², or fractional frequency).";
@@ -51,14 +53,23 @@ pub struct AdevArgs {
     #[arg(long, short = 't', default_value = "octave", value_name = "T")]
     pub taus: String,
 
-    /// Columns to analyse, by header name or 1-based index, comma separated
-    /// (default: every column).
+    /// Channels to analyse, comma separated: imutherm names (gyro_x, accel_z),
+    /// header names, 1-based column indices, or the groups gyro, accel,
+    /// inertial, all. Default: the six inertial channels of an IMU file, else
+    /// every column.
     #[arg(long, short = 'c', value_name = "C", value_delimiter = ',')]
     pub channels: Vec<String>,
 
-    /// Sample rate in Hz.
-    #[arg(long, short = 'r', default_value_t = 1.0, value_name = "HZ")]
-    pub rate: f64,
+    /// Sample rate in Hz. Default: the file's `# sample_rate_hz:` metadata,
+    /// else 1 Hz.
+    #[arg(long, short = 'r', value_name = "HZ")]
+    pub rate: Option<f64>,
+
+    /// Unit of a column, overriding its header, converted to SI on reading:
+    /// `--unit gyro_x=deg/s` (repeatable; known: m/s^2 g mg ug rad/s deg/s
+    /// deg/h degC K).
+    #[arg(long, value_name = "COL=UNIT")]
+    pub unit: Vec<String>,
 
     /// What the samples are: freq (rate samples, as an IMU gives) or phase
     /// (integrated samples).

@@ -198,3 +198,51 @@ fn help_has_an_example() {
         .success()
         .stdout(predicate::str::contains("Examples:").and(predicate::str::contains("imutherm adev")));
 }
+
+#[test]
+fn imu_logs_default_to_the_inertial_channels_with_rate_from_metadata() {
+    let mut body = String::from(
+        "# format: imutherm-log/1\n# sample_rate_hz: 50\nmpu_accel_1[m/^2], mpu_accel_2[m/^2], mpu_accel_3[m/^2], \
+         mpu_gyro_1[rad/s], mpu_gyro_2[rad/s], mpu_gyro_3[rad/s], temp[degC]\n",
+    );
+    for i in 0..500 {
+        let v = ((i * 7919) % 97) as f64 * 1e-3;
+        body.push_str(&format!("{v}, {v}, {}, {v}, {v}, {v}, 30.0\n", 9.8 + v));
+    }
+    let (_d, p) = file("imu.txt", &body);
+    let out = imutherm().args(["adev", "--json"]).arg(&p).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let names: Vec<&str> = doc["channels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        names,
+        ["accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z"]
+    );
+    assert_eq!(doc["rate_hz"], 50.0);
+    assert_eq!(doc["channels"][0]["unit"], "m/s^2");
+    assert_eq!(doc["channels"][0]["points"][0]["tau"], 0.02);
+
+    // A group, and a unit override converting deg/s to rad/s.
+    let out = imutherm()
+        .args(["adev", "--json", "--channels", "gyro", "--unit", "gyro_x=deg/s"])
+        .arg(&p)
+        .output()
+        .unwrap();
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let ch = doc["channels"].as_array().unwrap();
+    assert_eq!(ch.len(), 3);
+    let ratio = ch[0]["points"][0]["dev"].as_f64().unwrap() / ch[1]["points"][0]["dev"].as_f64().unwrap();
+    assert!((ratio - std::f64::consts::PI / 180.0).abs() < 1e-12, "{ratio}");
+
+    imutherm()
+        .args(["adev", "--unit", "gyro_x=furlong"])
+        .arg(&p)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("unknown unit 'furlong'"));
+}

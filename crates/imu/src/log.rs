@@ -171,6 +171,82 @@ pub struct RecordingOptions {
 }
 
 /// What a column is, judged from its header.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ColumnKind {
+    /// imutherm's name (`gyro_x`, `temp`) or the header's name.
+    pub name: String,
+    /// What it measures.
+    pub quantity: Quantity,
+    /// The axis of an inertial channel.
+    pub axis: Option<Axis>,
+    /// The conversion of its values to SI.
+    pub unit: Unit,
+    /// The unit of the converted values.
+    pub unit_label: String,
+}
+
+/// Judges a column from its header `name[unit]`, or from `unit_override`
+/// when given: the unit decides the quantity when imutherm knows it; a name
+/// with `acc`/`gyr`/`temp` and no unit is taken as already in SI; the last
+/// character `1/2/3` or `x/y/z` gives the axis.
+pub fn classify_header(header: &str, unit_override: Option<&str>) -> ColumnKind {
+    let (name, quantity, axis, unit, unit_label) = classify(header, unit_override);
+    ColumnKind {
+        name,
+        quantity,
+        axis,
+        unit,
+        unit_label,
+    }
+}
+
+/// [`classify_header`] with the unit from `overrides` (`(column, unit)`
+/// pairs) when one names this column by its header, its header without the
+/// unit, or its imutherm name (`gyro_x`).
+pub fn classify_with_overrides(header: &str, overrides: &[(String, String)]) -> ColumnKind {
+    let (name, _) = split_name_unit(header);
+    let plain = classify_header(header, None);
+    let over = overrides
+        .iter()
+        .find(|(c, _)| {
+            c.eq_ignore_ascii_case(name)
+                || c.eq_ignore_ascii_case(header)
+                || c.eq_ignore_ascii_case(&plain.name)
+        })
+        .map(|(_, u)| u.as_str());
+    match over {
+        Some(u) => classify_header(header, Some(u)),
+        None => plain,
+    }
+}
+
+/// Reads `# key: value` comment lines into metadata (other comments are
+/// ignored).
+pub fn parse_metadata(comments: &[String]) -> Metadata {
+    let mut meta = Metadata::default();
+    for c in comments {
+        if let Some((k, v)) = c.split_once(':') {
+            let (k, v) = (k.trim(), v.trim());
+            if !k.is_empty() && !k.contains(' ') {
+                match k {
+                    "device" => meta.device = Some(v.to_string()),
+                    "start_time" => meta.start_time = Some(v.to_string()),
+                    _ => {}
+                }
+                meta.set(k, v);
+            }
+        }
+    }
+    meta
+}
+
+/// The sample rate written in the metadata, if any.
+pub fn metadata_rate(meta: &Metadata) -> Option<f64> {
+    meta.get(KEY_RATE)
+        .and_then(|v| v.parse::<f64>().ok())
+        .filter(|r| r.is_finite() && *r > 0.0)
+}
+
 fn classify(header: &str, unit_override: Option<&str>) -> (String, Quantity, Option<Axis>, Unit, String) {
     let (name, unit_text) = split_name_unit(header);
     let unit_text = unit_override.unwrap_or(unit_text);
@@ -225,46 +301,29 @@ fn classify(header: &str, unit_override: Option<&str>) -> (String, Quantity, Opt
 /// header into a [`Recording`] in SI units.
 pub fn read_recording(path: &Path, opts: &RecordingOptions) -> Result<Recording, ReadError> {
     let reader = TableReader::open(path)?;
-    let mut meta = Metadata {
-        source: Some(path.to_path_buf()),
-        ..Metadata::default()
-    };
-    for c in reader.comments() {
-        if let Some((k, v)) = c.split_once(':') {
-            let (k, v) = (k.trim(), v.trim());
-            if !k.is_empty() && !k.contains(' ') {
-                match k {
-                    "device" => meta.device = Some(v.to_string()),
-                    "start_time" => meta.start_time = Some(v.to_string()),
-                    _ => {}
-                }
-                meta.set(k, v);
-            }
-        }
-    }
-    let file_rate = meta.get(KEY_RATE).and_then(|v| v.parse::<f64>().ok());
+    let mut meta = parse_metadata(reader.comments());
+    meta.source = Some(path.to_path_buf());
+    let file_rate = metadata_rate(&meta);
     let headers: Vec<String> = reader.names().to_vec();
     let table = reader.read(None)?;
     let mut channels = Vec::with_capacity(headers.len());
+    if let Some((column, unit)) = opts.units.iter().find(|(_, u)| parse_unit(u).is_none()) {
+        return Err(ReadError::new(
+            path,
+            ReadErrorKind::UnknownUnit {
+                column: column.clone(),
+                unit: unit.clone(),
+            },
+        ));
+    }
     for (header, mut data) in headers.iter().zip(table.columns) {
-        let (name, _) = split_name_unit(header);
-        let over = opts
-            .units
-            .iter()
-            .find(|(k, _)| k.eq_ignore_ascii_case(name) || k.eq_ignore_ascii_case(header))
-            .map(|(_, u)| u.as_str());
-        if let Some(u) = over
-            && parse_unit(u).is_none()
-        {
-            return Err(ReadError::new(
-                path,
-                ReadErrorKind::UnknownUnit {
-                    column: header.clone(),
-                    unit: u.to_string(),
-                },
-            ));
-        }
-        let (imu_name, quantity, axis, unit, unit_label) = classify(header, over);
+        let ColumnKind {
+            name: imu_name,
+            quantity,
+            axis,
+            unit,
+            unit_label,
+        } = classify_with_overrides(header, &opts.units);
         if !unit.is_identity() {
             data.iter_mut().for_each(|v| *v = unit.to_si(*v));
         }

@@ -108,8 +108,7 @@ pub fn parse_unit(text: &str) -> Option<Unit> {
         .to_ascii_lowercase()
         .replace('²', "^2")
         .replace('°', "deg")
-        .replace('µ', "u")
-        .replace('μ', "u");
+        .replace(['µ', 'μ'], "u");
     let u = |quantity, scale| {
         Some(Unit {
             quantity,

@@ -8,8 +8,10 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use allan::{Curve, DataType, Options, Stat, TauSpec};
-use imu::header::split_name_unit;
+use imu::Quantity;
+use imu::log::{ColumnKind, classify_with_overrides, metadata_rate, parse_metadata};
 use imu::table::TableReader;
+use imu::units::parse_unit;
 
 use crate::args::AdevArgs;
 
@@ -23,6 +25,8 @@ struct Channel {
     column: usize,
     name: String,
     unit: String,
+    /// Sample rate, Hz.
+    rate_hz: f64,
     /// Lines in the file, to say where the data ended.
     lines: u64,
     data: Vec<f64>,
@@ -30,13 +34,18 @@ struct Channel {
 
 pub fn run(a: &AdevArgs) -> Result<()> {
     let opts = options(a)?;
+    let units = unit_overrides(&a.unit)?;
     let mut channels = Vec::new();
     for file in &a.files {
-        channels.extend(read_channels(file, &a.channels)?);
+        channels.extend(read_channels(file, &a.channels, &units, a.rate)?);
     }
     let curves: Vec<Result<Curve>> = channels
         .par_iter()
         .map(|ch| {
+            let opts = Options {
+                rate_hz: ch.rate_hz,
+                ..opts.clone()
+            };
             allan::analyze(&ch.data, &opts).with_context(|| {
                 format!(
                     "{}: column {} ({}): {} samples, data ends at line {}",
@@ -88,45 +97,119 @@ fn options(a: &AdevArgs) -> Result<Options> {
             a.confidence
         );
     }
-    if !(a.rate.is_finite() && a.rate > 0.0) {
-        bail!(
-            "--rate {}: the sample rate must be a positive number of Hz",
-            a.rate
-        );
+    if let Some(r) = a.rate
+        && !(r.is_finite() && r > 0.0)
+    {
+        bail!("--rate {r}: the sample rate must be a positive number of Hz");
     }
     Ok(Options {
         stat,
         data_type,
-        rate_hz: a.rate,
+        rate_hz: a.rate.unwrap_or(1.0),
         taus,
         confidence,
     })
 }
 
-fn read_channels(file: &Path, wanted: &[String]) -> Result<Vec<Channel>> {
+/// Parses `--unit COL=UNIT` pairs.
+fn unit_overrides(pairs: &[String]) -> Result<Vec<(String, String)>> {
+    pairs
+        .iter()
+        .map(|p| match p.split_once('=') {
+            Some((c, u)) if !c.trim().is_empty() && parse_unit(u).is_some() => {
+                Ok((c.trim().to_string(), u.trim().to_string()))
+            }
+            Some((_, u)) if parse_unit(u).is_none() => bail!(
+                "--unit {p}: unknown unit '{}' (known: m/s^2 g mg ug rad/s mrad/s deg/s deg/h degC K)",
+                u.trim()
+            ),
+            _ => bail!("--unit {p}: expected COLUMN=UNIT, e.g. gyro_x=deg/s"),
+        })
+        .collect()
+}
+
+/// Reads the wanted channels of one file, converted to SI.
+fn read_channels(
+    file: &Path,
+    wanted: &[String],
+    units: &[(String, String)],
+    rate: Option<f64>,
+) -> Result<Vec<Channel>> {
     let reader = TableReader::open(file)?;
-    let select: Vec<usize> = if wanted.is_empty() {
-        (0..reader.names().len()).collect()
-    } else {
-        wanted
-            .iter()
-            .map(|w| reader.column_index(w))
-            .collect::<Result<_, _>>()?
+    let meta = parse_metadata(reader.comments());
+    let rate_hz = match rate.or_else(|| metadata_rate(&meta)) {
+        Some(r) => r,
+        None => {
+            eprintln!(
+                "note: {}: no sample rate given (--rate) or recorded (# sample_rate_hz:); assuming 1 Hz",
+                file.display()
+            );
+            1.0
+        }
     };
+    let headers = reader.names().to_vec();
+    let kinds: Vec<ColumnKind> = headers
+        .iter()
+        .map(|h| classify_with_overrides(h, units))
+        .collect();
+    let inertial: Vec<usize> = (0..kinds.len()).filter(|&i| kinds[i].axis.is_some()).collect();
+    let of = |q: Quantity| -> Vec<usize> {
+        (0..kinds.len())
+            .filter(|&i| kinds[i].quantity == q && kinds[i].axis.is_some())
+            .collect()
+    };
+    let mut select: Vec<usize> = Vec::new();
+    if wanted.is_empty() {
+        select = if inertial.is_empty() {
+            (0..kinds.len()).collect()
+        } else {
+            inertial.clone()
+        };
+    }
+    for w in wanted {
+        let group = match w.trim().to_ascii_lowercase().as_str() {
+            "gyro" | "gyros" => Some(of(Quantity::AngularRate)),
+            "accel" | "accels" | "acc" => Some(of(Quantity::Acceleration)),
+            "inertial" | "imu" => Some(inertial.clone()),
+            "all" => Some((0..kinds.len()).collect()),
+            _ => None,
+        };
+        let found = match group {
+            Some(g) if !g.is_empty() => g,
+            Some(_) => bail!(
+                "{}: no '{}' channels (columns: {})",
+                file.display(),
+                w.trim(),
+                headers.join(", ")
+            ),
+            None => match kinds.iter().position(|k| k.name.eq_ignore_ascii_case(w.trim())) {
+                Some(i) => vec![i],
+                None => vec![reader.column_index(w)?],
+            },
+        };
+        for i in found {
+            if !select.contains(&i) {
+                select.push(i);
+            }
+        }
+    }
     let table = reader.read(Some(&select))?;
     let lines = table.lines;
     Ok(table
-        .names
-        .iter()
-        .zip(table.columns)
+        .columns
+        .into_iter()
         .zip(&select)
-        .map(|((header, data), &idx)| {
-            let (name, unit) = split_name_unit(header);
+        .map(|(mut data, &idx)| {
+            let kind = &kinds[idx];
+            if !kind.unit.is_identity() {
+                data.iter_mut().for_each(|v| *v = kind.unit.to_si(*v));
+            }
             Channel {
                 file: file.to_path_buf(),
                 column: idx + 1,
-                name: name.to_string(),
-                unit: unit.to_string(),
+                name: kind.name.clone(),
+                unit: kind.unit_label.clone(),
+                rate_hz,
                 lines,
                 data,
             }
@@ -151,6 +234,7 @@ struct JsonChannel<'a> {
     unit: &'a str,
     file: String,
     column: usize,
+    rate_hz: f64,
     samples: usize,
     nan_samples: usize,
     points: Vec<JsonPoint>,
@@ -175,7 +259,8 @@ fn write_json(out: &mut impl Write, opts: &Options, channels: &[Channel], curves
         imutherm_version: env!("CARGO_PKG_VERSION"),
         stat: opts.stat.name(),
         data_type: opts.data_type.name(),
-        rate_hz: opts.rate_hz,
+        // Every channel carries its own rate; this is the first file's.
+        rate_hz: curves.first().map_or(opts.rate_hz, |c| c.rate_hz),
         confidence: opts.confidence,
         channels: channels
             .iter()
@@ -185,6 +270,7 @@ fn write_json(out: &mut impl Write, opts: &Options, channels: &[Channel], curves
                 unit: &ch.unit,
                 file: ch.file.display().to_string(),
                 column: ch.column,
+                rate_hz: c.rate_hz,
                 samples: c.samples,
                 nan_samples: c.nan_samples,
                 points: c
@@ -248,7 +334,7 @@ fn write_tables(out: &mut impl Write, opts: &Options, channels: &[Channel], curv
             },
             opts.stat,
             opts.data_type,
-            opts.rate_hz,
+            c.rate_hz,
             c.samples,
             c.nan_samples,
             100.0 * opts.confidence
