@@ -81,6 +81,11 @@ pub struct AdevArgs {
     #[arg(long, default_value_t = 0.683, value_name = "LEVEL")]
     pub confidence: f64,
 
+    /// Skip malformed rows instead of stopping: each becomes a gap (so time
+    /// stays right) and is reported with its line.
+    #[arg(long)]
+    pub skip_bad_lines: bool,
+
     /// Print one JSON document (schema imutherm.adev/1) instead of tables.
     #[arg(long)]
     pub json: bool,

@@ -246,3 +246,43 @@ fn imu_logs_default_to_the_inertial_channels_with_rate_from_metadata() {
         .code(1)
         .stderr(predicate::str::contains("unknown unit 'furlong'"));
 }
+
+#[test]
+fn skip_bad_lines_keeps_time_right_and_truncation_is_dropped() {
+    let mut body = String::new();
+    for i in 0..200 {
+        if i == 77 {
+            body.push_str("oops\n");
+        } else {
+            body.push_str(&format!("{}\n", ((i * 13) % 7) as f64));
+        }
+    }
+    body.push_str("1.2e"); // a logger killed mid-write
+    let (_d, p) = file("bad.txt", &body);
+    imutherm()
+        .arg("adev")
+        .arg(&p)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "bad.txt:78: column 1: cannot read 'oops'",
+        ));
+    let out = imutherm()
+        .args(["adev", "--skip-bad-lines", "--json"])
+        .arg(&p)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("bad.txt:78: column 1") && err.contains("skipped as a gap"),
+        "{err}"
+    );
+    assert!(
+        err.contains("bad.txt:201: truncated last line") && err.contains("dropped"),
+        "{err}"
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(doc["channels"][0]["samples"], 200);
+    assert_eq!(doc["channels"][0]["nan_samples"], 1);
+}

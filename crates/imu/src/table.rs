@@ -90,6 +90,8 @@ pub struct TableReader {
     pending: Option<(u64, String)>,
     /// Lines consumed so far.
     line_no: u64,
+    /// Whether the file is gzip-compressed (its size says nothing of the data).
+    gzip: bool,
 }
 
 impl std::fmt::Debug for TableReader {
@@ -103,7 +105,7 @@ impl std::fmt::Debug for TableReader {
 }
 
 /// The columns read from a file.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug)]
 pub struct Table {
     /// The file.
     pub path: PathBuf,
@@ -117,6 +119,18 @@ pub struct Table {
     pub comments: Vec<String>,
     /// Number of lines in the file, comments and header included.
     pub lines: u64,
+    /// What was skipped (rows made gaps under
+    /// [`ReadPolicy::skip_bad_lines`]) or dropped (a truncated last line),
+    /// each with its line.
+    pub problems: Vec<ReadError>,
+}
+
+/// What to do with bad rows.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ReadPolicy {
+    /// Skip malformed rows instead of failing: each becomes a row of NaN (a
+    /// gap, so later samples keep their index) and is reported.
+    pub skip_bad_lines: bool,
 }
 
 impl Table {
@@ -187,6 +201,7 @@ impl TableReader {
             delimiter,
             pending,
             line_no,
+            gzip: gz,
         })
     }
 
@@ -243,8 +258,14 @@ impl TableReader {
 
     /// Reads the body: the columns `select` (0-based indices, in that order),
     /// or all columns when `None`. Every row must have as many fields as the
-    /// first; only the selected cells are parsed.
-    pub fn read(mut self, select: Option<&[usize]>) -> Result<Table, ReadError> {
+    /// first; only the selected cells are parsed. A bad row is an error; a
+    /// truncated last line is dropped and reported in [`Table::problems`].
+    pub fn read(self, select: Option<&[usize]>) -> Result<Table, ReadError> {
+        self.read_with(select, &ReadPolicy::default())
+    }
+
+    /// [`TableReader::read`] under a policy for bad rows.
+    pub fn read_with(mut self, select: Option<&[usize]>, policy: &ReadPolicy) -> Result<Table, ReadError> {
         let ncols = self.names.len();
         let select: Vec<usize> = match select {
             Some(s) => s.to_vec(),
@@ -260,17 +281,28 @@ impl TableReader {
             ));
         }
         let layout = Layout {
+            skip_bad_lines: policy.skip_bad_lines,
             ncols,
             delimiter: self.delimiter,
             select: &select,
         };
         let mut columns: Vec<Vec<f64>> = vec![Vec::new(); select.len()];
+        let mut problems: Vec<ReadError> = Vec::new();
+        // Sizing the columns from the file size keeps memory near the data:
+        // doubling growth would peak at up to three times it.
+        let file_bytes = if self.gzip {
+            None
+        } else {
+            std::fs::metadata(&self.path).ok().map(|m| m.len())
+        };
+        let mut bytes_seen = 0u64;
+        let mut sized = false;
 
         if let Some((line, text)) = self.pending.take() {
             let out = layout
                 .parse_block(text.as_bytes(), false)
                 .map_err(|f| f.into_error(&self.path, line - 1))?;
-            out.append_to(&mut columns);
+            out.append_to(&mut columns, &mut problems, &self.path, line - 1);
         }
 
         let batch_len = 4 * rayon::current_num_threads().max(1);
@@ -295,10 +327,22 @@ impl TableReader {
                 },
                 || (!last_batch).then(|| source.next_batch(batch_len)).transpose(),
             );
+            bytes_seen += batch.iter().map(|b| b.len() as u64).sum::<u64>();
             for r in results {
                 let out = r.map_err(|f| f.into_error(&self.path, self.line_no))?;
-                self.line_no += out.lines;
-                out.append_to(&mut columns);
+                let lines = out.lines;
+                out.append_to(&mut columns, &mut problems, &self.path, self.line_no);
+                self.line_no += lines;
+            }
+            if !sized && let Some(total) = file_bytes {
+                sized = true;
+                let rows = columns.first().map_or(0, Vec::len) as u64;
+                if bytes_seen > 0 && rows > 0 && total > bytes_seen {
+                    let estimate = (rows as f64 * total as f64 / bytes_seen as f64 * 1.01) as usize;
+                    for c in &mut columns {
+                        c.reserve_exact(estimate.saturating_sub(c.len()));
+                    }
+                }
             }
             match next.map_err(io_err)? {
                 Some(b) => batch = b,
@@ -316,6 +360,7 @@ impl TableReader {
             has_header: self.has_header,
             comments: self.comments,
             lines: self.line_no,
+            problems,
         })
     }
 }
@@ -361,6 +406,7 @@ impl BlockSource<'_> {
 }
 
 struct Layout<'a> {
+    skip_bad_lines: bool,
     ncols: usize,
     delimiter: Delimiter,
     select: &'a [usize],
@@ -369,10 +415,23 @@ struct Layout<'a> {
 struct BlockOut {
     columns: Vec<Vec<f64>>,
     lines: u64,
+    /// Lines skipped (as gaps) or dropped (a truncated last line).
+    problems: Vec<BlockFault>,
 }
 
 impl BlockOut {
-    fn append_to(self, columns: &mut [Vec<f64>]) {
+    fn append_to(
+        self,
+        columns: &mut [Vec<f64>],
+        problems: &mut Vec<ReadError>,
+        path: &Path,
+        lines_before: u64,
+    ) {
+        problems.extend(
+            self.problems
+                .into_iter()
+                .map(|p| p.into_error(path, lines_before)),
+        );
         for (dst, src) in columns.iter_mut().zip(self.columns) {
             if dst.is_empty() {
                 *dst = src;
@@ -450,6 +509,7 @@ impl Layout<'_> {
     /// Parses whole lines. `last` marks the end of the file, where a line
     /// without its newline is a truncated write if it is short.
     fn parse_block(&self, block: &[u8], last: bool) -> Result<BlockOut, BlockFault> {
+        let mut problems = Vec::new();
         let est_rows = block.len() / (8 * self.ncols.max(1)) + 1;
         let mut columns: Vec<Vec<f64>> = (0..self.select.len())
             .map(|_| Vec::with_capacity(est_rows))
@@ -484,8 +544,9 @@ impl Layout<'_> {
                 column,
                 kind,
             };
-            if fields.len() != self.ncols {
-                let kind = if last && unterminated && rest.is_empty() && fields.len() < self.ncols {
+            let truncated = last && unterminated && rest.is_empty();
+            let problem = if fields.len() != self.ncols {
+                let kind = if truncated && fields.len() < self.ncols {
                     ReadErrorKind::TruncatedLastLine {
                         expected: self.ncols,
                         found: fields.len(),
@@ -496,20 +557,49 @@ impl Layout<'_> {
                         found: fields.len(),
                     }
                 };
-                return Err(fault(None, kind));
-            }
-            for (dst, &i) in columns.iter_mut().zip(self.select) {
-                let f = fields[i];
-                match parse_number(f) {
-                    Some(v) => dst.push(v),
-                    None => {
-                        let text = String::from_utf8_lossy(f).into_owned();
-                        return Err(fault(Some(i + 1), ReadErrorKind::NotANumber { text }));
+                Some(fault(None, kind))
+            } else {
+                self.select.iter().find_map(|&i| {
+                    parse_number(fields[i]).is_none().then(|| {
+                        let text = String::from_utf8_lossy(fields[i]).into_owned();
+                        fault(Some(i + 1), ReadErrorKind::NotANumber { text })
+                    })
+                })
+            };
+            match problem {
+                None => {
+                    for (dst, &i) in columns.iter_mut().zip(self.select) {
+                        dst.push(parse_number(fields[i]).unwrap_or(f64::NAN));
                     }
                 }
+                // A logger that lost power leaves a partial last line: it is
+                // dropped and reported, the rest of the file kept.
+                Some(mut p) if truncated => {
+                    if !matches!(p.kind, ReadErrorKind::TruncatedLastLine { .. }) {
+                        p.kind = ReadErrorKind::TruncatedLastLine {
+                            expected: self.ncols,
+                            found: fields.len(),
+                        };
+                        p.column = None;
+                    }
+                    problems.push(p);
+                }
+                // Skipped lines become gaps so that sample indices (and so
+                // time) stay right.
+                Some(p) if self.skip_bad_lines => {
+                    for dst in columns.iter_mut() {
+                        dst.push(f64::NAN);
+                    }
+                    problems.push(p);
+                }
+                Some(p) => return Err(p),
             }
         }
-        Ok(BlockOut { columns, lines })
+        Ok(BlockOut {
+            columns,
+            lines,
+            problems,
+        })
     }
 }
 
@@ -568,9 +658,17 @@ mod tests {
         ));
 
         let f = file(b"1,2\n3,4\n5");
-        let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
-        assert_eq!(e.line, Some(3));
-        assert!(matches!(e.kind, ReadErrorKind::TruncatedLastLine { .. }), "{e}");
+        let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+        assert_eq!(t.columns[0], vec![1.0, 3.0]);
+        assert_eq!(t.problems.len(), 1);
+        assert_eq!(t.problems[0].line, Some(3));
+        assert!(matches!(
+            t.problems[0].kind,
+            ReadErrorKind::TruncatedLastLine { .. }
+        ));
+        let f = file(b"1,2\n3,4\n5,-");
+        let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+        assert_eq!((t.rows(), t.problems.len()), (2, 1));
 
         let f = file(b"");
         let e = TableReader::open(f.path()).unwrap_err();
@@ -603,6 +701,21 @@ mod tests {
             ),
             "{e}"
         );
+    }
+
+    #[test]
+    fn skipped_lines_become_gaps_and_are_reported() {
+        let f = file(b"a,b\n1,2\n3\n5,x\n7,8\n");
+        let policy = ReadPolicy { skip_bad_lines: true };
+        let t = TableReader::open(f.path())
+            .unwrap()
+            .read_with(None, &policy)
+            .unwrap();
+        assert_eq!(t.rows(), 4);
+        assert!(t.columns[0][1].is_nan() && t.columns[1][2].is_nan());
+        assert_eq!(t.columns[1][3], 8.0);
+        let lines: Vec<_> = t.problems.iter().map(|p| (p.line, p.column)).collect();
+        assert_eq!(lines, [(Some(3), None), (Some(4), Some(2))]);
     }
 
     #[test]

@@ -9,8 +9,9 @@ use serde::Serialize;
 
 use allan::{Curve, DataType, Options, Stat, TauSpec};
 use imu::Quantity;
+use imu::ReadErrorKind;
 use imu::log::{ColumnKind, classify_with_overrides, metadata_rate, parse_metadata};
-use imu::table::TableReader;
+use imu::table::{ReadPolicy, TableReader};
 use imu::units::parse_unit;
 
 use crate::args::AdevArgs;
@@ -37,7 +38,13 @@ pub fn run(a: &AdevArgs) -> Result<()> {
     let units = unit_overrides(&a.unit)?;
     let mut channels = Vec::new();
     for file in &a.files {
-        channels.extend(read_channels(file, &a.channels, &units, a.rate)?);
+        channels.extend(read_channels(
+            file,
+            &a.channels,
+            &units,
+            a.rate,
+            a.skip_bad_lines,
+        )?);
     }
     let curves: Vec<Result<Curve>> = channels
         .par_iter()
@@ -134,6 +141,7 @@ fn read_channels(
     wanted: &[String],
     units: &[(String, String)],
     rate: Option<f64>,
+    skip_bad_lines: bool,
 ) -> Result<Vec<Channel>> {
     let reader = TableReader::open(file)?;
     let meta = parse_metadata(reader.comments());
@@ -193,7 +201,15 @@ fn read_channels(
             }
         }
     }
-    let table = reader.read(Some(&select))?;
+    let table = reader.read_with(Some(&select), &ReadPolicy { skip_bad_lines })?;
+    for p in &table.problems {
+        let what = if matches!(p.kind, ReadErrorKind::TruncatedLastLine { .. }) {
+            "dropped"
+        } else {
+            "skipped as a gap"
+        };
+        eprintln!("warning: {p} ({what})");
+    }
     let lines = table.lines;
     Ok(table
         .columns
