@@ -24,10 +24,15 @@ pub mod error;
 pub mod header;
 pub mod log;
 pub mod recording;
+pub mod report;
 pub mod table;
+pub mod timing;
 pub mod units;
 
 pub use error::{ReadError, ReadErrorKind};
-pub use log::{LogFormat, LogWriter, RecordingOptions, read_recording, write_recording};
+pub use log::{
+    LogFormat, LogWriter, RecordingOptions, read_recording, read_recording_with_report, write_recording,
+};
 pub use recording::{Axis, Channel, Metadata, Recording};
+pub use report::{Problem, ProblemKind, ReadReport};
 pub use units::{Quantity, Unit};

@@ -14,7 +14,9 @@ use std::path::Path;
 use crate::error::{ReadError, ReadErrorKind};
 use crate::header::split_name_unit;
 use crate::recording::{Axis, Channel, Metadata, Recording, standard_name};
-use crate::table::TableReader;
+use crate::report::{Problem, ProblemKind, ReadReport};
+use crate::table::{ReadPolicy, TableReader};
+use crate::timing::{analyze_timestamps, regularize};
 use crate::units::{Quantity, Unit, parse_unit};
 
 /// The thesis log's header, exactly as its logger wrote it (with the `m/^2`
@@ -168,6 +170,15 @@ pub struct RecordingOptions {
     /// Unit per column (by header name or imutherm name), overriding the
     /// header's: `("gyro_x", "deg/s")`.
     pub units: Vec<(String, String)>,
+    /// The time column, by name; `None` looks for one named `time`,
+    /// `timestamp`, `t` or with a time unit (`[s]`, `[ns]`).
+    pub time_column: Option<String>,
+    /// Unit of the time column when its header has none: `s`, `ms`, `us`,
+    /// `ns`. Without either, values whose median step is ≥ 1000 are taken
+    /// as nanoseconds (no IMU samples slower than once in 1000 s).
+    pub time_unit: Option<String>,
+    /// Skip malformed rows as gaps instead of failing.
+    pub skip_bad_lines: bool,
 }
 
 /// What a column is, judged from its header.
@@ -298,15 +309,29 @@ fn classify(header: &str, unit_override: Option<&str>) -> (String, Quantity, Opt
 }
 
 /// Reads a thesis log, an imutherm log, or any numeric column file with a
-/// header into a [`Recording`] in SI units.
+/// header into a [`Recording`] in SI units. Problems that were recovered
+/// from (a truncated last line, skipped rows, infinities made gaps, time
+/// gaps) are dropped from view: use [`read_recording_with_report`] to see them.
 pub fn read_recording(path: &Path, opts: &RecordingOptions) -> Result<Recording, ReadError> {
-    let reader = TableReader::open(path)?;
-    let mut meta = parse_metadata(reader.comments());
-    meta.source = Some(path.to_path_buf());
-    let file_rate = metadata_rate(&meta);
-    let headers: Vec<String> = reader.names().to_vec();
-    let table = reader.read(None)?;
-    let mut channels = Vec::with_capacity(headers.len());
+    read_recording_with_report(path, opts).map(|(rec, _)| rec)
+}
+
+fn is_time_header(kind: &ColumnKind, header: &str) -> bool {
+    let (name, _) = split_name_unit(header);
+    let n = name.to_ascii_lowercase();
+    kind.quantity == Quantity::Time
+        || ["time", "timestamp", "t", "time_s", "time_ns", "timestamp_ns"].contains(&n.as_str())
+}
+
+/// [`read_recording`], with everything found wrong on the way. NaN and
+/// infinite samples become gaps; with a time column, samples are placed on
+/// the grid of their timestamps (missing ones become gaps, duplicates and
+/// steps backwards are dropped), and the rate is derived from it unless
+/// given.
+pub fn read_recording_with_report(
+    path: &Path,
+    opts: &RecordingOptions,
+) -> Result<(Recording, ReadReport), ReadError> {
     if let Some((column, unit)) = opts.units.iter().find(|(_, u)| parse_unit(u).is_none()) {
         return Err(ReadError::new(
             path,
@@ -316,32 +341,180 @@ pub fn read_recording(path: &Path, opts: &RecordingOptions) -> Result<Recording,
             },
         ));
     }
-    for (header, mut data) in headers.iter().zip(table.columns) {
-        let ColumnKind {
-            name: imu_name,
-            quantity,
-            axis,
-            unit,
-            unit_label,
-        } = classify_with_overrides(header, &opts.units);
-        if !unit.is_identity() {
-            data.iter_mut().for_each(|v| *v = unit.to_si(*v));
+    let reader = TableReader::open(path)?;
+    let mut meta = parse_metadata(reader.comments());
+    meta.source = Some(path.to_path_buf());
+    let file_rate = metadata_rate(&meta);
+    let headers: Vec<String> = reader.names().to_vec();
+    let kinds: Vec<ColumnKind> = headers
+        .iter()
+        .map(|h| classify_with_overrides(h, &opts.units))
+        .collect();
+    let time_index = match &opts.time_column {
+        Some(name) => Some(
+            kinds
+                .iter()
+                .position(|k| k.name.eq_ignore_ascii_case(name))
+                .map_or_else(|| reader.column_index(name), Ok)?,
+        ),
+        None => (0..headers.len()).find(|&i| is_time_header(&kinds[i], &headers[i])),
+    };
+    let mut table = reader.read_with(
+        None,
+        &ReadPolicy {
+            skip_bad_lines: opts.skip_bad_lines,
+        },
+    )?;
+    let table_columns = std::mem::take(&mut table.columns);
+    let rows = table_columns.first().map_or(0, Vec::len);
+    let mut report = ReadReport {
+        lines: table.lines,
+        rows,
+        ..ReadReport::default()
+    };
+    for e in &table.problems {
+        report.push(Problem::from_read_error(e));
+    }
+    let line_of = |row: usize| table.line_of_row(row);
+    let mut columns = Vec::with_capacity(headers.len());
+    let mut time: Option<Vec<f64>> = None;
+    for (i, data) in table_columns.into_iter().enumerate() {
+        if Some(i) == time_index {
+            time = Some(data);
+        } else {
+            columns.push((i, data));
+        }
+    }
+    let mut channels = Vec::with_capacity(columns.len());
+    for (i, mut data) in columns {
+        let kind = &kinds[i];
+        // Gaps: report runs of NaN (not each sample), make infinities gaps.
+        let mut row = 0;
+        while row < data.len() {
+            if data[row].is_finite() {
+                row += 1;
+                continue;
+            }
+            let infinite = data[row].is_infinite();
+            let start = row;
+            while row < data.len() && !data[row].is_finite() && data[row].is_infinite() == infinite {
+                if infinite {
+                    data[row] = f64::NAN;
+                }
+                row += 1;
+            }
+            let count = row - start;
+            let skipped_line = table.problems.iter().any(|p| p.line == Some(line_of(start)));
+            if skipped_line {
+                continue;
+            }
+            report.push(Problem {
+                kind: if infinite {
+                    ProblemKind::Infinite
+                } else {
+                    ProblemKind::NanRun
+                },
+                line: Some(line_of(start)),
+                column: Some(i + 1),
+                channel: Some(kind.name.clone()),
+                count,
+                message: format!(
+                    "{}: {count} {} sample{} from here{}",
+                    kind.name,
+                    if infinite { "infinite" } else { "NaN" },
+                    if count == 1 { "" } else { "s" },
+                    if infinite { ", treated as gaps" } else { " (gaps)" }
+                ),
+            });
+        }
+        if !kind.unit.is_identity() {
+            data.iter_mut().for_each(|v| *v = kind.unit.to_si(*v));
         }
         channels.push(Channel {
-            name: imu_name,
-            source_name: header.clone(),
-            quantity,
-            axis,
-            unit: unit_label,
+            name: kind.name.clone(),
+            source_name: headers[i].clone(),
+            quantity: kind.quantity,
+            axis: kind.axis,
+            unit: kind.unit_label.clone(),
             data,
         });
     }
-    Ok(Recording {
-        channels,
-        rate_hz: opts.rate_hz.or(file_rate),
-        timestamps: None,
-        meta,
-    })
+    let mut rate_hz = opts.rate_hz.or(file_rate);
+    let mut timestamps = None;
+    if let (Some(ti), Some(raw)) = (time_index, time) {
+        let header_unit = kinds[ti].unit;
+        let given = opts
+            .time_unit
+            .as_deref()
+            .and_then(parse_unit)
+            .filter(|u| u.quantity == Quantity::Time);
+        let scale = if header_unit.quantity == Quantity::Time {
+            header_unit.scale
+        } else if let Some(u) = given {
+            u.scale
+        } else {
+            let mut steps: Vec<f64> = raw.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).collect();
+            steps.sort_unstable_by(f64::total_cmp);
+            match steps.get(steps.len() / 2) {
+                Some(&m) if m >= 1000.0 => 1e-9,
+                _ => 1.0,
+            }
+        };
+        let t: Vec<f64> = raw.iter().map(|v| v * scale).collect();
+        if let Some(timing) = analyze_timestamps(&t) {
+            for &(row, missing) in &timing.gaps {
+                report.push(Problem {
+                    kind: ProblemKind::TimeGap,
+                    line: Some(line_of(row)),
+                    column: Some(ti + 1),
+                    channel: None,
+                    count: missing,
+                    message: format!(
+                        "{missing} missing sample{} before this line (gap in time)",
+                        if missing == 1 { "" } else { "s" }
+                    ),
+                });
+            }
+            for &row in &timing.duplicates {
+                report.push(Problem {
+                    kind: ProblemKind::DuplicateTime,
+                    line: Some(line_of(row)),
+                    column: Some(ti + 1),
+                    channel: None,
+                    count: 1,
+                    message: "duplicate timestamp (sample dropped)".to_string(),
+                });
+            }
+            for &row in &timing.backwards {
+                report.push(Problem {
+                    kind: ProblemKind::BackwardsTime,
+                    line: Some(line_of(row)),
+                    column: Some(ti + 1),
+                    channel: None,
+                    count: 1,
+                    message: "timestamp earlier than the previous one (sample dropped)".to_string(),
+                });
+            }
+            let rate = *rate_hz.get_or_insert(timing.rate_hz);
+            let cols: Vec<Vec<f64>> = channels.iter_mut().map(|c| std::mem::take(&mut c.data)).collect();
+            let (regular, dropped) = regularize(&t, rate, &cols);
+            for (c, d) in channels.iter_mut().zip(regular) {
+                c.data = d;
+            }
+            report.dropped_samples = dropped;
+            report.timing = Some(timing);
+        }
+        timestamps = Some(t);
+    }
+    Ok((
+        Recording {
+            channels,
+            rate_hz,
+            timestamps,
+            meta,
+        },
+        report,
+    ))
 }
 
 #[cfg(test)]
@@ -441,5 +614,41 @@ mod tests {
         };
         let e = read_recording(&p, &bad).unwrap_err();
         assert!(e.to_string().contains("parsec"), "{e}");
+    }
+
+    #[test]
+    fn report_names_every_problem_with_its_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("t.csv");
+        // 100 Hz in nanoseconds: a gap of 2 samples after line 4, a
+        // duplicate at line 6, a step back at line 8, NaN and inf cells.
+        let body = "time_ns,gyro_x[deg/s],temp\n\
+                    0,1,20\n10000000,2,20\n20000000,nan,20\n50000000,4,20\n\
+                    50000000,5,20\n60000000,inf,20\n55000000,7,20\n70000000,8,20\n";
+        std::fs::write(&p, body).unwrap();
+        let (rec, report) = read_recording_with_report(&p, &RecordingOptions::default()).unwrap();
+        assert!((rec.rate_hz.unwrap() - 100.0).abs() < 1e-9);
+        let timing = report.timing.as_ref().unwrap();
+        assert_eq!(timing.gaps, vec![(3, 2)]);
+        let found: Vec<(ProblemKind, Option<u64>)> =
+            report.problems.iter().map(|p| (p.kind, p.line)).collect();
+        for want in [
+            (ProblemKind::NanRun, Some(4)),
+            (ProblemKind::Infinite, Some(7)),
+            (ProblemKind::TimeGap, Some(5)),
+            (ProblemKind::DuplicateTime, Some(6)),
+            (ProblemKind::BackwardsTime, Some(8)),
+        ] {
+            assert!(found.contains(&want), "{want:?} not in {found:?}");
+        }
+        // On the 10 ms grid: 0..70 ms is 8 slots; slots 3, 4 and 2 (NaN)
+        // and 6 (inf) are gaps.
+        let g = &rec.channel("gyro_x").unwrap().data;
+        assert_eq!(g.len(), 8);
+        assert_eq!(report.dropped_samples, 2);
+        assert!((g[1] - 2.0f64.to_radians()).abs() < 1e-15);
+        assert!(g[2].is_nan() && g[3].is_nan() && g[4].is_nan() && g[6].is_nan());
+        assert!((g[7] - 8.0f64.to_radians()).abs() < 1e-15);
+        assert_eq!(rec.timestamps.as_ref().unwrap()[1], 0.01);
     }
 }

@@ -123,6 +123,25 @@ pub struct Table {
     /// [`ReadPolicy::skip_bad_lines`]) or dropped (a truncated last line),
     /// each with its line.
     pub problems: Vec<ReadError>,
+    /// The line of the first row (after the header).
+    pub body_start_line: u64,
+    /// Blank and comment lines among the rows, ascending.
+    pub skipped_lines: Vec<u64>,
+}
+
+impl Table {
+    /// The 1-based line of row `row` (0-based): where to look in the file.
+    pub fn line_of_row(&self, row: usize) -> u64 {
+        let mut line = self.body_start_line + row as u64;
+        for &s in &self.skipped_lines {
+            if s <= line {
+                line += 1;
+            } else {
+                break;
+            }
+        }
+        line
+    }
 }
 
 /// What to do with bad rows.
@@ -286,8 +305,15 @@ impl TableReader {
             delimiter: self.delimiter,
             select: &select,
         };
-        let mut columns: Vec<Vec<f64>> = vec![Vec::new(); select.len()];
-        let mut problems: Vec<ReadError> = Vec::new();
+        let mut got = Collected {
+            columns: vec![Vec::new(); select.len()],
+            problems: Vec::new(),
+            skipped_lines: Vec::new(),
+        };
+        let body_start_line = match &self.pending {
+            Some((line, _)) => *line,
+            None => self.line_no + 1,
+        };
         // Sizing the columns from the file size keeps memory near the data:
         // doubling growth would peak at up to three times it.
         let file_bytes = if self.gzip {
@@ -302,7 +328,7 @@ impl TableReader {
             let out = layout
                 .parse_block(text.as_bytes(), false)
                 .map_err(|f| f.into_error(&self.path, line - 1))?;
-            out.append_to(&mut columns, &mut problems, &self.path, line - 1);
+            out.append_to(&mut got, &self.path, line - 1);
         }
 
         let batch_len = 4 * rayon::current_num_threads().max(1);
@@ -331,15 +357,15 @@ impl TableReader {
             for r in results {
                 let out = r.map_err(|f| f.into_error(&self.path, self.line_no))?;
                 let lines = out.lines;
-                out.append_to(&mut columns, &mut problems, &self.path, self.line_no);
+                out.append_to(&mut got, &self.path, self.line_no);
                 self.line_no += lines;
             }
             if !sized && let Some(total) = file_bytes {
                 sized = true;
-                let rows = columns.first().map_or(0, Vec::len) as u64;
+                let rows = got.columns.first().map_or(0, Vec::len) as u64;
                 if bytes_seen > 0 && rows > 0 && total > bytes_seen {
                     let estimate = (rows as f64 * total as f64 / bytes_seen as f64 * 1.01) as usize;
-                    for c in &mut columns {
+                    for c in &mut got.columns {
                         c.reserve_exact(estimate.saturating_sub(c.len()));
                     }
                 }
@@ -349,6 +375,11 @@ impl TableReader {
                 None => break,
             }
         }
+        let Collected {
+            columns,
+            problems,
+            skipped_lines,
+        } = got;
         if columns.first().is_none_or(Vec::is_empty) {
             return Err(ReadError::new(&self.path, ReadErrorKind::NoData));
         }
@@ -361,6 +392,8 @@ impl TableReader {
             comments: self.comments,
             lines: self.line_no,
             problems,
+            body_start_line,
+            skipped_lines,
         })
     }
 }
@@ -412,26 +445,32 @@ struct Layout<'a> {
     select: &'a [usize],
 }
 
+/// Everything gathered from the blocks, in file order.
+struct Collected {
+    columns: Vec<Vec<f64>>,
+    problems: Vec<ReadError>,
+    skipped_lines: Vec<u64>,
+}
+
 struct BlockOut {
     columns: Vec<Vec<f64>>,
     lines: u64,
     /// Lines skipped (as gaps) or dropped (a truncated last line).
     problems: Vec<BlockFault>,
+    /// Blank and comment lines among the rows (block-relative).
+    skipped: Vec<u64>,
 }
 
 impl BlockOut {
-    fn append_to(
-        self,
-        columns: &mut [Vec<f64>],
-        problems: &mut Vec<ReadError>,
-        path: &Path,
-        lines_before: u64,
-    ) {
-        problems.extend(
+    fn append_to(self, into: &mut Collected, path: &Path, lines_before: u64) {
+        into.problems.extend(
             self.problems
                 .into_iter()
                 .map(|p| p.into_error(path, lines_before)),
         );
+        into.skipped_lines
+            .extend(self.skipped.iter().map(|l| l + lines_before));
+        let columns = &mut into.columns;
         for (dst, src) in columns.iter_mut().zip(self.columns) {
             if dst.is_empty() {
                 *dst = src;
@@ -510,6 +549,7 @@ impl Layout<'_> {
     /// without its newline is a truncated write if it is short.
     fn parse_block(&self, block: &[u8], last: bool) -> Result<BlockOut, BlockFault> {
         let mut problems = Vec::new();
+        let mut skipped = Vec::new();
         let est_rows = block.len() / (8 * self.ncols.max(1)) + 1;
         let mut columns: Vec<Vec<f64>> = (0..self.select.len())
             .map(|_| Vec::with_capacity(est_rows))
@@ -534,6 +574,7 @@ impl Layout<'_> {
                 continue;
             }
             if is_skipped(line) {
+                skipped.push(lines);
                 continue;
             }
             // The careful path: find out exactly what is wrong, or handle
@@ -599,6 +640,7 @@ impl Layout<'_> {
             columns,
             lines,
             problems,
+            skipped,
         })
     }
 }
@@ -623,6 +665,8 @@ mod tests {
         assert_eq!(t.columns, vec![vec![1.0, 3.0, 5.0], vec![2.0, 4.0, 6.0]]);
         assert_eq!(t.comments, ["x"]);
         assert_eq!(t.lines, 6);
+        let lines: Vec<u64> = (0..3).map(|r| t.line_of_row(r)).collect();
+        assert_eq!(lines, [2, 4, 6]);
     }
 
     #[test]
