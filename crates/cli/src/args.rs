@@ -19,6 +19,63 @@ pub enum Command {
     /// of every column of one or more files, with EDF and confidence intervals.
     #[command(after_help = ADEV_EXAMPLES)]
     Adev(AdevArgs),
+    /// What is in a recording: channels and units, samples, duration, rate and
+    /// jitter, temperature range, per-channel statistics, and every problem
+    /// found, with its line.
+    #[command(after_help = INFO_EXAMPLES)]
+    Info(InfoArgs),
+}
+
+const INFO_EXAMPLES: &str = "\
+Examples:
+  imutherm info imu_34C.txt
+  imutherm info run1.txt.gz run2.txt --json > info.json
+  imutherm info phone.csv --time-column t --time-unit ns --unit gyro_x=deg/s
+
+Problems are reported, not fatal, where the data can be kept honestly: NaN and
+infinite samples are gaps, a truncated last line is dropped, rows out of time order
+are dropped, missing timestamps become gaps. A malformed row stops the reading
+unless --skip-bad-lines makes it a gap.";
+
+/// Options on how a recording is read, shared by the commands that read one.
+#[derive(Debug, Args)]
+pub struct ReadArgs {
+    /// Sample rate in Hz, overriding the file's metadata or time column.
+    #[arg(long, short = 'r', value_name = "HZ")]
+    pub rate: Option<f64>,
+
+    /// Unit of a column, overriding its header, converted to SI on reading:
+    /// `--unit gyro_x=deg/s` (repeatable).
+    #[arg(long, value_name = "COL=UNIT")]
+    pub unit: Vec<String>,
+
+    /// The time column (default: one named time, timestamp or t, or with a
+    /// time unit in its header).
+    #[arg(long, value_name = "NAME")]
+    pub time_column: Option<String>,
+
+    /// Unit of the time column when its header has none: s, ms, us or ns.
+    #[arg(long, value_name = "UNIT")]
+    pub time_unit: Option<String>,
+
+    /// Skip malformed rows instead of stopping: each becomes a gap and is
+    /// reported with its line.
+    #[arg(long)]
+    pub skip_bad_lines: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct InfoArgs {
+    /// Recordings: thesis or imutherm logs, or numeric columns with a header.
+    #[arg(required = true, value_name = "FILE")]
+    pub files: Vec<PathBuf>,
+
+    #[command(flatten)]
+    pub read: ReadArgs,
+
+    /// Print one JSON document (schema imutherm.info/1).
+    #[arg(long)]
+    pub json: bool,
 }
 
 const ADEV_EXAMPLES: &str = "\

@@ -15,6 +15,7 @@ fn main() -> ExitCode {
     let cli = args::Cli::parse();
     let result = match cli.command {
         args::Command::Adev(a) => commands::adev::run(&a),
+        args::Command::Info(a) => commands::info::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

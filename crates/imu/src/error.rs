@@ -54,6 +54,9 @@ pub enum ReadErrorKind {
         /// The unit text.
         unit: String,
     },
+    /// A time column that cannot be trusted.
+    #[error("time column: {0}")]
+    TimeColumn(String),
     /// A line that is not valid UTF-8 text.
     #[error("the line is not UTF-8 text")]
     NotText,

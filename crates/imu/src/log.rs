@@ -497,7 +497,25 @@ pub fn read_recording_with_report(
             }
             let rate = *rate_hz.get_or_insert(timing.rate_hz);
             let cols: Vec<Vec<f64>> = channels.iter_mut().map(|c| std::mem::take(&mut c.data)).collect();
-            let (regular, dropped) = regularize(&t, rate, &cols);
+            let Some((regular, dropped)) = regularize(&t, rate, &cols) else {
+                return Err(ReadError::new(
+                    path,
+                    ReadErrorKind::TimeColumn(format!(
+                        "column {} spans {:.6e} s, far more than its {} samples at {rate} Hz: \
+                         check the time unit (--time-unit) or the values",
+                        ti + 1,
+                        t.iter()
+                            .copied()
+                            .filter(|v| v.is_finite())
+                            .fold(f64::NEG_INFINITY, f64::max)
+                            - t.iter()
+                                .copied()
+                                .filter(|v| v.is_finite())
+                                .fold(f64::INFINITY, f64::min),
+                        t.len()
+                    )),
+                ));
+            };
             for (c, d) in channels.iter_mut().zip(regular) {
                 c.data = d;
             }
@@ -506,6 +524,7 @@ pub fn read_recording_with_report(
         }
         timestamps = Some(t);
     }
+    report.problems.sort_by_key(|p| p.line);
     Ok((
         Recording {
             channels,

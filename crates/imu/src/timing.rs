@@ -75,13 +75,19 @@ pub fn analyze_timestamps(t: &[f64]) -> Option<Timing> {
     })
 }
 
+/// Largest grid a time column may ask for, as a multiple of its samples:
+/// beyond it the timestamps are wrong (a unit mix-up, a corrupt value), and
+/// filling the grid with gaps would only exhaust memory.
+pub const MAX_GRID_FACTOR: usize = 16;
+
 /// Places each sample of `columns` on the grid t0 + k/rate named by its
 /// timestamp: missing grid points become NaN, a sample whose slot is taken
 /// (a duplicate) or lies before the previous one (backwards in time) is
-/// dropped. Returns the new columns and the number of samples dropped.
-pub fn regularize(t: &[f64], rate_hz: f64, columns: &[Vec<f64>]) -> (Vec<Vec<f64>>, usize) {
+/// dropped. Returns the new columns and the number of samples dropped, or
+/// `None` when the grid would exceed [`MAX_GRID_FACTOR`] times the samples.
+pub fn regularize(t: &[f64], rate_hz: f64, columns: &[Vec<f64>]) -> Option<(Vec<Vec<f64>>, usize)> {
     let Some(&t0) = t.iter().find(|v| v.is_finite()) else {
-        return (columns.to_vec(), 0);
+        return Some((columns.to_vec(), 0));
     };
     let slot = |v: f64| ((v - t0) * rate_hz).round();
     let last = t
@@ -89,6 +95,9 @@ pub fn regularize(t: &[f64], rate_hz: f64, columns: &[Vec<f64>]) -> (Vec<Vec<f64
         .filter(|v| v.is_finite())
         .map(|&v| slot(v))
         .fold(0.0, f64::max);
+    if !(last.is_finite() && last < (MAX_GRID_FACTOR * t.len() + 1024) as f64) {
+        return None;
+    }
     let len = (last as usize).saturating_add(1);
     let mut out = vec![vec![f64::NAN; len]; columns.len()];
     let mut dropped = 0;
@@ -108,7 +117,7 @@ pub fn regularize(t: &[f64], rate_hz: f64, columns: &[Vec<f64>]) -> (Vec<Vec<f64
             dst[k] = src.get(i).copied().unwrap_or(f64::NAN);
         }
     }
-    (out, dropped)
+    Some((out, dropped))
 }
 
 #[cfg(test)]
@@ -130,7 +139,8 @@ mod tests {
     fn regularize_leaves_gaps_and_drops_out_of_order_samples() {
         let t = [0.0, 0.01, 0.04, 0.04, 0.03, 0.05];
         let col = vec![vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0]];
-        let (out, dropped) = regularize(&t, 100.0, &col);
+        let (out, dropped) = regularize(&t, 100.0, &col).unwrap();
+        assert!(regularize(&[0.0, 1e9], 100.0, &col).is_none());
         assert_eq!(dropped, 2);
         let v = &out[0];
         assert_eq!(v.len(), 6);

@@ -1,0 +1,314 @@
+//! `imutherm info`: what a recording holds and what is wrong with it.
+
+use std::io::Write;
+use std::path::Path;
+
+use anyhow::{Result, bail};
+use serde::Serialize;
+
+use imu::{Quantity, ReadReport, Recording, RecordingOptions, read_recording_with_report};
+
+use crate::args::{InfoArgs, ReadArgs};
+use imu::units::parse_unit;
+
+const SCHEMA: &str = "imutherm.info/1";
+
+/// Turns the shared read flags into reader options.
+pub fn recording_options(a: &ReadArgs) -> Result<RecordingOptions> {
+    if let Some(r) = a.rate
+        && !(r.is_finite() && r > 0.0)
+    {
+        bail!("--rate {r}: the sample rate must be a positive number of Hz");
+    }
+    if let Some(u) = &a.time_unit
+        && parse_unit(u).is_none_or(|u| u.quantity != Quantity::Time)
+    {
+        bail!("--time-unit {u}: expected s, ms, us or ns");
+    }
+    let units = a
+        .unit
+        .iter()
+        .map(|p| match p.split_once('=') {
+            Some((c, u)) if !c.trim().is_empty() && parse_unit(u).is_some() => {
+                Ok((c.trim().to_string(), u.trim().to_string()))
+            }
+            Some((_, u)) if parse_unit(u).is_none() => bail!(
+                "--unit {p}: unknown unit '{}' (known: m/s^2 g mg ug rad/s mrad/s deg/s deg/h degC K)",
+                u.trim()
+            ),
+            _ => bail!("--unit {p}: expected COLUMN=UNIT, e.g. gyro_x=deg/s"),
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(RecordingOptions {
+        rate_hz: a.rate,
+        units,
+        time_column: a.time_column.clone(),
+        time_unit: a.time_unit.clone(),
+        skip_bad_lines: a.skip_bad_lines,
+    })
+}
+
+#[derive(Serialize)]
+struct JsonDoc {
+    schema: &'static str,
+    imutherm_version: &'static str,
+    files: Vec<FileInfo>,
+}
+
+#[derive(Serialize)]
+struct FileInfo {
+    file: String,
+    format: &'static str,
+    device: Option<String>,
+    start_time: Option<String>,
+    samples: usize,
+    lines: u64,
+    rate_hz: Option<f64>,
+    rate_source: &'static str,
+    jitter_s: Option<f64>,
+    duration_s: Option<f64>,
+    temperature_c: Option<Range>,
+    channels: Vec<ChannelInfo>,
+    problems: Vec<ProblemInfo>,
+    problems_unlisted: usize,
+    dropped_samples: usize,
+}
+
+#[derive(Serialize)]
+struct Range {
+    min: f64,
+    mean: f64,
+    max: f64,
+}
+
+#[derive(Serialize)]
+struct ChannelInfo {
+    name: String,
+    source: String,
+    quantity: &'static str,
+    unit: String,
+    mean: Option<f64>,
+    std: Option<f64>,
+    min: Option<f64>,
+    max: Option<f64>,
+    nan_samples: usize,
+}
+
+#[derive(Serialize)]
+struct ProblemInfo {
+    kind: &'static str,
+    line: Option<u64>,
+    column: Option<usize>,
+    channel: Option<String>,
+    count: usize,
+    message: String,
+}
+
+/// Mean, sample standard deviation, min, max and NaN count, skipping NaN.
+/// Welford's update keeps the deviation right for a large mean (a gravity
+/// axis, a temperature) with small fluctuations.
+fn describe(data: &[f64]) -> (Option<(f64, f64, f64, f64)>, usize) {
+    let (mut n, mut mean, mut m2) = (0usize, 0.0, 0.0);
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut nan = 0;
+    for &v in data {
+        if v.is_nan() {
+            nan += 1;
+            continue;
+        }
+        n += 1;
+        let d = v - mean;
+        mean += d / n as f64;
+        m2 += d * (v - mean);
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if n == 0 {
+        return (None, nan);
+    }
+    let std = if n > 1 { (m2 / (n - 1) as f64).sqrt() } else { 0.0 };
+    (Some((mean, std, lo, hi)), nan)
+}
+
+fn file_info(path: &Path, rec: &Recording, report: &ReadReport, opts: &RecordingOptions) -> FileInfo {
+    let format = match rec.meta.get("format") {
+        Some(f) if f.starts_with("imutherm-log") => "imutherm log",
+        _ if rec
+            .channels
+            .iter()
+            .any(|c| c.source_name.starts_with("mpu_gyro_")) =>
+        {
+            "thesis log"
+        }
+        _ => "numeric columns",
+    };
+    let rate_source = if opts.rate_hz.is_some() {
+        "given"
+    } else if report.timing.is_some() {
+        "derived from the time column"
+    } else if rec.rate_hz.is_some() {
+        "file metadata"
+    } else {
+        "unknown"
+    };
+    let channels = rec
+        .channels
+        .iter()
+        .map(|c| {
+            let (d, nan) = describe(&c.data);
+            ChannelInfo {
+                name: c.name.clone(),
+                source: c.source_name.clone(),
+                quantity: c.quantity.name(),
+                unit: c.unit.clone(),
+                mean: d.map(|d| d.0),
+                std: d.map(|d| d.1),
+                min: d.map(|d| d.2),
+                max: d.map(|d| d.3),
+                nan_samples: nan,
+            }
+        })
+        .collect();
+    let temperature_c = rec.temperature().and_then(|t| {
+        let (d, _) = describe(&t.data);
+        d.map(|(mean, _, min, max)| Range { min, mean, max })
+    });
+    FileInfo {
+        file: path.display().to_string(),
+        format,
+        device: rec.meta.device.clone(),
+        start_time: rec.meta.start_time.clone(),
+        samples: rec.len(),
+        lines: report.lines,
+        rate_hz: rec.rate_hz,
+        rate_source,
+        jitter_s: report.timing.as_ref().map(|t| t.jitter_s),
+        duration_s: rec.duration_s(),
+        temperature_c,
+        channels,
+        problems: report
+            .problems
+            .iter()
+            .map(|p| ProblemInfo {
+                kind: p.kind.name(),
+                line: p.line,
+                column: p.column,
+                channel: p.channel.clone(),
+                count: p.count,
+                message: p.message.clone(),
+            })
+            .collect(),
+        problems_unlisted: report.unlisted,
+        dropped_samples: report.dropped_samples,
+    }
+}
+
+pub fn run(a: &InfoArgs) -> Result<()> {
+    let opts = recording_options(&a.read)?;
+    let mut infos = Vec::new();
+    for path in &a.files {
+        let (rec, report) = read_recording_with_report(path, &opts)?;
+        infos.push(file_info(path, &rec, &report, &opts));
+    }
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    if a.json {
+        let doc = JsonDoc {
+            schema: SCHEMA,
+            imutherm_version: env!("CARGO_PKG_VERSION"),
+            files: infos,
+        };
+        serde_json::to_writer_pretty(&mut out, &doc)?;
+        writeln!(out)?;
+    } else {
+        for (i, f) in infos.iter().enumerate() {
+            if i > 0 {
+                writeln!(out)?;
+            }
+            write_text(&mut out, f)?;
+        }
+    }
+    out.flush()?;
+    Ok(())
+}
+
+fn opt(v: Option<f64>, digits: usize) -> String {
+    v.map_or_else(|| "—".to_string(), |v| format!("{v:.digits$e}"))
+}
+
+fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
+    writeln!(out, "{} ({})", f.file, f.format)?;
+    if let Some(d) = &f.device {
+        writeln!(out, "  device       {d}")?;
+    }
+    if let Some(t) = &f.start_time {
+        writeln!(out, "  start        {t}")?;
+    }
+    writeln!(out, "  samples      {} ({} lines)", f.samples, f.lines)?;
+    match f.rate_hz {
+        Some(r) => {
+            let jitter = f
+                .jitter_s
+                .map(|j| format!(", jitter {:.3e} s", j))
+                .unwrap_or_default();
+            // A derived rate is 1/median interval: show it to the precision
+            // that means something, not 99.99999999999999.
+            let shown = format!("{r:.6}");
+            let shown = shown.trim_end_matches('0').trim_end_matches('.');
+            writeln!(out, "  rate         {shown} Hz ({}{jitter})", f.rate_source)?;
+        }
+        None => writeln!(
+            out,
+            "  rate         unknown (give --rate or record # sample_rate_hz:)"
+        )?,
+    }
+    if let Some(d) = f.duration_s {
+        writeln!(out, "  duration     {d:.3} s ({:.2} h)", d / 3600.0)?;
+    }
+    if let Some(t) = &f.temperature_c {
+        writeln!(
+            out,
+            "  temperature  min {:.2} °C, mean {:.2} °C, max {:.2} °C",
+            t.min, t.mean, t.max
+        )?;
+    }
+    writeln!(
+        out,
+        "  {:<10} {:<22} {:<13} {:>14} {:>12} {:>13} {:>13} {:>7}",
+        "channel", "column", "unit", "mean", "std", "min", "max", "NaN"
+    )?;
+    for c in &f.channels {
+        writeln!(
+            out,
+            "  {:<10} {:<22} {:<13} {:>14} {:>12} {:>13} {:>13} {:>7}",
+            c.name,
+            c.source,
+            if c.unit.is_empty() { "-" } else { &c.unit },
+            opt(c.mean, 6),
+            opt(c.std, 4),
+            opt(c.min, 5),
+            opt(c.max, 5),
+            c.nan_samples
+        )?;
+    }
+    if f.problems.is_empty() {
+        writeln!(out, "  problems     none")?;
+    } else {
+        writeln!(out, "  problems     {}", f.problems.len() + f.problems_unlisted)?;
+        for p in &f.problems {
+            let line = p.line.map(|l| format!("line {l}: ")).unwrap_or_default();
+            writeln!(out, "    {line}{}", p.message)?;
+        }
+        if f.problems_unlisted > 0 {
+            writeln!(out, "    … and {} more not listed", f.problems_unlisted)?;
+        }
+    }
+    if f.dropped_samples > 0 {
+        writeln!(
+            out,
+            "  dropped      {} samples (duplicate or backwards timestamps)",
+            f.dropped_samples
+        )?;
+    }
+    Ok(())
+}

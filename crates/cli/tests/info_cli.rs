@@ -1,0 +1,120 @@
+//! `imutherm info` end to end.
+
+use std::io::Write;
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+
+fn imutherm() -> Command {
+    Command::cargo_bin("imutherm").unwrap()
+}
+
+fn file(name: &str, content: &[u8]) -> (tempfile::TempDir, std::path::PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(name);
+    std::fs::File::create(&path).unwrap().write_all(content).unwrap();
+    (dir, path)
+}
+
+const HEADER: &str = "mpu_accel_1[m/^2], mpu_accel_2[m/^2], mpu_accel_3[m/^2], mpu_gyro_1[rad/s], \
+                      mpu_gyro_2[rad/s], mpu_gyro_3[rad/s], temp[degC]\n";
+
+#[test]
+fn json_reports_channels_rate_temperature_and_problems_with_lines() {
+    let mut body = format!("# format: imutherm-log/1\n# sample_rate_hz: 100\n# device: MPU-9250\n{HEADER}");
+    for i in 0..100 {
+        let t = 30.0 + i as f64 * 0.1;
+        if i == 10 {
+            body.push_str(&format!("0.1, 0.2, nan, 0.01, 0.02, 0.03, {t}\n"));
+        } else {
+            body.push_str(&format!("0.1, 0.2, 9.8, 0.01, 0.02, 0.03, {t}\n"));
+        }
+    }
+    body.push_str("0.1, 0.2, 9.8, 0.0"); // power lost mid-write
+    let (_d, p) = file("run.txt", body.as_bytes());
+    let out = imutherm().args(["info", "--json"]).arg(&p).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(doc["schema"], "imutherm.info/1");
+    let f = &doc["files"][0];
+    assert_eq!(f["format"], "imutherm log");
+    assert_eq!(f["device"], "MPU-9250");
+    assert_eq!(f["samples"], 100);
+    assert_eq!(f["rate_hz"], 100.0);
+    assert_eq!(f["rate_source"], "file metadata");
+    assert_eq!(f["duration_s"], 1.0);
+    assert_eq!(f["temperature_c"]["min"], 30.0);
+    assert!((f["temperature_c"]["max"].as_f64().unwrap() - 39.9).abs() < 1e-9);
+    let ch = f["channels"].as_array().unwrap();
+    assert_eq!(ch.len(), 7);
+    assert_eq!(ch[2]["name"], "accel_z");
+    assert_eq!(ch[2]["nan_samples"], 1);
+    assert!((ch[2]["mean"].as_f64().unwrap() - 9.8).abs() < 1e-12);
+    assert!(ch[2]["std"].as_f64().unwrap() < 1e-12);
+    let problems: Vec<(String, u64)> = f["problems"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            (
+                p["kind"].as_str().unwrap().to_string(),
+                p["line"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        problems,
+        [("nan".to_string(), 15), ("truncated_last_line".to_string(), 105)]
+    );
+}
+
+#[test]
+fn text_output_has_units_and_problems() {
+    let (_d, p) = file("g.csv", b"t[s],gyro_x[deg/s]\n0,1\n0.1,2\n0.2,3\n0.5,4\n0.6,5\n");
+    imutherm().arg("info").arg(&p).assert().success().stdout(
+        predicate::str::contains("10 Hz (derived from the time column")
+            .and(predicate::str::contains("rad/s"))
+            .and(predicate::str::contains(
+                "line 5: 2 missing samples before this line",
+            )),
+    );
+}
+
+#[test]
+fn unreadable_files_are_clear_errors() {
+    for (name, content, expect) in [
+        ("empty.txt", &b""[..], "no data rows"),
+        ("header.txt", HEADER.as_bytes(), "no data rows"),
+        (
+            "binary.bin",
+            &[0xff, 0xfe, 0x00, 0x80, b'\n', 1, 2][..],
+            "not UTF-8 text",
+        ),
+    ] {
+        let (_d, p) = file(name, content);
+        imutherm()
+            .arg("info")
+            .arg(&p)
+            .assert()
+            .code(1)
+            .stderr(predicate::str::contains(name).and(predicate::str::contains(expect)));
+    }
+    let (_d, p) = file(
+        "bad.txt",
+        format!("{HEADER}1,2,3,4,5,6,7\n1,2,3,x,5,6,7\n").as_bytes(),
+    );
+    imutherm()
+        .arg("info")
+        .arg(&p)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("bad.txt:3: column 4: cannot read 'x'"));
+    imutherm()
+        .args(["info", "--skip-bad-lines"])
+        .arg(&p)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains(
+            "line 3: column 4: cannot read 'x' as a number (skipped as a gap)",
+        ));
+}
