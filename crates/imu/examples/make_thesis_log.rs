@@ -16,8 +16,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let target: u64 = mb.parse::<u64>()? * 1_000_000;
     let file = BufWriter::with_capacity(1 << 20, File::create(&out)?);
-    let mut meta = Metadata::default();
-    meta.device = Some("benchmark data".into());
+    let meta = Metadata {
+        device: Some("benchmark data".into()),
+        ..Metadata::default()
+    };
     let mut w = LogWriter::new(file, LogFormat::Imutherm, &meta, Some(200.0))?;
     // SplitMix64: a fixed, dependency-free generator.
     let mut state = 0x1234_5678_9abc_def0_u64;
