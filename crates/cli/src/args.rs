@@ -40,7 +40,8 @@ unless --skip-bad-lines makes it a gap.";
 /// Options on how a recording is read, shared by the commands that read one.
 #[derive(Debug, Args)]
 pub struct ReadArgs {
-    /// Sample rate in Hz, overriding the file's metadata or time column.
+    /// Sample rate in Hz, overriding the file's metadata (`# sample_rate_hz:`)
+    /// or time column. Without any of them: 1 Hz, with a note.
     #[arg(long, short = 'r', value_name = "HZ")]
     pub rate: Option<f64>,
 
@@ -117,16 +118,8 @@ pub struct AdevArgs {
     #[arg(long, short = 'c', value_name = "C", value_delimiter = ',')]
     pub channels: Vec<String>,
 
-    /// Sample rate in Hz. Default: the file's `# sample_rate_hz:` metadata,
-    /// else 1 Hz.
-    #[arg(long, short = 'r', value_name = "HZ")]
-    pub rate: Option<f64>,
-
-    /// Unit of a column, overriding its header, converted to SI on reading:
-    /// `--unit gyro_x=deg/s` (repeatable; known: m/s^2 g mg ug rad/s deg/s
-    /// deg/h degC K).
-    #[arg(long, value_name = "COL=UNIT")]
-    pub unit: Vec<String>,
+    #[command(flatten)]
+    pub read: ReadArgs,
 
     /// What the samples are: freq (rate samples, as an IMU gives) or phase
     /// (integrated samples).
@@ -137,11 +130,6 @@ pub struct AdevArgs {
     /// percentage (68.3).
     #[arg(long, default_value_t = 0.683, value_name = "LEVEL")]
     pub confidence: f64,
-
-    /// Skip malformed rows instead of stopping: each becomes a gap (so time
-    /// stays right) and is reported with its line.
-    #[arg(long)]
-    pub skip_bad_lines: bool,
 
     /// Print one JSON document (schema imutherm.adev/1) instead of tables.
     #[arg(long)]

@@ -286,3 +286,28 @@ fn skip_bad_lines_keeps_time_right_and_truncation_is_dropped() {
     assert_eq!(doc["channels"][0]["samples"], 200);
     assert_eq!(doc["channels"][0]["nan_samples"], 1);
 }
+
+#[test]
+fn time_column_gives_the_rate_and_its_gaps_become_gaps() {
+    let mut body = String::from("t[s],gyro_x[rad/s]\n");
+    for i in 0..400 {
+        if (200..203).contains(&i) {
+            continue; // three samples lost
+        }
+        body.push_str(&format!(
+            "{},{}\n",
+            i as f64 * 0.01,
+            ((i * 37) % 11) as f64 * 1e-3
+        ));
+    }
+    let (_d, p) = file("timed.csv", &body);
+    let out = imutherm().args(["adev", "--json"]).arg(&p).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let ch = &doc["channels"][0];
+    assert_eq!(ch["name"], "gyro_x");
+    assert_eq!(ch["samples"], 400);
+    assert_eq!(ch["nan_samples"], 3);
+    assert!((ch["rate_hz"].as_f64().unwrap() - 100.0).abs() < 1e-6);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("timed.csv:202: 3 missing samples"));
+}

@@ -9,12 +9,12 @@ use serde::Serialize;
 
 use allan::{Curve, DataType, Options, Stat, TauSpec};
 use imu::Quantity;
-use imu::ReadErrorKind;
-use imu::log::{ColumnKind, classify_with_overrides, metadata_rate, parse_metadata};
-use imu::table::{ReadPolicy, TableReader};
-use imu::units::parse_unit;
+use imu::log::{ColumnKind, classify_with_overrides};
+use imu::table::TableReader;
+use imu::{RecordingOptions, read_recording_with_report};
 
 use crate::args::AdevArgs;
+use crate::commands::info::recording_options;
 
 /// The JSON schema name, versioned: scripts rely on its fields.
 const SCHEMA: &str = "imutherm.adev/1";
@@ -35,16 +35,10 @@ struct Channel {
 
 pub fn run(a: &AdevArgs) -> Result<()> {
     let opts = options(a)?;
-    let units = unit_overrides(&a.unit)?;
+    let read = recording_options(&a.read)?;
     let mut channels = Vec::new();
     for file in &a.files {
-        channels.extend(read_channels(
-            file,
-            &a.channels,
-            &units,
-            a.rate,
-            a.skip_bad_lines,
-        )?);
+        channels.extend(read_channels(file, &a.channels, &read)?);
     }
     let curves: Vec<Result<Curve>> = channels
         .par_iter()
@@ -104,61 +98,24 @@ fn options(a: &AdevArgs) -> Result<Options> {
             a.confidence
         );
     }
-    if let Some(r) = a.rate
-        && !(r.is_finite() && r > 0.0)
-    {
-        bail!("--rate {r}: the sample rate must be a positive number of Hz");
-    }
     Ok(Options {
         stat,
         data_type,
-        rate_hz: a.rate.unwrap_or(1.0),
+        rate_hz: a.read.rate.unwrap_or(1.0),
         taus,
         confidence,
     })
 }
 
-/// Parses `--unit COL=UNIT` pairs.
-fn unit_overrides(pairs: &[String]) -> Result<Vec<(String, String)>> {
-    pairs
-        .iter()
-        .map(|p| match p.split_once('=') {
-            Some((c, u)) if !c.trim().is_empty() && parse_unit(u).is_some() => {
-                Ok((c.trim().to_string(), u.trim().to_string()))
-            }
-            Some((_, u)) if parse_unit(u).is_none() => bail!(
-                "--unit {p}: unknown unit '{}' (known: m/s^2 g mg ug rad/s mrad/s deg/s deg/h degC K)",
-                u.trim()
-            ),
-            _ => bail!("--unit {p}: expected COLUMN=UNIT, e.g. gyro_x=deg/s"),
-        })
-        .collect()
-}
-
-/// Reads the wanted channels of one file, converted to SI.
-fn read_channels(
-    file: &Path,
-    wanted: &[String],
-    units: &[(String, String)],
-    rate: Option<f64>,
-    skip_bad_lines: bool,
-) -> Result<Vec<Channel>> {
+/// Reads the wanted channels of one file, converted to SI, with gaps where
+/// the file has them.
+fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) -> Result<Vec<Channel>> {
+    // The header alone decides what is selected, before the body is read.
     let reader = TableReader::open(file)?;
-    let meta = parse_metadata(reader.comments());
-    let rate_hz = match rate.or_else(|| metadata_rate(&meta)) {
-        Some(r) => r,
-        None => {
-            eprintln!(
-                "note: {}: no sample rate given (--rate) or recorded (# sample_rate_hz:); assuming 1 Hz",
-                file.display()
-            );
-            1.0
-        }
-    };
     let headers = reader.names().to_vec();
     let kinds: Vec<ColumnKind> = headers
         .iter()
-        .map(|h| classify_with_overrides(h, units))
+        .map(|h| classify_with_overrides(h, &read.units))
         .collect();
     let inertial: Vec<usize> = (0..kinds.len()).filter(|&i| kinds[i].axis.is_some()).collect();
     let of = |q: Quantity| -> Vec<usize> {
@@ -169,7 +126,9 @@ fn read_channels(
     let mut select: Vec<usize> = Vec::new();
     if wanted.is_empty() {
         select = if inertial.is_empty() {
-            (0..kinds.len()).collect()
+            (0..kinds.len())
+                .filter(|&i| kinds[i].quantity != Quantity::Time)
+                .collect()
         } else {
             inertial.clone()
         };
@@ -179,7 +138,11 @@ fn read_channels(
             "gyro" | "gyros" => Some(of(Quantity::AngularRate)),
             "accel" | "accels" | "acc" => Some(of(Quantity::Acceleration)),
             "inertial" | "imu" => Some(inertial.clone()),
-            "all" => Some((0..kinds.len()).collect()),
+            "all" => Some(
+                (0..kinds.len())
+                    .filter(|&i| kinds[i].quantity != Quantity::Time)
+                    .collect(),
+            ),
             _ => None,
         };
         let found = match group {
@@ -201,36 +164,53 @@ fn read_channels(
             }
         }
     }
-    let table = reader.read_with(Some(&select), &ReadPolicy { skip_bad_lines })?;
-    for p in &table.problems {
-        let what = if matches!(p.kind, ReadErrorKind::TruncatedLastLine { .. }) {
-            "dropped"
-        } else {
-            "skipped as a gap"
-        };
-        eprintln!("warning: {p} ({what})");
+    drop(reader);
+    let (mut rec, report) = read_recording_with_report(file, read)?;
+    for p in &report.problems {
+        match p.line {
+            Some(line) => eprintln!("warning: {}:{line}: {}", file.display(), p.message),
+            None => eprintln!("warning: {}: {}", file.display(), p.message),
+        }
     }
-    let lines = table.lines;
-    Ok(table
-        .columns
-        .into_iter()
-        .zip(&select)
-        .map(|(mut data, &idx)| {
-            let kind = &kinds[idx];
-            if !kind.unit.is_identity() {
-                data.iter_mut().for_each(|v| *v = kind.unit.to_si(*v));
-            }
-            Channel {
-                file: file.to_path_buf(),
-                column: idx + 1,
-                name: kind.name.clone(),
-                unit: kind.unit_label.clone(),
-                rate_hz,
-                lines,
-                data,
-            }
-        })
-        .collect())
+    if report.unlisted > 0 {
+        eprintln!(
+            "warning: {}: {} more problems not listed",
+            file.display(),
+            report.unlisted
+        );
+    }
+    let rate_hz = match rec.rate_hz {
+        Some(r) => r,
+        None => {
+            eprintln!(
+                "note: {}: no sample rate given (--rate), recorded (# sample_rate_hz:) or timed; assuming 1 Hz",
+                file.display()
+            );
+            1.0
+        }
+    };
+    let mut out = Vec::with_capacity(select.len());
+    for idx in select {
+        let Some(pos) = rec.channels.iter().position(|c| c.source_name == headers[idx]) else {
+            bail!(
+                "{}: column {} ({}) is the time column, not a channel to analyse",
+                file.display(),
+                idx + 1,
+                headers[idx]
+            );
+        };
+        let ch = &mut rec.channels[pos];
+        out.push(Channel {
+            file: file.to_path_buf(),
+            column: idx + 1,
+            name: ch.name.clone(),
+            unit: ch.unit.clone(),
+            rate_hz,
+            lines: report.lines,
+            data: std::mem::take(&mut ch.data),
+        });
+    }
+    Ok(out)
 }
 
 #[derive(Serialize)]
