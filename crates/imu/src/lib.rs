@@ -1,14 +1,23 @@
 //! # imu — recordings and the files they live in
 //!
-//! The data side of imutherm: reading numeric sample files fast and honestly.
-//! This first part reads the plain column files of frequency-stability tools
-//! (comma, tab or whitespace separated, an optional header line, `#`
-//! comments, optionally gzip-compressed), streaming the file in blocks that
-//! are parsed on all cores.
+//! The data side of imutherm: the [`Recording`] (named channels typed by
+//! quantity — accelerometer axes in m/s², gyroscope axes in rad/s, the
+//! temperature in °C, anything else in its own unit — a sample rate,
+//! optional timestamps and metadata) and the files it is read from and
+//! written to:
+//! - the thesis log (`mpu_accel_1[m/^2], …, temp[degC]`, one row a sample),
+//! - imutherm's own log (the same body after `# key: value` metadata),
+//! - numeric columns (comma, tab or whitespace separated, optional header
+//!   with `[unit]`s converted to SI, optional time column),
+//! - any of them gzip-compressed, recognised by content.
 //!
-//! **What it is not:** no statistics (that is the `allan` crate) and no
-//! printing. Every problem in a file comes back as a [`ReadError`] naming the
-//! file, the line and the column.
+//! Files are streamed in blocks parsed on all cores. Every problem comes
+//! back with its file, line and column: as a [`ReadError`] when the data
+//! cannot be kept honestly, as a [`Problem`] in a [`ReadReport`] when it can
+//! (NaN and infinite samples become gaps, a truncated last line is dropped,
+//! rows out of time order are dropped, missing timestamps become gaps).
+//!
+//! **What it is not:** no statistics (the `allan` crate) and no printing.
 //!
 //! ```
 //! use std::io::Write;
