@@ -38,6 +38,7 @@ mod stat;
 pub mod confidence;
 pub mod edf;
 pub mod noise_id;
+pub mod noise_terms;
 pub mod stats;
 pub mod taus;
 

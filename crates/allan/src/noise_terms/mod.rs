@@ -1,0 +1,188 @@
+//! The IEEE Std 952-1997 (Annex C) noise terms of an inertial sensor, read
+//! from its Allan deviation:
+//!
+//! | term | σ²(τ) | slope of σ | read off (slope method) |
+//! | --- | --- | --- | --- |
+//! | quantization Q | 3Q²/τ² | −1 | σ(√3 s) on the −1 line |
+//! | white noise N (ARW/VRW) | N²/τ | −1/2 | σ(1 s) on the −1/2 line |
+//! | bias instability B | (2 ln2/π)·B² | 0 | σ_min / 0.664 |
+//! | rate random walk K | K²τ/3 | +1/2 | σ(3 s) on the +1/2 line |
+//! | rate ramp R | R²τ²/2 | +1 | σ(√2 s) on the +1 line |
+//!
+//! Two estimators, side by side: the slope method as the thesis and
+//! MATLAB's `allanvar` example use it ([`slope_method`]), and a weighted,
+//! non-negative least-squares fit of the whole model ([`fit_model`]). Each
+//! value has an interval; a term the data cannot show is reported as not
+//! identifiable, with the reason, never as a number.
+//!
+//! Units: the terms are in the unit of the rate data and seconds: N in
+//! unit/√Hz = unit·√s, B in unit, K in unit/√s, Q in unit·s, R in unit/s.
+
+mod fit;
+mod slope;
+
+pub use fit::{FitResult, fit_model};
+pub use slope::{SlopeResult, slope_method};
+
+use crate::Point;
+
+/// √(2 ln 2 / π) = 0.664…: the Allan deviation floor of flicker noise of
+/// bias instability B is 0.664·B (IEEE 952 Annex C).
+pub fn flicker_floor() -> f64 {
+    (2.0 * std::f64::consts::LN_2 / std::f64::consts::PI).sqrt()
+}
+
+/// One of the five terms.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Term {
+    /// Quantization noise Q.
+    Quantization,
+    /// White rate noise N: angle random walk (gyro), velocity random walk (accel).
+    WhiteNoise,
+    /// Bias instability B (flicker).
+    BiasInstability,
+    /// Rate random walk K.
+    RateRandomWalk,
+    /// Rate ramp R.
+    RateRamp,
+}
+
+impl Term {
+    /// All five, from short to long τ.
+    pub const ALL: [Term; 5] = [
+        Term::Quantization,
+        Term::WhiteNoise,
+        Term::BiasInstability,
+        Term::RateRandomWalk,
+        Term::RateRamp,
+    ];
+
+    /// Q, N, B, K or R.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Term::Quantization => "Q",
+            Term::WhiteNoise => "N",
+            Term::BiasInstability => "B",
+            Term::RateRandomWalk => "K",
+            Term::RateRamp => "R",
+        }
+    }
+
+    /// Snake-case name for JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Term::Quantization => "quantization",
+            Term::WhiteNoise => "white_noise",
+            Term::BiasInstability => "bias_instability",
+            Term::RateRandomWalk => "rate_random_walk",
+            Term::RateRamp => "rate_ramp",
+        }
+    }
+
+    /// Slope of σ(τ) on log-log axes where this term dominates.
+    pub fn slope(self) -> f64 {
+        match self {
+            Term::Quantization => -1.0,
+            Term::WhiteNoise => -0.5,
+            Term::BiasInstability => 0.0,
+            Term::RateRandomWalk => 0.5,
+            Term::RateRamp => 1.0,
+        }
+    }
+
+    /// σ²(τ) contributed by a term of value 1: the model's basis function.
+    pub fn variance_basis(self, tau: f64) -> f64 {
+        match self {
+            Term::Quantization => 3.0 / (tau * tau),
+            Term::WhiteNoise => 1.0 / tau,
+            Term::BiasInstability => flicker_floor().powi(2),
+            Term::RateRandomWalk => tau / 3.0,
+            Term::RateRamp => tau * tau / 2.0,
+        }
+    }
+
+    /// Whether the term shows at short τ (it needs faster sampling to be
+    /// seen) rather than at long τ (it needs a longer recording).
+    pub fn is_short_tau(self) -> bool {
+        matches!(self, Term::Quantization | Term::WhiteNoise)
+    }
+}
+
+/// A term's value with its interval, and the τ it was read at.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TermValue {
+    /// The estimate.
+    pub value: f64,
+    /// Lower bound.
+    pub lo: f64,
+    /// Upper bound.
+    pub hi: f64,
+    /// τ of the point it was read from (slope method), s.
+    pub tau: Option<f64>,
+}
+
+/// A term, or why there is none.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TermEstimate {
+    /// Identified.
+    Value(TermValue),
+    /// The data cannot show it; the reason says what would.
+    NotIdentifiable(String),
+}
+
+impl TermEstimate {
+    /// The value, if identified.
+    pub fn value(&self) -> Option<&TermValue> {
+        match self {
+            TermEstimate::Value(v) => Some(v),
+            TermEstimate::NotIdentifiable(_) => None,
+        }
+    }
+}
+
+/// Both estimators and where they disagree.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NoiseTerms {
+    /// The slope method.
+    pub slope: SlopeResult,
+    /// The model fit.
+    pub fit: FitResult,
+    /// Terms both identified whose intervals do not overlap, with a sentence.
+    pub disagreements: Vec<(Term, String)>,
+}
+
+/// Identifies the noise terms from an overlapping ADEV curve of rate data:
+/// the slope method on `dense` (a fine tau grid such as `many`, so the
+/// minimum and the slopes are read where they are), the fit on `sparse`
+/// (octave taus, nearly independent points), with fit intervals at
+/// `confidence`.
+pub fn identify(dense: &[Point], sparse: &[Point], confidence: f64) -> NoiseTerms {
+    let slope = slope_method(dense);
+    let fit = fit_model(sparse, confidence);
+    let mut disagreements = Vec::new();
+    for term in Term::ALL {
+        if let (Some(a), Some(b)) = (slope.get(term).value(), fit.get(term).value())
+            && (a.hi < b.lo || b.hi < a.lo)
+        {
+            disagreements.push((
+                term,
+                format!(
+                    "{}: slope method {:.4e} [{:.4e}, {:.4e}] and fit {:.4e} [{:.4e}, {:.4e}] disagree \
+                     beyond their intervals (another term overlaps where the slope was read?)",
+                    term.symbol(),
+                    a.value,
+                    a.lo,
+                    a.hi,
+                    b.value,
+                    b.lo,
+                    b.hi
+                ),
+            ));
+        }
+    }
+    NoiseTerms {
+        slope,
+        fit,
+        disagreements,
+    }
+}
