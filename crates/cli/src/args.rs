@@ -24,6 +24,63 @@ pub enum Command {
     /// found, with its line.
     #[command(after_help = INFO_EXAMPLES)]
     Info(InfoArgs),
+    /// Noise terms of each axis (IEEE 952: quantization, angle/velocity random
+    /// walk, bias instability, rate random walk, rate ramp) by the slope method
+    /// and by a model fit, with intervals and units; a thesis-style table over
+    /// the files' temperatures; Kalibr's imu.yaml.
+    #[command(after_help = NOISE_EXAMPLES)]
+    Noise(NoiseArgs),
+}
+
+const NOISE_EXAMPLES: &str = "\
+Examples:
+  imutherm noise imu_34C.txt --rate 200
+  imutherm noise imu_34C.txt imu_43C.txt imu_62C.txt imu_82C.txt --units datasheet
+      per-axis terms, then one table per term: rows = axes, columns = temperatures
+  imutherm noise imu_34C.txt --kalibr imu.yaml --json > noise.json
+
+What the numbers mean (IEEE Std 952-1997 Annex C, on the overlapping ADEV):
+  N  white noise (ARW/VRW): σ(1 s) on the −1/2 line. SI rad/√s = rad/s/√Hz (gyro),
+     m/s/√s = m/s²/√Hz (accel). A continuous-time density, as Kalibr's *_noise_density;
+     the per-sample standard deviation is N·√rate.
+  B  bias instability: σ_min / 0.664 (σ_min, the raw ADEV minimum, is printed too,
+     with its τ, as the thesis tables quote it). rad/s, m/s².
+  K  rate random walk: σ(3 s) on the +1/2 line. rad/s/√s, m/s²/√s (Kalibr's *_random_walk).
+  Q  quantization: σ(√3 s) on the −1 line. R  rate ramp: σ(√2 s) on the +1 line.
+The fit adjusts σ²(τ) = 3Q²/τ² + N²/τ + 0.4413·B² + K²τ/3 + R²τ²/2 to the octave points,
+weighted by their degrees of freedom, and names the terms the data cannot show.";
+
+#[derive(Debug, Args)]
+pub struct NoiseArgs {
+    /// Recordings (one per temperature for the thesis table).
+    #[arg(required = true, value_name = "FILE")]
+    pub files: Vec<PathBuf>,
+
+    /// Channels, as for `adev` (default: the six inertial channels).
+    #[arg(long, short = 'c', value_name = "C", value_delimiter = ',')]
+    pub channels: Vec<String>,
+
+    #[command(flatten)]
+    pub read: ReadArgs,
+
+    /// Units of the printed terms: si (rad/√s, rad/s, rad/s/√s; m/s/√s, m/s²,
+    /// m/s²/√s) or datasheet (°/√h, °/h, °/h/√h; m/s/√h, µg, µg/√s) — the thesis
+    /// table uses °/√s and °/s for gyros in both.
+    #[arg(long, default_value = "si", value_name = "si|datasheet")]
+    pub units: String,
+
+    /// Confidence level of the intervals (fraction or percentage).
+    #[arg(long, default_value_t = 0.95, value_name = "LEVEL")]
+    pub confidence: f64,
+
+    /// Also write Kalibr's imu.yaml (noise densities and random walks of the
+    /// worst axis, per-axis values in comments).
+    #[arg(long, value_name = "FILE")]
+    pub kalibr: Option<PathBuf>,
+
+    /// Print one JSON document (schema imutherm.noise/1).
+    #[arg(long)]
+    pub json: bool,
 }
 
 const INFO_EXAMPLES: &str = "\

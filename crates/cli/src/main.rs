@@ -16,6 +16,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         args::Command::Adev(a) => commands::adev::run(&a),
         args::Command::Info(a) => commands::info::run(&a),
+        args::Command::Noise(a) => commands::noise::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -115,10 +115,14 @@ pub fn slope_method(points: &[Point]) -> SlopeResult {
                 }
             } else {
                 let target = term.slope();
+                // Falling terms show before the minimum, rising ones after
+                // it: a noisy wiggle of the right slope on the wrong side is
+                // not the term.
+                let side = |i: usize| if term.slope() < 0.0 { i <= min_index } else { i >= min_index };
                 let best = slopes
                     .iter()
                     .enumerate()
-                    .filter(|(_, s)| s.is_finite())
+                    .filter(|(i, s)| s.is_finite() && side(*i))
                     .min_by(|a, b| (a.1 - target).abs().total_cmp(&(b.1 - target).abs()));
                 match best {
                     Some((i, s)) if (s - target).abs() <= SLOPE_TOLERANCE => {

@@ -1,44 +1,26 @@
 //! `imutherm adev`: Allan-family deviations of the columns of plain files.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
 use serde::Serialize;
 
 use allan::{Curve, DataType, Options, Stat, TauSpec};
-use imu::Quantity;
-use imu::log::{ColumnKind, classify_with_overrides};
-use imu::table::TableReader;
-use imu::{RecordingOptions, read_recording_with_report};
 
 use crate::args::AdevArgs;
 use crate::commands::info::recording_options;
+use crate::commands::selection::{Channel, read_channels};
 
 /// The JSON schema name, versioned: scripts rely on its fields.
 const SCHEMA: &str = "imutherm.adev/1";
-
-/// One column to analyse.
-struct Channel {
-    file: PathBuf,
-    /// 1-based column number in the file.
-    column: usize,
-    name: String,
-    unit: String,
-    /// Sample rate, Hz.
-    rate_hz: f64,
-    /// Lines in the file, to say where the data ended.
-    lines: u64,
-    data: Vec<f64>,
-}
 
 pub fn run(a: &AdevArgs) -> Result<()> {
     let opts = options(a)?;
     let read = recording_options(&a.read)?;
     let mut channels = Vec::new();
     for file in &a.files {
-        channels.extend(read_channels(file, &a.channels, &read)?);
+        channels.extend(read_channels(file, &a.channels, &read)?.channels);
     }
     let curves: Vec<Result<Curve>> = channels
         .par_iter()
@@ -105,112 +87,6 @@ fn options(a: &AdevArgs) -> Result<Options> {
         taus,
         confidence,
     })
-}
-
-/// Reads the wanted channels of one file, converted to SI, with gaps where
-/// the file has them.
-fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) -> Result<Vec<Channel>> {
-    // The header alone decides what is selected, before the body is read.
-    let reader = TableReader::open(file)?;
-    let headers = reader.names().to_vec();
-    let kinds: Vec<ColumnKind> = headers
-        .iter()
-        .map(|h| classify_with_overrides(h, &read.units))
-        .collect();
-    let inertial: Vec<usize> = (0..kinds.len()).filter(|&i| kinds[i].axis.is_some()).collect();
-    let of = |q: Quantity| -> Vec<usize> {
-        (0..kinds.len())
-            .filter(|&i| kinds[i].quantity == q && kinds[i].axis.is_some())
-            .collect()
-    };
-    let mut select: Vec<usize> = Vec::new();
-    if wanted.is_empty() {
-        select = if inertial.is_empty() {
-            (0..kinds.len())
-                .filter(|&i| kinds[i].quantity != Quantity::Time)
-                .collect()
-        } else {
-            inertial.clone()
-        };
-    }
-    for w in wanted {
-        let group = match w.trim().to_ascii_lowercase().as_str() {
-            "gyro" | "gyros" => Some(of(Quantity::AngularRate)),
-            "accel" | "accels" | "acc" => Some(of(Quantity::Acceleration)),
-            "inertial" | "imu" => Some(inertial.clone()),
-            "all" => Some(
-                (0..kinds.len())
-                    .filter(|&i| kinds[i].quantity != Quantity::Time)
-                    .collect(),
-            ),
-            _ => None,
-        };
-        let found = match group {
-            Some(g) if !g.is_empty() => g,
-            Some(_) => bail!(
-                "{}: no '{}' channels (columns: {})",
-                file.display(),
-                w.trim(),
-                headers.join(", ")
-            ),
-            None => match kinds.iter().position(|k| k.name.eq_ignore_ascii_case(w.trim())) {
-                Some(i) => vec![i],
-                None => vec![reader.column_index(w)?],
-            },
-        };
-        for i in found {
-            if !select.contains(&i) {
-                select.push(i);
-            }
-        }
-    }
-    drop(reader);
-    let (mut rec, report) = read_recording_with_report(file, read)?;
-    for p in &report.problems {
-        match p.line {
-            Some(line) => eprintln!("warning: {}:{line}: {}", file.display(), p.message),
-            None => eprintln!("warning: {}: {}", file.display(), p.message),
-        }
-    }
-    if report.unlisted > 0 {
-        eprintln!(
-            "warning: {}: {} more problems not listed",
-            file.display(),
-            report.unlisted
-        );
-    }
-    let rate_hz = match rec.rate_hz {
-        Some(r) => r,
-        None => {
-            eprintln!(
-                "note: {}: no sample rate given (--rate), recorded (# sample_rate_hz:) or timed; assuming 1 Hz",
-                file.display()
-            );
-            1.0
-        }
-    };
-    let mut out = Vec::with_capacity(select.len());
-    for idx in select {
-        let Some(pos) = rec.channels.iter().position(|c| c.source_name == headers[idx]) else {
-            bail!(
-                "{}: column {} ({}) is the time column, not a channel to analyse",
-                file.display(),
-                idx + 1,
-                headers[idx]
-            );
-        };
-        let ch = &mut rec.channels[pos];
-        out.push(Channel {
-            file: file.to_path_buf(),
-            column: idx + 1,
-            name: ch.name.clone(),
-            unit: ch.unit.clone(),
-            rate_hz,
-            lines: report.lines,
-            data: std::mem::take(&mut ch.data),
-        });
-    }
-    Ok(out)
 }
 
 #[derive(Serialize)]

@@ -2,3 +2,5 @@
 
 pub mod adev;
 pub mod info;
+pub mod noise;
+pub mod selection;

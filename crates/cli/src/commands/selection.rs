@@ -1,0 +1,159 @@
+//! Which channels of a file a command analyses, read in SI with their gaps.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Result, bail};
+
+use imu::Quantity;
+use imu::log::{ColumnKind, classify_with_overrides};
+use imu::table::TableReader;
+use imu::{RecordingOptions, read_recording_with_report};
+
+/// One column to analyse.
+pub struct Channel {
+    /// The file it is read from.
+    pub file: PathBuf,
+    /// 1-based column number in the file.
+    pub column: usize,
+    /// imutherm's name (`gyro_x`) or the header's.
+    pub name: String,
+    /// What it measures.
+    pub quantity: Quantity,
+    /// Unit of `data` (SI for known quantities).
+    pub unit: String,
+    /// Sample rate, Hz.
+    pub rate_hz: f64,
+    /// Lines in the file, to say where the data ended.
+    pub lines: u64,
+    /// The samples, NaN at gaps.
+    pub data: Vec<f64>,
+}
+
+/// The channels read from one file, and what else a command needs of it.
+pub struct Selection {
+    /// The selected channels.
+    pub channels: Vec<Channel>,
+    /// Mean of the file's temperature channel, °C.
+    pub temperature_mean_c: Option<f64>,
+    /// Sample rate, Hz.
+    pub rate_hz: f64,
+}
+
+/// Reads the wanted channels of one file, converted to SI, with gaps where
+/// the file has them.
+pub fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) -> Result<Selection> {
+    // The header alone decides what is selected, before the body is read.
+    let reader = TableReader::open(file)?;
+    let headers = reader.names().to_vec();
+    let kinds: Vec<ColumnKind> = headers
+        .iter()
+        .map(|h| classify_with_overrides(h, &read.units))
+        .collect();
+    let inertial: Vec<usize> = (0..kinds.len()).filter(|&i| kinds[i].axis.is_some()).collect();
+    let of = |q: Quantity| -> Vec<usize> {
+        (0..kinds.len())
+            .filter(|&i| kinds[i].quantity == q && kinds[i].axis.is_some())
+            .collect()
+    };
+    let mut select: Vec<usize> = Vec::new();
+    if wanted.is_empty() {
+        select = if inertial.is_empty() {
+            (0..kinds.len())
+                .filter(|&i| kinds[i].quantity != Quantity::Time)
+                .collect()
+        } else {
+            inertial.clone()
+        };
+    }
+    for w in wanted {
+        let group = match w.trim().to_ascii_lowercase().as_str() {
+            "gyro" | "gyros" => Some(of(Quantity::AngularRate)),
+            "accel" | "accels" | "acc" => Some(of(Quantity::Acceleration)),
+            "inertial" | "imu" => Some(inertial.clone()),
+            "all" => Some(
+                (0..kinds.len())
+                    .filter(|&i| kinds[i].quantity != Quantity::Time)
+                    .collect(),
+            ),
+            _ => None,
+        };
+        let found = match group {
+            Some(g) if !g.is_empty() => g,
+            Some(_) => bail!(
+                "{}: no '{}' channels (columns: {})",
+                file.display(),
+                w.trim(),
+                headers.join(", ")
+            ),
+            None => match kinds.iter().position(|k| k.name.eq_ignore_ascii_case(w.trim())) {
+                Some(i) => vec![i],
+                None => vec![reader.column_index(w)?],
+            },
+        };
+        for i in found {
+            if !select.contains(&i) {
+                select.push(i);
+            }
+        }
+    }
+    drop(reader);
+    let (mut rec, report) = read_recording_with_report(file, read)?;
+    for p in &report.problems {
+        match p.line {
+            Some(line) => eprintln!("warning: {}:{line}: {}", file.display(), p.message),
+            None => eprintln!("warning: {}: {}", file.display(), p.message),
+        }
+    }
+    if report.unlisted > 0 {
+        eprintln!(
+            "warning: {}: {} more problems not listed",
+            file.display(),
+            report.unlisted
+        );
+    }
+    let rate_hz = match rec.rate_hz {
+        Some(r) => r,
+        None => {
+            eprintln!(
+                "note: {}: no sample rate given (--rate), recorded (# sample_rate_hz:) or timed; assuming 1 Hz",
+                file.display()
+            );
+            1.0
+        }
+    };
+    let mut out = Vec::with_capacity(select.len());
+    for idx in select {
+        let Some(pos) = rec.channels.iter().position(|c| c.source_name == headers[idx]) else {
+            bail!(
+                "{}: column {} ({}) is the time column, not a channel to analyse",
+                file.display(),
+                idx + 1,
+                headers[idx]
+            );
+        };
+        let ch = &mut rec.channels[pos];
+        out.push(Channel {
+            file: file.to_path_buf(),
+            column: idx + 1,
+            name: ch.name.clone(),
+            quantity: ch.quantity,
+            unit: ch.unit.clone(),
+            rate_hz,
+            lines: report.lines,
+            data: std::mem::take(&mut ch.data),
+        });
+    }
+    let temperature_mean_c = rec.temperature().and_then(|t| {
+        let (sum, n) = t
+            .data
+            .iter()
+            .filter(|v| v.is_finite())
+            .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+        (n > 0).then(|| sum / n as f64)
+    });
+    Ok(Selection {
+        channels: out,
+        temperature_mean_c,
+        rate_hz,
+    })
+}
