@@ -140,10 +140,12 @@ pub fn analyze_series(series: &PhaseSeries, opts: &Options) -> Result<Vec<Point>
     let clean = series.longest_clean_stretch();
     let n_valid = n_phase.saturating_sub(series.nan_samples() - series.trimmed_samples());
 
+    let estimates = stats::compute_many(stat, series, &ms);
     let points: Vec<Point> = ms
         .par_iter()
-        .filter_map(|&m| {
-            let est = stats::compute(stat, series, m)?;
+        .zip(estimates)
+        .filter_map(|(&m, est)| {
+            let est = est?;
             if est.n < MIN_TERMS || !est.dev.is_finite() {
                 return None;
             }

@@ -14,7 +14,64 @@
 //! - phase input: a missing phase point invalidates only the terms that use
 //!   that point, as AllanTools' gap-resistant `gradev` does.
 
+use rayon::prelude::*;
+
 use crate::{AllanError, DataType};
+
+/// Samples per chunk of the parallel scan.
+const SCAN_CHUNK: usize = 1 << 16;
+
+/// What one scan of the samples finds; chunks are joined in order.
+#[derive(Debug, Clone, Copy)]
+struct Scan {
+    nan: usize,
+    first_infinite: Option<usize>,
+    first_valid: Option<usize>,
+    last_valid: Option<usize>,
+    sum: f64,
+    count: usize,
+}
+
+impl Scan {
+    fn empty() -> Scan {
+        Scan {
+            nan: 0,
+            first_infinite: None,
+            first_valid: None,
+            last_valid: None,
+            sum: 0.0,
+            count: 0,
+        }
+    }
+
+    fn of(offset: usize, chunk: &[f64]) -> Scan {
+        let mut s = Scan::empty();
+        for (i, &v) in chunk.iter().enumerate() {
+            if v.is_nan() {
+                s.nan += 1;
+            } else if v.is_infinite() {
+                s.first_infinite.get_or_insert(offset + i);
+            } else {
+                s.first_valid.get_or_insert(offset + i);
+                s.last_valid = Some(offset + i);
+                s.sum += v;
+                s.count += 1;
+            }
+        }
+        s
+    }
+
+    fn join(a: Scan, b: Scan) -> Scan {
+        Scan {
+            nan: a.nan + b.nan,
+            first_infinite: a.first_infinite.or(b.first_infinite),
+            first_valid: a.first_valid.or(b.first_valid),
+            last_valid: b.last_valid.or(a.last_valid),
+            sum: a.sum + b.sum,
+            count: a.count + b.count,
+        }
+    }
+}
 
 /// Where the gaps are, as a prefix count so any span is checked in O(1).
 #[derive(Debug, Clone)]
@@ -74,23 +131,18 @@ impl PhaseSeries {
         if !(rate_hz.is_finite() && rate_hz > 0.0) {
             return Err(AllanError::InvalidRate(rate_hz));
         }
-        // One scan for everything the conversion needs to know.
-        let mut nan_samples = 0usize;
-        let mut first = None;
-        let mut last = 0usize;
-        let (mut sum, mut count) = (0.0, 0usize);
-        for (i, &v) in data.iter().enumerate() {
-            if v.is_nan() {
-                nan_samples += 1;
-            } else if v.is_infinite() {
-                return Err(AllanError::Infinite { index: i });
-            } else {
-                first.get_or_insert(i);
-                last = i + 1;
-                sum += v;
-                count += 1;
-            }
+        // One parallel scan for everything the conversion needs to know.
+        let scan = data
+            .par_chunks(SCAN_CHUNK)
+            .enumerate()
+            .map(|(c, chunk)| Scan::of(c * SCAN_CHUNK, chunk))
+            .reduce(Scan::empty, Scan::join);
+        if let Some(index) = scan.first_infinite {
+            return Err(AllanError::Infinite { index });
         }
+        let (nan_samples, sum, count) = (scan.nan, scan.sum, scan.count);
+        let first = scan.first_valid;
+        let last = scan.last_valid.map_or(0, |l| l + 1);
         let tau0 = 1.0 / rate_hz;
         let first = first.unwrap_or(data.len());
         let last = last.max(first);

@@ -241,3 +241,24 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn blocked_sweep_equals_tau_by_tau() {
+    let y = Gauss::series(21, 20_000, 1.0);
+    let s = PhaseSeries::new(&y, DataType::Freq, 10.0).unwrap();
+    let ms: Vec<usize> = vec![1, 2, 3, 4, 8, 16, 100, 1024, 4096, 6000, 9999, 20_000];
+    for stat in [Stat::Oadev, Stat::Ohdev] {
+        let many = stats::compute_many(stat, &s, &ms);
+        for (&m, got) in ms.iter().zip(&many) {
+            let want = stats::compute(stat, &s, m);
+            match (got, want) {
+                (Some(g), Some(w)) => {
+                    assert_eq!(g.n, w.n, "{stat} m={m}");
+                    assert!(rel(g.dev, w.dev) < 1e-12, "{stat} m={m}: {} vs {}", g.dev, w.dev);
+                }
+                (None, None) => {}
+                other => panic!("{stat} m={m}: {other:?}"),
+            }
+        }
+    }
+}

@@ -4,6 +4,8 @@
 //! Each averaging factor costs one pass over the phase points that its terms
 //! touch (O(N/stride)), with no intermediate arrays.
 
+use rayon::prelude::*;
+
 use crate::phase::PhaseSeries;
 
 /// Order of the difference: 2 for the Allan family, 3 for Hadamard.
@@ -96,4 +98,78 @@ pub(crate) fn sum_squared(series: &PhaseSeries, m: usize, stride: usize, order: 
             (sum, n)
         }
     }
+}
+
+/// Points per block of [`sum_squared_overlapped_many`]: a block's windows at
+/// every offset together stay within a core's L2 cache.
+const BLOCK: usize = 2048;
+
+/// The overlapped sums of [`sum_squared`] (stride 1, no gaps) for many
+/// averaging factors at once, in one blocked sweep over the data.
+///
+/// Computed one tau at a time, each factor streams the series from memory
+/// three times (at offsets 0, m and 2m). Swept block by block with the
+/// factors in increasing order, the window at 2m of one octave factor is the
+/// window at m of the next, still in cache: for an octave grid the memory
+/// traffic falls from three series per tau to about one. Blocks run in
+/// parallel. Returns (sum, terms) per factor, in the order of `ms`.
+pub(crate) fn sum_squared_overlapped_many(x: &[f64], ms: &[usize], order: Order) -> Vec<(f64, usize)> {
+    let n = x.len();
+    let reach = order.span();
+    let terms: Vec<usize> = ms
+        .iter()
+        .map(|&m| if m == 0 { 0 } else { n.saturating_sub(reach * m) })
+        .collect();
+    let longest = terms.iter().copied().max().unwrap_or(0);
+    let blocks = longest.div_ceil(BLOCK);
+    let sums = (0..blocks)
+        .into_par_iter()
+        .fold(
+            || vec![0.0; ms.len()],
+            |mut acc, b| {
+                let j0 = b * BLOCK;
+                for ((slot, &m), &t) in acc.iter_mut().zip(ms).zip(&terms) {
+                    let j1 = (j0 + BLOCK).min(t);
+                    if j0 >= j1 {
+                        continue;
+                    }
+                    let len = j1 - j0;
+                    let a = &x[j0..j1];
+                    let b1 = &x[j0 + m..j0 + m + len];
+                    let c = &x[j0 + 2 * m..j0 + 2 * m + len];
+                    *slot += match order {
+                        Order::Second => a
+                            .iter()
+                            .zip(b1)
+                            .zip(c)
+                            .map(|((a, b), c)| {
+                                let v = c - 2.0 * b + a;
+                                v * v
+                            })
+                            .sum::<f64>(),
+                        Order::Third => {
+                            let d = &x[j0 + 3 * m..j0 + 3 * m + len];
+                            a.iter()
+                                .zip(b1)
+                                .zip(c)
+                                .zip(d)
+                                .map(|(((a, b), c), d)| {
+                                    let v = d - 3.0 * c + 3.0 * b - a;
+                                    v * v
+                                })
+                                .sum::<f64>()
+                        }
+                    };
+                }
+                acc
+            },
+        )
+        .reduce(
+            || vec![0.0; ms.len()],
+            |mut a, b| {
+                a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+                a
+            },
+        );
+    sums.into_iter().zip(terms).collect()
 }

@@ -30,6 +30,37 @@ pub struct Estimate {
     pub n: usize,
 }
 
+/// Computes `stat` at every averaging factor of `ms` (each `None` where the
+/// series cannot support it). OADEV and OHDEV on gap-free data take one
+/// blocked sweep for all factors; everything else runs factor by factor in
+/// parallel.
+pub fn compute_many(stat: Stat, series: &PhaseSeries, ms: &[usize]) -> Vec<Option<Estimate>> {
+    use rayon::prelude::*;
+    let order = match stat {
+        Stat::Oadev => Some((differences::Order::Second, 2.0)),
+        Stat::Ohdev => Some((differences::Order::Third, 6.0)),
+        _ => None,
+    };
+    match order {
+        Some((order, norm)) if !series.has_gaps() => {
+            differences::sum_squared_overlapped_many(series.points(), ms, order)
+                .into_iter()
+                .zip(ms)
+                .map(|((sum, n), &m)| {
+                    (n > 0).then(|| {
+                        let tau = m as f64 * series.tau0();
+                        Estimate {
+                            dev: (sum / (norm * n as f64 * tau * tau)).sqrt(),
+                            n,
+                        }
+                    })
+                })
+                .collect()
+        }
+        _ => ms.par_iter().map(|&m| compute(stat, series, m)).collect(),
+    }
+}
+
 /// Computes `stat` at averaging factor m.
 pub fn compute(stat: Stat, series: &PhaseSeries, m: usize) -> Option<Estimate> {
     match stat {
