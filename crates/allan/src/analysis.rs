@@ -92,14 +92,21 @@ pub struct Curve {
 /// Errors when the options are invalid, when the series is too short for any
 /// requested tau, or when it has gaps and the statistic cannot skip them.
 pub fn analyze(data: &[f64], opts: &Options) -> Result<Curve, AllanError> {
-    let series = PhaseSeries::new(data, opts.data_type, opts.rate_hz)?;
+    analyze_vec(data.to_vec(), opts)
+}
+
+/// [`analyze`], taking the samples by value so that they are turned into
+/// phase in place: memory stays at the size of the data.
+pub fn analyze_vec(data: Vec<f64>, opts: &Options) -> Result<Curve, AllanError> {
+    let samples = data.len();
+    let series = PhaseSeries::from_vec(data, opts.data_type, opts.rate_hz)?;
     let points = analyze_series(&series, opts)?;
     Ok(Curve {
         stat: opts.stat,
         data_type: opts.data_type,
         rate_hz: opts.rate_hz,
         confidence: opts.confidence,
-        samples: data.len(),
+        samples,
         nan_samples: series.nan_samples(),
         points,
     })

@@ -42,7 +42,7 @@ pub mod noise_terms;
 pub mod stats;
 pub mod taus;
 
-pub use analysis::{Curve, DEFAULT_CONFIDENCE, Options, Point, analyze, analyze_series};
+pub use analysis::{Curve, DEFAULT_CONFIDENCE, Options, Point, analyze, analyze_series, analyze_vec};
 pub use error::AllanError;
 pub use noise_id::NoiseIdMethod;
 pub use phase::PhaseSeries;

@@ -128,6 +128,12 @@ impl PhaseSeries {
     /// not gaps; AllanTools trims them too) but still counted in
     /// [`PhaseSeries::nan_samples`]. Infinite samples are an error.
     pub fn new(data: &[f64], data_type: DataType, rate_hz: f64) -> Result<Self, AllanError> {
+        Self::from_vec(data.to_vec(), data_type, rate_hz)
+    }
+
+    /// [`PhaseSeries::new`], converting the samples in place: no second copy
+    /// of a long recording is made.
+    pub fn from_vec(mut data: Vec<f64>, data_type: DataType, rate_hz: f64) -> Result<Self, AllanError> {
         if !(rate_hz.is_finite() && rate_hz > 0.0) {
             return Err(AllanError::InvalidRate(rate_hz));
         }
@@ -141,41 +147,36 @@ impl PhaseSeries {
             return Err(AllanError::Infinite { index });
         }
         let (nan_samples, sum, count) = (scan.nan, scan.sum, scan.count);
-        let first = scan.first_valid;
-        let last = scan.last_valid.map_or(0, |l| l + 1);
         let tau0 = 1.0 / rate_hz;
-        let first = first.unwrap_or(data.len());
-        let last = last.max(first);
-        let body = &data[first..last];
-        let trimmed = data.len() - body.len();
+        let first = scan.first_valid.unwrap_or(data.len());
+        let last = scan.last_valid.map_or(0, |l| l + 1).max(first);
+        let total = data.len();
+        data.truncate(last);
+        if first > 0 {
+            data.drain(..first);
+        }
+        let trimmed = total - data.len();
         let interior_gaps = nan_samples - trimmed;
-
-        let (x, gaps) = match data_type {
-            DataType::Freq => {
-                let mean = if count > 0 { sum / count as f64 } else { 0.0 };
-                let mut x = Vec::with_capacity(body.len() + 1);
-                let mut acc = 0.0;
-                x.push(0.0);
-                for &y in body {
-                    // A missing increment adds nothing; the gap index marks
-                    // every span across it as unusable.
-                    if !y.is_nan() {
-                        acc += (y - mean) * tau0;
-                    }
-                    x.push(acc);
+        let gaps = (interior_gaps > 0)
+            .then(|| GapIndex::build(data.iter().map(|v| v.is_nan()), data.len(), data_type));
+        if data_type == DataType::Freq {
+            let mean = if count > 0 { sum / count as f64 } else { 0.0 };
+            // x[k] is the sum of the increments before sample k: each slot
+            // is read as a rate and overwritten with the phase before it.
+            // A missing increment adds nothing; the gap index marks every
+            // span across it as unusable.
+            let mut acc = 0.0;
+            for v in data.iter_mut() {
+                let y = *v;
+                *v = acc;
+                if !y.is_nan() {
+                    acc += (y - mean) * tau0;
                 }
-                let gaps = (interior_gaps > 0)
-                    .then(|| GapIndex::build(body.iter().map(|v| v.is_nan()), body.len(), DataType::Freq));
-                (x, gaps)
             }
-            DataType::Phase => {
-                let gaps = (interior_gaps > 0)
-                    .then(|| GapIndex::build(body.iter().map(|v| v.is_nan()), body.len(), DataType::Phase));
-                (body.to_vec(), gaps)
-            }
-        };
+            data.push(acc);
+        }
         Ok(PhaseSeries {
-            x,
+            x: data,
             tau0,
             gaps,
             nan_samples,

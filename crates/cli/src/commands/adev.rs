@@ -18,24 +18,28 @@ const SCHEMA: &str = "imutherm.adev/1";
 pub fn run(a: &AdevArgs) -> Result<()> {
     let opts = options(a)?;
     let read = recording_options(&a.read)?;
-    let mut channels = Vec::new();
+    let mut channels: Vec<Channel> = Vec::new();
     for file in &a.files {
         channels.extend(read_channels(file, &a.channels, &read)?.channels);
     }
+    // The samples are handed over and turned into phase in place.
+    let data: Vec<Vec<f64>> = channels.iter_mut().map(|c| std::mem::take(&mut c.data)).collect();
     let curves: Vec<Result<Curve>> = channels
         .par_iter()
-        .map(|ch| {
+        .zip(data)
+        .map(|(ch, data)| {
             let opts = Options {
                 rate_hz: ch.rate_hz,
                 ..opts.clone()
             };
-            allan::analyze(&ch.data, &opts).with_context(|| {
+            let samples = data.len();
+            allan::analyze_vec(data, &opts).with_context(|| {
                 format!(
                     "{}: column {} ({}): {} samples, data ends at line {}",
                     ch.file.display(),
                     ch.column,
                     ch.name,
-                    ch.data.len(),
+                    samples,
                     ch.lines
                 )
             })
