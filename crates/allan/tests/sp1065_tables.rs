@@ -188,3 +188,74 @@ fn phase_input_gives_the_same_as_rate_input() {
         }
     }
 }
+
+#[test]
+fn table_31_total_family() {
+    let y = nbs14_1000();
+    // allantools 2024.6 (reference_values.json), τ = 1, 10, 100, no bias
+    // correction; (stat, devs, ns).
+    let at: [(Stat, [f64; 3], [usize; 3]); 3] = [
+        (
+            Stat::Mtotdev,
+            [0.206639142688, 0.0555288597687, 0.0195467512927],
+            [999, 972, 702],
+        ),
+        (
+            Stat::Ttotdev,
+            [0.119303164656, 0.320596021352, 1.12853221206],
+            [999, 972, 702],
+        ),
+        (
+            Stat::Htotdev,
+            [0.294388329124, 0.0959072041065, 0.030504478812],
+            [998, 971, 701],
+        ),
+    ];
+    for (stat, devs, ns) in at {
+        for (i, m) in [1, 10, 100].into_iter().enumerate() {
+            let (got, n) = dev(stat, &y, m);
+            assert_rel(&format!("{stat} m={m}"), got, devs[i], 1e-11);
+            assert_eq!(n, ns[i], "{stat} n at m={m}");
+        }
+    }
+    // Stable32 1.60 (no bias correction), printed to 5 digits.
+    for (stat, want) in [
+        (Stat::Mtotdev, [0.20664, 0.055529, 0.019547]),
+        (Stat::Ttotdev, [0.1193, 0.3206, 1.1285]),
+    ] {
+        for (m, w) in [1, 10, 100].into_iter().zip(want) {
+            let (got, _) = dev(stat, &y, m);
+            assert_rel(&format!("Stable32 {stat} m={m}"), got, w, 5e-4);
+        }
+    }
+    // SP 1065 Table 31 prints bias-corrected values: MTOT / 0.73, HTOT / 0.995.
+    let corrected = [
+        (
+            Stat::Mtotdev,
+            allan::stats::mtotdev::MTOTVAR_BIAS,
+            [0.2418528, 0.06499161, 0.02287774],
+        ),
+        (
+            Stat::Htotdev,
+            allan::stats::htotdev::HTOTVAR_BIAS,
+            [0.2943883, 0.09614787, 0.03058103],
+        ),
+    ];
+    for (stat, bias, want) in corrected {
+        for (m, w) in [1, 10, 100].into_iter().zip(want) {
+            let (got, _) = dev(stat, &y, m);
+            // HTOT at m = 1 is plain HDEV, which is not corrected.
+            let c = if stat == Stat::Htotdev && m == 1 {
+                got
+            } else {
+                got / bias.sqrt()
+            };
+            assert_rel(&format!("SP 1065 {stat} m={m}"), c, w, 1e-6);
+        }
+    }
+    // Theo1, Stable32 1.60 at averaging factors 10, 100, 1000.
+    for (m, w) in [(10, 0.10757), (100, 0.031789), (1000, 0.0050524)] {
+        let (got, _) = dev(Stat::Theo1, &y, m);
+        assert_rel(&format!("Stable32 theo1 AF={m}"), got, w, 1e-4);
+    }
+}
