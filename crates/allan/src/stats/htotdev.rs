@@ -20,7 +20,7 @@ pub const HTOTVAR_BIAS: f64 = 0.995;
 
 /// Hadamard total deviation at averaging factor m (needs 3m ≤ N − 1).
 pub fn htotdev(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
-    if m == 0 || !(tau0 > 0.0) || phase.len() < 4 {
+    if m == 0 || tau0.is_nan() || tau0 <= 0.0 || phase.len() < 4 {
         return None;
     }
     if m == 1 {

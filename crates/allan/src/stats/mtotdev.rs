@@ -72,7 +72,7 @@ pub(crate) fn half_means_slope(xs: &[f64]) -> f64 {
 /// Modified total deviation at averaging factor m (needs 3m ≤ N).
 pub fn mtotdev(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
     let n = phase.len();
-    if m == 0 || 3 * m > n || !(tau0 > 0.0) {
+    if m == 0 || 3 * m > n || tau0.is_nan() || tau0 <= 0.0 {
         return None;
     }
     let l = 3 * m;

@@ -19,7 +19,7 @@ pub fn theo1_tau(m: usize, tau0: f64) -> f64 {
 /// Theo1 deviation at even averaging factor m (2 ≤ m ≤ N − 1).
 pub fn theo1(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
     let n = phase.len();
-    if m < 2 || m % 2 == 1 || m >= n || !(tau0 > 0.0) {
+    if m < 2 || m % 2 == 1 || m >= n || tau0.is_nan() || tau0 <= 0.0 {
         return None;
     }
     let h = m / 2;
