@@ -314,15 +314,12 @@ impl TableReader {
             Some((line, _)) => *line,
             None => self.line_no + 1,
         };
-        // Sizing the columns from the file size keeps memory near the data:
-        // doubling growth would peak at up to three times it.
+        // The file size sizes the columns (see `Merger::merge`).
         let file_bytes = if self.gzip {
             None
         } else {
             std::fs::metadata(&self.path).ok().map(|m| m.len())
         };
-        let mut bytes_seen = 0u64;
-        let mut sized = false;
 
         if let Some((line, text)) = self.pending.take() {
             let out = layout
@@ -338,11 +335,22 @@ impl TableReader {
             eof: false,
         };
         let io_err = |e| ReadError::new(&self.path, ReadErrorKind::Io(e));
+        let mut merger = Merger {
+            got: &mut got,
+            path: &self.path,
+            line_no: self.line_no,
+            file_bytes,
+            bytes_seen: 0,
+            sized: false,
+        };
         let mut batch = source.next_batch(batch_len).map_err(io_err)?;
+        let mut parsed: Option<(Vec<Result<BlockOut, BlockFault>>, u64)> = None;
         loop {
             let last_batch = source.eof;
-            // Parse this batch on all cores while the next one is read.
-            let (results, next) = rayon::join(
+            // Three stages at once: this batch is parsed on all cores while
+            // the previous one is appended to the columns and the next one
+            // is read.
+            let (results, (merged, next)) = rayon::join(
                 || {
                     let last_index = batch.len().wrapping_sub(1);
                     batch
@@ -351,30 +359,23 @@ impl TableReader {
                         .map(|(i, b)| layout.parse_block(b, last_batch && i == last_index))
                         .collect::<Vec<Result<BlockOut, BlockFault>>>()
                 },
-                || (!last_batch).then(|| source.next_batch(batch_len)).transpose(),
+                || {
+                    let merged = parsed.take().map_or(Ok(()), |(r, bytes)| merger.merge(r, bytes));
+                    let next = (!last_batch).then(|| source.next_batch(batch_len)).transpose();
+                    (merged, next)
+                },
             );
-            bytes_seen += batch.iter().map(|b| b.len() as u64).sum::<u64>();
-            for r in results {
-                let out = r.map_err(|f| f.into_error(&self.path, self.line_no))?;
-                let lines = out.lines;
-                out.append_to(&mut got, &self.path, self.line_no);
-                self.line_no += lines;
-            }
-            if !sized && let Some(total) = file_bytes {
-                sized = true;
-                let rows = got.columns.first().map_or(0, Vec::len) as u64;
-                if bytes_seen > 0 && rows > 0 && total > bytes_seen {
-                    let estimate = (rows as f64 * total as f64 / bytes_seen as f64 * 1.01) as usize;
-                    for c in &mut got.columns {
-                        c.reserve_exact(estimate.saturating_sub(c.len()));
-                    }
-                }
-            }
+            merged?;
+            parsed = Some((results, batch.iter().map(|b| b.len() as u64).sum::<u64>()));
             match next.map_err(io_err)? {
                 Some(b) => batch = b,
                 None => break,
             }
         }
+        if let Some((r, bytes)) = parsed {
+            merger.merge(r, bytes)?;
+        }
+        self.line_no = merger.line_no;
         let Collected {
             columns,
             problems,
@@ -443,6 +444,44 @@ struct Layout<'a> {
     ncols: usize,
     delimiter: Delimiter,
     select: &'a [usize],
+}
+
+/// Appends parsed batches to the columns in file order, turning faults into
+/// errors with their absolute line numbers.
+struct Merger<'a> {
+    got: &'a mut Collected,
+    path: &'a Path,
+    line_no: u64,
+    file_bytes: Option<u64>,
+    bytes_seen: u64,
+    sized: bool,
+}
+
+impl Merger<'_> {
+    fn merge(&mut self, results: Vec<Result<BlockOut, BlockFault>>, bytes: u64) -> Result<(), ReadError> {
+        self.bytes_seen += bytes;
+        for r in results {
+            let out = r.map_err(|f| f.into_error(self.path, self.line_no))?;
+            let lines = out.lines;
+            out.append_to(self.got, self.path, self.line_no);
+            self.line_no += lines;
+        }
+        // Sizing the columns from the file size keeps memory near the data:
+        // doubling growth would peak at up to three times it.
+        if !self.sized
+            && let Some(total) = self.file_bytes
+        {
+            self.sized = true;
+            let rows = self.got.columns.first().map_or(0, Vec::len) as u64;
+            if self.bytes_seen > 0 && rows > 0 && total > self.bytes_seen {
+                let estimate = (rows as f64 * total as f64 / self.bytes_seen as f64 * 1.01) as usize;
+                for c in &mut self.got.columns {
+                    c.reserve_exact(estimate.saturating_sub(c.len()));
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Everything gathered from the blocks, in file order.
