@@ -165,15 +165,36 @@ impl PhaseSeries {
             // is read as a rate and overwritten with the phase before it.
             // A missing increment adds nothing; the gap index marks every
             // span across it as unusable.
-            let mut acc = 0.0;
-            for v in data.iter_mut() {
-                let y = *v;
-                *v = acc;
-                if !y.is_nan() {
-                    acc += (y - mean) * tau0;
-                }
-            }
-            data.push(acc);
+            //
+            // A prefix sum in two parallel passes: chunk totals, then each
+            // chunk's running sum from the total of those before it.
+            let increment = |y: f64| if y.is_nan() { 0.0 } else { (y - mean) * tau0 };
+            let totals: Vec<f64> = data
+                .par_chunks(SCAN_CHUNK)
+                .map(|c| c.iter().map(|&y| increment(y)).sum())
+                .collect();
+            let starts: Vec<f64> = totals
+                .iter()
+                .scan(0.0, |acc, t| {
+                    let start = *acc;
+                    *acc += t;
+                    Some(start)
+                })
+                .collect();
+            let ends: Vec<f64> = data
+                .par_chunks_mut(SCAN_CHUNK)
+                .zip(starts)
+                .map(|(chunk, start)| {
+                    let mut acc = start;
+                    for v in chunk.iter_mut() {
+                        let y = *v;
+                        *v = acc;
+                        acc += increment(y);
+                    }
+                    acc
+                })
+                .collect();
+            data.push(ends.last().copied().unwrap_or(0.0));
         }
         Ok(PhaseSeries {
             x: data,
