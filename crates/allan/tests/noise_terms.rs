@@ -3,25 +3,8 @@
 use allan::noise_terms::{Term, TermEstimate, fit_model, identify, slope_method};
 use allan::{NoiseIdMethod, Options, Point, Stat, TauSpec, analyze};
 
-/// SplitMix64 + Box–Muller, fixed so the tests do not depend on a
-/// random-number crate's stream.
-struct Gauss(u64);
-
-impl Gauss {
-    fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        ((z >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    }
-
-    fn normal(&mut self) -> f64 {
-        let (u1, u2) = (self.uniform(), self.uniform());
-        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
-    }
-}
+mod common;
+use common::Gauss;
 
 /// Exact model points at octave taus with a given EDF.
 fn model_points(q: f64, n: f64, b: f64, k: f64, r: f64, tau0: f64, count: usize) -> Vec<Point> {

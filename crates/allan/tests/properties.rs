@@ -3,30 +3,8 @@
 use allan::{DataType, Options, PhaseSeries, Stat, TauSpec, analyze, stats};
 use proptest::prelude::*;
 
-/// SplitMix64 + Box–Muller: a small, fixed generator so these tests do not
-/// depend on a random-number crate's stream.
-struct Gauss(u64);
-
-impl Gauss {
-    fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        ((z >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    }
-
-    fn normal(&mut self) -> f64 {
-        let (u1, u2) = (self.uniform(), self.uniform());
-        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
-    }
-
-    fn series(seed: u64, n: usize, sigma: f64) -> Vec<f64> {
-        let mut g = Gauss(seed);
-        (0..n).map(|_| sigma * g.normal()).collect()
-    }
-}
+mod common;
+use common::Gauss;
 
 /// The thesis slide, non-overlapped: σ² = 1/(2(M−1)) Σ (ȳ_{i+1} − ȳ_i)² over
 /// the M averages of m samples.

@@ -12,7 +12,7 @@
 //! Cost: O(m) per subsequence, O(N·m) per τ, O(m) scratch.
 
 use super::Estimate;
-use super::mtotdev::{extend_by_reflection, half_means_slope};
+use super::mtotdev::{extend_by_reflection, half_means_slope, reflected_second_differences};
 
 /// SP 1065's bias of HTOTVAR for white FM: published values are
 /// `htotdev / sqrt(HTOTVAR_BIAS)`.
@@ -50,21 +50,7 @@ pub fn htotdev(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
     for i in 0..terms {
         let xs = &y[i..i + l];
         extend_by_reflection(xs, half_means_slope(xs), (l / 2) as f64, &mut xstar);
-        let (mut s1, mut s2, mut s3) = (
-            xstar[..m].iter().sum::<f64>(),
-            xstar[m..2 * m].iter().sum::<f64>(),
-            xstar[2 * m..3 * m].iter().sum::<f64>(),
-        );
-        let mut acc = 0.0;
-        for j in 0..6 * m {
-            if j > 0 {
-                s1 += xstar[j + m - 1] - xstar[j - 1];
-                s2 += xstar[j + 2 * m - 1] - xstar[j + m - 1];
-                s3 += xstar[j + 3 * m - 1] - xstar[j + 2 * m - 1];
-            }
-            let v = (s1 - 2.0 * s2 + s3) / mf;
-            acc += v * v;
-        }
+        let acc = reflected_second_differences(&xstar, m);
         total += acc / (6.0 * 6.0 * mf);
     }
     let dev = (total / terms as f64).sqrt();

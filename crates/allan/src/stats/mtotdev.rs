@@ -20,7 +20,7 @@ pub const MTOTVAR_BIAS: f64 = 0.73;
 
 /// Σ over the 6m positions of the squared second difference of m-point
 /// sums on the 9m-point extension `xstar`, with running window sums.
-fn reflected_second_differences(xstar: &[f64], m: usize) -> f64 {
+pub(crate) fn reflected_second_differences(xstar: &[f64], m: usize) -> f64 {
     let (mut s1, mut s2, mut s3) = (
         xstar[..m].iter().sum::<f64>(),
         xstar[m..2 * m].iter().sum::<f64>(),

@@ -2,13 +2,14 @@
 
 use std::io::Write;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use rayon::prelude::*;
 use serde::Serialize;
 
 use allan::{Curve, DataType, Options, Stat, TauSpec};
 
 use crate::args::AdevArgs;
+use crate::commands::confidence::confidence_level;
 use crate::commands::info::recording_options;
 use crate::commands::selection::{Channel, read_channels};
 
@@ -72,18 +73,7 @@ fn options(a: &AdevArgs) -> Result<Options> {
     let stat: Stat = a.stat.parse()?;
     let taus: TauSpec = a.taus.parse()?;
     let data_type: DataType = a.data_type.parse()?;
-    // "68.3" is as natural to type as "0.683"; anything else is a mistake.
-    let confidence = if a.confidence >= 1.0 && a.confidence < 100.0 {
-        a.confidence / 100.0
-    } else {
-        a.confidence
-    };
-    if !(confidence > 0.0 && confidence < 1.0) {
-        bail!(
-            "--confidence {}: give a level between 0 and 1 (0.683) or a percentage (68.3)",
-            a.confidence
-        );
-    }
+    let confidence = confidence_level(a.confidence)?;
     Ok(Options {
         stat,
         data_type,

@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
 pub mod adev;
+pub mod confidence;
 pub mod info;
 pub mod noise;
 pub mod selection;

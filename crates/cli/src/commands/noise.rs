@@ -16,6 +16,7 @@ use imu::Quantity;
 use imu::units::STANDARD_GRAVITY;
 
 use crate::args::NoiseArgs;
+use crate::commands::confidence::confidence_level;
 use crate::commands::info::recording_options;
 use crate::commands::selection::{Channel, read_channels};
 
@@ -97,17 +98,7 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
         "datasheet" => Units::Datasheet,
         other => bail!("--units {other}: expected si or datasheet"),
     };
-    let confidence = if a.confidence >= 1.0 && a.confidence < 100.0 {
-        a.confidence / 100.0
-    } else {
-        a.confidence
-    };
-    if !(confidence > 0.0 && confidence < 1.0) {
-        bail!(
-            "--confidence {}: give a level between 0 and 1 or a percentage",
-            a.confidence
-        );
-    }
+    let confidence = confidence_level(a.confidence)?;
     let read = recording_options(&a.read)?;
     let mut temps = Vec::new();
     let mut rates = Vec::new();
