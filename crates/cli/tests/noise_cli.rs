@@ -165,3 +165,18 @@ fn the_thesis_sample_rows_give_a_table() {
             "thesis.txt:9: expected 7 fields, found 6",
         ));
 }
+
+#[test]
+fn an_unknown_header_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("mystery.csv");
+    std::fs::write(&p, "alpha,beta\n1,2\n3,4\n5,6\n").unwrap();
+    imutherm()
+        .args(["noise", "--rate", "1"])
+        .arg(&p)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "mystery.csv: no accelerometer or gyroscope column recognised",
+        ));
+}

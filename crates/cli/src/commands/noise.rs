@@ -105,6 +105,26 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
     let mut work = Vec::new();
     for (i, file) in a.files.iter().enumerate() {
         let sel = read_channels(file, &a.channels, &read)?;
+        // Noise terms are an inertial sensor's: without a recognised axis
+        // (and no explicit choice) the header is not one imutherm knows.
+        if a.channels.is_empty()
+            && !sel
+                .channels
+                .iter()
+                .any(|c| matches!(c.quantity, Quantity::Acceleration | Quantity::AngularRate))
+        {
+            bail!(
+                "{}: no accelerometer or gyroscope column recognised in the header ({}); name them \
+                 accel_x…gyro_z or mpu_gyro_1…, give units in brackets (gyro_x[deg/s]), or pick \
+                 columns with --channels",
+                file.display(),
+                sel.channels
+                    .iter()
+                    .map(|c| c.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
         temps.push(sel.temperature_mean_c);
         rates.push(sel.rate_hz);
         work.extend(sel.channels.into_iter().map(|c| (i, c)));
