@@ -83,21 +83,16 @@ impl<W: Write> LogWriter<W> {
     /// Writes one sample: `[ax, ay, az, gx, gy, gz, temp]` in SI.
     pub fn write_row(&mut self, row: &[f64; 7]) -> io::Result<()> {
         self.line.clear();
-        let mut buf = ryu::Buffer::new();
-        for (i, v) in row.iter().enumerate() {
-            if i > 0 {
-                self.line.extend_from_slice(b", ");
-            }
-            let text = if v.is_finite() {
-                buf.format_finite(*v)
-            } else {
-                "nan"
-            };
-            self.line.extend_from_slice(text.as_bytes());
-        }
-        self.line.push(b'\n');
+        format_row(row, &mut self.line);
         self.rows += 1;
         self.out.write_all(&self.line)
+    }
+
+    /// Writes rows formatted beforehand with [`format_row`] (so that long
+    /// runs can be formatted on all cores); `rows` is how many they are.
+    pub fn write_formatted(&mut self, text: &[u8], rows: u64) -> io::Result<()> {
+        self.rows += rows;
+        self.out.write_all(text)
     }
 
     /// Rows written so far.
@@ -114,6 +109,24 @@ impl<W: Write> LogWriter<W> {
     pub fn into_inner(self) -> W {
         self.out
     }
+}
+
+/// Appends one log row (`v, v, …, v\n`) to `out`, each number in its
+/// shortest form that reads back to the same bits; non-finite values as `nan`.
+pub fn format_row(row: &[f64], out: &mut Vec<u8>) {
+    let mut buf = ryu::Buffer::new();
+    for (i, v) in row.iter().enumerate() {
+        if i > 0 {
+            out.extend_from_slice(b", ");
+        }
+        let text = if v.is_finite() {
+            buf.format_finite(*v)
+        } else {
+            "nan"
+        };
+        out.extend_from_slice(text.as_bytes());
+    }
+    out.push(b'\n');
 }
 
 fn one_line(s: &str) -> String {

@@ -1,0 +1,30 @@
+//! What can be wrong with a simulation.
+
+use thiserror::Error;
+
+/// A simulation that cannot run as configured.
+#[derive(Debug, Error)]
+pub enum SimError {
+    /// A parameter out of its range.
+    #[error("{name} = {value}: {why}")]
+    InvalidParameter {
+        /// The parameter, as in the configuration (`gyro.n[0]`).
+        name: String,
+        /// Its value.
+        value: f64,
+        /// What it must be.
+        why: &'static str,
+    },
+    /// A preset name imutherm does not know.
+    #[error("unknown preset '{0}' (known: {known})", known = crate::presets::NAMES.join(", "))]
+    UnknownPreset(String),
+    /// A temperature profile that cannot be used.
+    #[error("temperature profile: {0}")]
+    Profile(String),
+    /// A configuration file that does not parse.
+    #[error("configuration: {0}")]
+    Config(String),
+    /// Writing the output failed.
+    #[error("{0}")]
+    Io(#[from] std::io::Error),
+}
