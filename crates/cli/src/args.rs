@@ -30,6 +30,63 @@ pub enum Command {
     /// the files' temperatures; Kalibr's imu.yaml.
     #[command(after_help = NOISE_EXAMPLES)]
     Noise(NoiseArgs),
+    /// Simulate an MPU-9250-class IMU recording whose truth is known (IEEE 952
+    /// noise terms, bias over temperature, a temperature profile) and write
+    /// it as an imutherm log, every true parameter in its metadata.
+    #[command(after_help = SIMULATE_EXAMPLES)]
+    Simulate(SimulateArgs),
+}
+
+const SIMULATE_EXAMPLES: &str = "\
+Examples:
+  imutherm simulate -o run34.txt                       the thesis preset: 1 h at 100 Hz, 34 °C
+  imutherm simulate --profile constant:82 --seed 4 -o run82.txt
+  imutherm simulate --profile cooling:100:20:1800 --duration 3h -o cooling.txt
+  imutherm simulate --preset mpu9250-thesis --print-config > my.toml   then edit, and:
+  imutherm simulate --config my.toml -o custom.txt
+
+Profiles: constant:T[:FLUCTUATION]  cooling:START:AMBIENT:TAU_S  ramp:FROM:TO:DURATION_S
+          steps:T1,T2,…:HOLD_S  file:PATH (rows of time_s, temp_c)
+Durations: 3600, 3600s, 90m, 2h, 1.5h. Presets: mpu9250-thesis, white.";
+
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// A TOML configuration (see --print-config for the full form).
+    #[arg(long, value_name = "FILE", conflicts_with = "preset")]
+    pub config: Option<PathBuf>,
+
+    /// A named configuration: mpu9250-thesis (default) or white.
+    #[arg(long, value_name = "P")]
+    pub preset: Option<String>,
+
+    /// Chamber temperature profile, overriding the configuration's.
+    #[arg(long, value_name = "SPEC")]
+    pub profile: Option<String>,
+
+    /// Duration (3600, 90m, 2h…), overriding the configuration's.
+    #[arg(long, value_name = "D")]
+    pub duration: Option<String>,
+
+    /// Sample rate in Hz, overriding the configuration's.
+    #[arg(long, value_name = "HZ")]
+    pub rate: Option<f64>,
+
+    /// Seed of the random streams, overriding the configuration's.
+    #[arg(long, value_name = "N")]
+    pub seed: Option<u64>,
+
+    /// Output file (imutherm log format).
+    #[arg(
+        long,
+        short = 'o',
+        value_name = "FILE",
+        required_unless_present = "print_config"
+    )]
+    pub output: Option<PathBuf>,
+
+    /// Print the effective configuration as TOML and exit.
+    #[arg(long)]
+    pub print_config: bool,
 }
 
 const NOISE_EXAMPLES: &str = "\

@@ -17,6 +17,7 @@ fn main() -> ExitCode {
         args::Command::Adev(a) => commands::adev::run(&a),
         args::Command::Info(a) => commands::info::run(&a),
         args::Command::Noise(a) => commands::noise::run(&a),
+        args::Command::Simulate(a) => commands::simulate::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

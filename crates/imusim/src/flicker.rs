@@ -26,7 +26,9 @@ struct Pole {
     value: f64,
     phi: f64,
     kick: f64,
-    stride: u64,
+    stride: u32,
+    /// Samples until the next update.
+    countdown: u32,
 }
 
 /// A unit flicker source (B = 1): multiply by B.
@@ -34,7 +36,6 @@ struct Pole {
 pub struct FlickerBank {
     poles: Vec<Pole>,
     sum: f64,
-    step: u64,
 }
 
 impl FlickerBank {
@@ -51,7 +52,7 @@ impl FlickerBank {
         let poles = (0..count)
             .map(|i| {
                 let t = t_min * ratio.powi(i as i32);
-                let stride = ((t / tau0 / 32.0).floor() as u64).max(1);
+                let stride = ((t / tau0 / 32.0).floor().min(f64::from(u32::MAX)) as u32).max(1);
                 let phi = (-(stride as f64) * tau0 / t).exp();
                 let w: f64 = StandardNormal.sample(rng);
                 let value = sigma * w;
@@ -60,18 +61,20 @@ impl FlickerBank {
                     phi,
                     kick: sigma * (1.0 - phi * phi).sqrt(),
                     stride,
+                    countdown: stride,
                 }
             })
             .collect::<Vec<_>>();
         let sum = poles.iter().map(|p| p.value).sum();
-        FlickerBank { poles, sum, step: 0 }
+        FlickerBank { poles, sum }
     }
 
     /// The next sample.
     pub fn next(&mut self, rng: &mut impl Rng) -> f64 {
-        self.step += 1;
         for p in &mut self.poles {
-            if self.step.is_multiple_of(p.stride) {
+            p.countdown -= 1;
+            if p.countdown == 0 {
+                p.countdown = p.stride;
                 let w: f64 = StandardNormal.sample(rng);
                 let new = p.phi * p.value + p.kick * w;
                 self.sum += new - p.value;

@@ -248,38 +248,64 @@ impl Simulator {
     /// Writes imutherm's log, with every true parameter in its metadata.
     /// `progress` is told (samples done, total) after each chunk. Returns
     /// the number of rows written.
-    pub fn write_log<W: Write>(
+    pub fn write_log<W: Write + Send>(
         &self,
         out: W,
         meta: &Metadata,
         mut progress: impl FnMut(u64, u64),
     ) -> Result<u64, SimError> {
+        const ROWS_PER_PART: usize = 4096;
+        type Parts = Vec<(Vec<u8>, u64)>;
         let total = self.cfg.samples();
         let mut w = LogWriter::new(out, LogFormat::Imutherm, meta, Some(self.cfg.rate_hz))?;
-        self.run(|chunk| {
-            let n = chunk.columns[0].len();
-            // Format on all cores, write in order.
-            let parts: Vec<Vec<u8>> = (0..n)
-                .collect::<Vec<_>>()
-                .par_chunks(4096)
-                .map(|rows| {
-                    let mut text = Vec::with_capacity(rows.len() * 160);
-                    for &i in rows {
-                        let row: [f64; 7] = std::array::from_fn(|k| chunk.columns[k][i]);
-                        format_row(&row, &mut text);
+        // A writer thread does the system calls while the next chunk is
+        // generated and formatted; text buffers travel back to be reused
+        // (fresh megabyte buffers would each cost a round of page faults).
+        let (full_tx, full_rx) = std::sync::mpsc::sync_channel::<Parts>(2);
+        let (empty_tx, empty_rx) = std::sync::mpsc::channel::<Parts>();
+        std::thread::scope(|scope| {
+            let writer = scope.spawn(move || -> std::io::Result<u64> {
+                for parts in full_rx {
+                    for (text, rows) in &parts {
+                        w.write_formatted(text, *rows)?;
                     }
-                    text
-                })
-                .collect();
-            for p in parts {
-                let rows = p.iter().filter(|&&b| b == b'\n').count() as u64;
-                w.write_formatted(&p, rows)?;
-            }
-            progress(chunk.start + n as u64, total);
-            Ok(())
-        })?;
-        w.flush()?;
-        Ok(w.rows())
+                    // The generator may have finished; then nobody reuses it.
+                    let _ = empty_tx.send(parts);
+                }
+                w.flush()?;
+                Ok(w.rows())
+            });
+            let generated = self.run(|chunk| {
+                let n = chunk.columns[0].len();
+                let count = n.div_ceil(ROWS_PER_PART);
+                let mut parts = empty_rx.try_recv().unwrap_or_default();
+                parts.resize_with(count, || (Vec::with_capacity(ROWS_PER_PART * 160), 0));
+                parts.par_iter_mut().enumerate().for_each(|(p, (text, rows))| {
+                    text.clear();
+                    let range = p * ROWS_PER_PART..((p + 1) * ROWS_PER_PART).min(n);
+                    *rows = range.len() as u64;
+                    for i in range {
+                        let row: [f64; 7] = std::array::from_fn(|k| chunk.columns[k][i]);
+                        format_row(&row, text);
+                    }
+                });
+                // A closed channel means the writer failed: its error is
+                // the one reported below.
+                if full_tx.send(parts).is_err() {
+                    return Err(SimError::Io(std::io::Error::other("the log writer stopped")));
+                }
+                progress(chunk.start + n as u64, total);
+                Ok(())
+            });
+            drop(full_tx);
+            let written = writer
+                .join()
+                .map_err(|_| SimError::Io(std::io::Error::other("the log writer panicked")))?;
+            // The writer's own error explains a generator stopped by it.
+            let rows = written?;
+            generated?;
+            Ok(rows)
+        })
     }
 
     /// The whole recording in memory (for tests and short runs).

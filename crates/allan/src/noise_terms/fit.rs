@@ -96,6 +96,14 @@ fn solve(a: &DMatrix<f64>, y: &DVector<f64>, w: &DVector<f64>, active: &[usize])
     })
 }
 
+/// Largest EDF a point is weighted with: 2/0.01², a 1 % standard deviation
+/// of σ². The short-τ points of a long recording have EDF in the hundreds
+/// of thousands, but no sensor is five exact power laws down to τ0 (its
+/// anti-alias filter, the sampling itself, a flicker spectrum that ends
+/// somewhere): trusting those points to 0.1 % would let a model error of
+/// that size decide N outside its interval.
+pub const MAX_FIT_EDF: f64 = 20_000.0;
+
 /// Share of the model variance a term must carry at some τ to be kept.
 pub const SHOW_SHARE: f64 = 0.4;
 
@@ -158,7 +166,7 @@ pub fn fit_model(points: &[Point], confidence: f64) -> FitResult {
     }
     let a = DMatrix::from_fn(n, 5, |i, k| Term::ALL[k].variance_basis(pts[i].tau));
     let y = DVector::from_iterator(n, pts.iter().map(|p| p.dev * p.dev));
-    let edf = DVector::from_iterator(n, pts.iter().map(|p| p.edf));
+    let edf = DVector::from_iterator(n, pts.iter().map(|p| p.edf.min(MAX_FIT_EDF)));
     let mut allowed: u32 = 0b11111;
     let (mut best, mut model) = select(&a, &y, &edf, allowed);
     // A term must show: carry at least SHOW_SHARE of the variance at some

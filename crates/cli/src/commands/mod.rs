@@ -5,3 +5,4 @@ pub mod confidence;
 pub mod info;
 pub mod noise;
 pub mod selection;
+pub mod simulate;

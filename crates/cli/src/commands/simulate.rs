@@ -1,0 +1,121 @@
+//! `imutherm simulate`: a recording whose truth is known.
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use imusim::thermal::Profile;
+use imusim::{SimConfig, Simulator, presets};
+
+use crate::args::SimulateArgs;
+
+/// Parses a duration: plain seconds or a number with s, m or h.
+pub fn parse_duration(text: &str) -> Result<f64> {
+    let t = text.trim();
+    let (num, unit) = match t.char_indices().find(|(_, c)| c.is_ascii_alphabetic()) {
+        Some((i, _)) => (&t[..i], &t[i..]),
+        None => (t, "s"),
+    };
+    let factor = match unit {
+        "s" | "sec" => 1.0,
+        "m" | "min" => 60.0,
+        "h" => 3600.0,
+        "d" => 86400.0,
+        _ => bail!("duration '{text}': unit '{unit}' is not s, m, h or d"),
+    };
+    let v: f64 = num
+        .trim()
+        .parse()
+        .with_context(|| format!("duration '{text}': '{num}' is not a number"))?;
+    if !(v.is_finite() && v > 0.0) {
+        bail!("duration '{text}': must be positive");
+    }
+    Ok(v * factor)
+}
+
+fn configuration(a: &SimulateArgs) -> Result<(SimConfig, String)> {
+    let (mut cfg, source) = match (&a.config, &a.preset) {
+        (Some(path), _) => {
+            let text =
+                std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+            let cfg = SimConfig::from_toml(&text).with_context(|| path.display().to_string())?;
+            (cfg, format!("config {}", path.display()))
+        }
+        (None, p) => {
+            let name = p.as_deref().unwrap_or("mpu9250-thesis");
+            (presets::preset(name)?, name.to_string())
+        }
+    };
+    if let Some(p) = &a.profile {
+        cfg.profile = Profile::parse(p)?;
+    }
+    if let Some(d) = &a.duration {
+        cfg.duration_s = parse_duration(d)?;
+    }
+    if let Some(r) = a.rate {
+        cfg.rate_hz = r;
+    }
+    if let Some(s) = a.seed {
+        cfg.seed = s;
+    }
+    cfg.validate()?;
+    Ok((cfg, source))
+}
+
+pub fn run(a: &SimulateArgs) -> Result<()> {
+    let (cfg, source) = configuration(a)?;
+    if a.print_config {
+        print!("{}", toml::to_string(&cfg).context("writing the configuration")?);
+        return Ok(());
+    }
+    let Some(out) = &a.output else {
+        bail!("give an output file with -o FILE");
+    };
+    let sim = Simulator::new(cfg)?;
+    let total = sim.config().samples();
+    let bar = ProgressBar::new(total).with_style(
+        ProgressStyle::with_template("{spinner} simulating [{bar:40}] {pos}/{len} samples, {eta} left")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    let started = std::time::Instant::now();
+    // A file is written under a temporary name and renamed at the end, so
+    // that an interrupted run never leaves a log that looks complete. A
+    // device or pipe (/dev/null, a FIFO) is written as it is: renaming onto
+    // it would replace it.
+    let special = std::fs::metadata(out).is_ok_and(|m| !m.is_file());
+    let target = if special {
+        out.to_path_buf()
+    } else {
+        out.with_extension("partial")
+    };
+    let file = File::create(&target).with_context(|| format!("creating {}", target.display()))?;
+    let meta = sim.metadata(Some(&source));
+    let rows = sim
+        .write_log(BufWriter::with_capacity(1 << 20, file), &meta, |done, _| {
+            bar.set_position(done)
+        })
+        .with_context(|| format!("writing {}", target.display()))?;
+    bar.finish_and_clear();
+    if !special {
+        rename(&target, out)?;
+    }
+    let c = sim.config();
+    eprintln!(
+        "wrote {}: {rows} samples, {} s at {} Hz, {} ({}), in {:.2} s",
+        out.display(),
+        c.duration_s,
+        c.rate_hz,
+        c.profile.describe(),
+        source,
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+fn rename(from: &Path, to: &Path) -> Result<()> {
+    std::fs::rename(from, to).with_context(|| format!("renaming {} to {}", from.display(), to.display()))
+}

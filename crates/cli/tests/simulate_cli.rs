@@ -1,0 +1,116 @@
+//! `imutherm simulate` end to end.
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+
+fn imutherm() -> Command {
+    Command::cargo_bin("imutherm").unwrap()
+}
+
+#[test]
+fn writes_a_log_with_its_truth_that_reads_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = dir.path().join("a.txt");
+    let b = dir.path().join("b.txt");
+    for p in [&a, &b] {
+        imutherm()
+            .args([
+                "simulate",
+                "--duration",
+                "20s",
+                "--rate",
+                "50",
+                "--seed",
+                "7",
+                "--profile",
+                "cooling:100:20:600",
+                "-o",
+            ])
+            .arg(p)
+            .assert()
+            .success()
+            .stderr(predicate::str::contains("1000 samples"));
+    }
+    // Same seed, same bytes.
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+    assert!(!dir.path().join("a.partial").exists());
+    let out = imutherm().args(["info", "--json"]).arg(&a).output().unwrap();
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let f = &doc["files"][0];
+    assert_eq!(f["format"], "imutherm log");
+    assert_eq!(f["samples"], 1000);
+    assert_eq!(f["rate_hz"], 50.0);
+    assert_eq!(f["device"], "imusim:mpu9250-thesis");
+    // Cooling from 100 °C: the sensor starts there.
+    assert!(f["temperature_c"]["max"].as_f64().unwrap() > 99.0);
+    let text = std::fs::read_to_string(&a).unwrap();
+    assert!(text.contains("# true.gyro_x.n: "), "the truth is in the metadata");
+    assert!(text.contains("# true.profile: cooling 100 °C → 20 °C"));
+}
+
+#[test]
+fn print_config_round_trips_through_config() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = imutherm()
+        .args(["simulate", "--preset", "white", "--print-config"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let cfg = dir.path().join("white.toml");
+    std::fs::write(&cfg, &out.stdout).unwrap();
+    let log = dir.path().join("w.txt");
+    imutherm()
+        .args(["simulate", "--duration", "5", "--config"])
+        .arg(&cfg)
+        .arg("-o")
+        .arg(&log)
+        .assert()
+        .success();
+    assert!(
+        std::fs::read_to_string(&log)
+            .unwrap()
+            .contains("# true.gyro_x.n: 0.00015")
+    );
+}
+
+#[test]
+fn bad_configurations_exit_1_with_the_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.txt");
+    imutherm()
+        .args(["simulate", "--preset", "mpu6050-dream", "-o"])
+        .arg(&out)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("unknown preset 'mpu6050-dream'"));
+    imutherm()
+        .args(["simulate", "--rate", "0", "-o"])
+        .arg(&out)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("rate_hz = 0"));
+    imutherm()
+        .args(["simulate", "--duration", "ten minutes", "-o"])
+        .arg(&out)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("duration 'ten minutes'"));
+    let printed = imutherm()
+        .args(["simulate", "--preset", "white", "--print-config"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8(printed.stdout)
+        .unwrap()
+        .replacen("n = 0.00015", "n = -0.00015", 1);
+    let cfg = dir.path().join("bad.toml");
+    std::fs::write(&cfg, text).unwrap();
+    imutherm()
+        .args(["simulate", "--config"])
+        .arg(&cfg)
+        .arg("-o")
+        .arg(&out)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("gyro.terms[0].n = -0.00015").and(predicate::str::contains("≥ 0")));
+    assert!(!out.exists());
+}
