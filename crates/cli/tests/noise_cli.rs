@@ -117,6 +117,10 @@ fn terms_tables_json_and_kalibr() {
         "{n}"
     );
     assert_eq!(n_fit["datasheet"]["unit"], "°/√h");
+    // The datasheet's density: N = 2e-3 rad/√s is 0.1146 °/s/√Hz.
+    assert_eq!(n_fit["density"]["unit"], "°/s/√Hz");
+    let d = n_fit["density"]["value"].as_f64().unwrap();
+    assert!((d / n["value"].as_f64().unwrap() - 180.0 / std::f64::consts::PI).abs() < 1e-9);
     let k_fit = gx["fit"]
         .as_array()
         .unwrap()

@@ -188,6 +188,9 @@ struct JsonTerm {
     si: Option<JsonValue>,
     #[serde(skip_serializing_if = "Option::is_none")]
     datasheet: Option<JsonValue>,
+    /// White noise as the datasheets quote it: a density per √Hz.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    density: Option<JsonValue>,
     #[serde(skip_serializing_if = "Option::is_none")]
     tau: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -212,6 +215,26 @@ fn json_value(v: &TermValue, term: Term, ch: &Channel, units: Units) -> JsonValu
     }
 }
 
+/// N as the datasheets quote it (PS-MPU-9250A-01: °/s/√Hz for the gyro,
+/// µg/√Hz for the accelerometer): the same number as N in per-√s units.
+fn density_of(quantity: Quantity) -> Option<(f64, &'static str)> {
+    match quantity {
+        Quantity::AngularRate => Some((180.0 / PI, "°/s/√Hz")),
+        Quantity::Acceleration => Some((1.0 / (STANDARD_GRAVITY * 1e-6), "µg/√Hz")),
+        _ => None,
+    }
+}
+
+fn density(v: &TermValue, term: Term, ch: &Channel) -> Option<JsonValue> {
+    let (f, unit) = density_of(ch.quantity).filter(|_| term == Term::WhiteNoise)?;
+    Some(JsonValue {
+        value: v.value * f,
+        lo: v.lo * f,
+        hi: v.hi * f,
+        unit: unit.to_string(),
+    })
+}
+
 fn json_term(term: Term, est: &TermEstimate, method: &'static str, ch: &Channel) -> JsonTerm {
     match est {
         TermEstimate::Value(v) => JsonTerm {
@@ -221,6 +244,7 @@ fn json_term(term: Term, est: &TermEstimate, method: &'static str, ch: &Channel)
             identified: true,
             si: Some(json_value(v, term, ch, Units::Si)),
             datasheet: Some(json_value(v, term, ch, Units::Datasheet)),
+            density: density(v, term, ch),
             tau: v.tau,
             reason: None,
         },
@@ -231,6 +255,7 @@ fn json_term(term: Term, est: &TermEstimate, method: &'static str, ch: &Channel)
             identified: false,
             si: None,
             datasheet: None,
+            density: None,
             tau: None,
             reason: Some(why.clone()),
         },
@@ -308,7 +333,13 @@ fn fmt_est(est: &TermEstimate, term: Term, ch: &Channel, units: Units) -> String
     match est {
         TermEstimate::Value(v) => {
             let (f, unit) = unit_of(term, ch.quantity, &ch.unit, units);
-            format!("{:.4e} [{:.3e}, {:.3e}] {unit}", v.value * f, v.lo * f, v.hi * f)
+            let mut text = format!("{:.4e} [{:.3e}, {:.3e}] {unit}", v.value * f, v.lo * f, v.hi * f);
+            if units == Units::Datasheet
+                && let Some(d) = density(v, term, ch)
+            {
+                text.push_str(&format!(" = {:.4e} {}", d.value, d.unit));
+            }
+            text
         }
         TermEstimate::NotIdentifiable(why) => why.clone(),
     }
