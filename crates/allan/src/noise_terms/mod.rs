@@ -164,11 +164,16 @@ pub fn identify(dense: &[Point], sparse: &[Point], confidence: f64) -> NoiseTerm
         if let (Some(a), Some(b)) = (slope.get(term).value(), fit.get(term).value())
             && (a.hi < b.lo || b.hi < a.lo)
         {
+            let why = if term == Term::BiasInstability {
+                "σ_min also holds the white noise and random walk around the minimum, which the fit separates"
+            } else {
+                "another term overlaps where the slope was read"
+            };
             disagreements.push((
                 term,
                 format!(
                     "{}: slope method {:.4e} [{:.4e}, {:.4e}] and fit {:.4e} [{:.4e}, {:.4e}] disagree \
-                     beyond their intervals (another term overlaps where the slope was read?)",
+                     beyond their intervals ({why})",
                     term.symbol(),
                     a.value,
                     a.lo,
