@@ -1,0 +1,46 @@
+//! What can go wrong with a thermal analysis or a compensation.
+
+use thiserror::Error;
+
+/// A thermal analysis or compensation that cannot be done honestly.
+#[derive(Debug, Error)]
+pub enum ThermalError {
+    /// The recording has no temperature channel.
+    #[error("the recording has no temperature channel")]
+    NoTemperature,
+    /// The temperature does not vary enough for a fit.
+    #[error(
+        "the temperature spans only {span_c:.3} °C ({min_c:.2} to {max_c:.2} °C): nothing to fit a temperature model to"
+    )]
+    NoSpread {
+        /// Range, °C.
+        span_c: f64,
+        /// Lowest temperature, °C.
+        min_c: f64,
+        /// Highest temperature, °C.
+        max_c: f64,
+    },
+    /// Fewer temperature bins than the polynomial has coefficients.
+    #[error(
+        "{bins} temperature bins of {width_c} °C cannot determine a polynomial of order {order} (needs at least {needed})"
+    )]
+    TooFewBins {
+        /// Bins with data.
+        bins: usize,
+        /// Bin width, °C.
+        width_c: f64,
+        /// Requested order.
+        order: usize,
+        /// Bins needed.
+        needed: usize,
+    },
+    /// A model applied to a recording without the channel it was fitted for.
+    #[error("the model has channel '{0}', which the recording does not have")]
+    MissingChannel(String),
+    /// A parameter out of range.
+    #[error("{0}")]
+    Invalid(String),
+    /// The Allan engine refused the data.
+    #[error(transparent)]
+    Allan(#[from] allan::AllanError),
+}

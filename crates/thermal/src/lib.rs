@@ -1,0 +1,32 @@
+//! # thermal — how an IMU's noise and bias move with temperature
+//!
+//! Two tools on top of `allan` and `imu`:
+//! - [`surface`]: the Allan deviation over temperature (the thesis's
+//!   "3D ADEV"), per temperature bin or per sliding time window, with the
+//!   noise terms of each slice;
+//! - [`tcal`]: a polynomial compensation of the bias over temperature,
+//!   fitted on binned means with the order chosen by cross-validation,
+//!   applied as the thesis does, `x_comp = x − (p(T) − p(T_ref))`, never
+//!   extrapolated beyond the fitted range.
+//!
+//! **What it is not:** no file handling and no printing (the `imutherm`
+//! binary does both), no plots (`report`).
+//!
+//! ```
+//! use thermal::tcal::{fit, FitOptions, Order, Run};
+//! // A gyro whose bias is 1e-3 + 2e-5·(T − 40) over a 20 → 60 °C ramp.
+//! let temp: Vec<f64> = (0..4000).map(|i| 20.0 + i as f64 * 0.01).collect();
+//! let gyro: Vec<f64> = temp.iter().map(|t| 1e-3 + 2e-5 * (t - 40.0)).collect();
+//! let channels = vec![("gyro_x".to_string(), "rad/s".to_string(), gyro.as_slice())];
+//! let run = Run { channels: &channels, temp: &temp, rate_hz: 1.0 };
+//! let model = fit(&[run], &FitOptions { order: Order::Fixed(1), ..FitOptions::default() }).unwrap();
+//! let c = model.channel("gyro_x").unwrap();
+//! assert!((c.bias(&model, 50.0) - (1e-3 + 2e-4)).abs() < 1e-9);
+//! ```
+
+mod error;
+
+pub mod surface;
+pub mod tcal;
+
+pub use error::ThermalError;
