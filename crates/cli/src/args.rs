@@ -35,6 +35,160 @@ pub enum Command {
     /// it as an imutherm log, every true parameter in its metadata.
     #[command(after_help = SIMULATE_EXAMPLES)]
     Simulate(SimulateArgs),
+    /// The Allan deviation over temperature (the thesis's 3D ADEV): one OADEV
+    /// curve per temperature bin or sliding time window, with the noise terms.
+    #[command(after_help = THERMAL_EXAMPLES)]
+    Thermal(ThermalArgs),
+    /// Temperature compensation of the bias: fit, apply, evaluate.
+    #[command(subcommand)]
+    Tcal(TcalCommand),
+}
+
+const THERMAL_EXAMPLES: &str = "\
+Examples:
+  imutherm thermal cooling.txt                          5 °C bins
+  imutherm thermal cooling.txt --bin-width 2 --channels gyro --json > surface.json
+  imutherm thermal cooling.txt --by time --window 600 --step 300
+
+A temperature bin keeps the samples taken while the temperature was inside it; the
+rest are gaps, so no Allan term joins two visits to the bin. A time window is labelled
+with its mean temperature and its temperature change.";
+
+#[derive(Debug, Args)]
+pub struct ThermalArgs {
+    /// A recording with a temperature channel.
+    #[arg(value_name = "FILE")]
+    pub file: PathBuf,
+
+    /// Slice by temperature bins or by sliding time windows.
+    #[arg(long, default_value = "temperature", value_name = "temperature|time")]
+    pub by: String,
+
+    /// Width of a temperature bin, °C.
+    #[arg(long, default_value_t = 5.0, value_name = "C")]
+    pub bin_width: f64,
+
+    /// Length of a time window, s.
+    #[arg(long, default_value_t = 600.0, value_name = "S")]
+    pub window: f64,
+
+    /// Step between time windows, s (default: half a window).
+    #[arg(long, value_name = "S")]
+    pub step: Option<f64>,
+
+    /// Channels, as for `adev` (default: the six inertial channels).
+    #[arg(long, short = 'c', value_name = "C", value_delimiter = ',')]
+    pub channels: Vec<String>,
+
+    #[command(flatten)]
+    pub read: ReadArgs,
+
+    /// Confidence level of the intervals.
+    #[arg(long, default_value_t = 0.683, value_name = "LEVEL")]
+    pub confidence: f64,
+
+    /// Print one JSON document (schema imutherm.thermal/1).
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum TcalCommand {
+    /// Fit the bias of each inertial channel as a polynomial of temperature.
+    #[command(after_help = TCAL_FIT_EXAMPLES)]
+    Fit(TcalFitArgs),
+    /// Apply a model: x_comp = x − (p(T) − p(T_ref)), writing a recording.
+    #[command(after_help = "Example:\n  imutherm tcal apply model.json run82.txt -o run82_comp.txt")]
+    Apply(TcalApplyArgs),
+    /// Residual bias over temperature before and after, on any runs; the
+    /// coefficients as PX4-style and ArduPilot-style parameters.
+    #[command(after_help = "Example:\n  imutherm tcal eval model.json heating.txt --export px4")]
+    Eval(TcalEvalArgs),
+}
+
+const TCAL_FIT_EXAMPLES: &str = "\
+Examples:
+  imutherm tcal fit cooling.txt -o model.json             order by cross-validation
+  imutherm tcal fit cooling.txt heating.txt --order 3 --tref 25 --rate-term -o model.json
+
+The data are averaged into temperature bins (--bin-width, separately for heating and
+cooling) before the least-squares fit on a scaled temperature, so the slow end of a
+cooling run does not outweigh the rest. --order auto leaves out one run at a time (or
+five contiguous blocks of a single run) and keeps the smallest order within 5 % of the
+best held-out RMS.";
+
+#[derive(Debug, Args)]
+pub struct TcalFitArgs {
+    /// Runs to fit (same channels in each).
+    #[arg(required = true, value_name = "FILE")]
+    pub files: Vec<PathBuf>,
+
+    /// Polynomial order, or auto.
+    #[arg(long, default_value = "auto", value_name = "N|auto")]
+    pub order: String,
+
+    /// Reference temperature, °C (default: the middle of the fitted range).
+    #[arg(long, value_name = "C")]
+    pub tref: Option<f64>,
+
+    /// Also fit a term in dT/dt (thermal lag: heating against cooling).
+    #[arg(long)]
+    pub rate_term: bool,
+
+    /// Width of the averaging bins, °C.
+    #[arg(long, default_value_t = 1.0, value_name = "C")]
+    pub bin_width: f64,
+
+    /// Channels (default: the six inertial channels).
+    #[arg(long, short = 'c', value_name = "C", value_delimiter = ',')]
+    pub channels: Vec<String>,
+
+    #[command(flatten)]
+    pub read: ReadArgs,
+
+    /// Where to write the model (JSON, schema imutherm.tcal/1).
+    #[arg(long, short = 'o', value_name = "MODEL.json")]
+    pub output: PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct TcalApplyArgs {
+    /// The model from `tcal fit`.
+    #[arg(value_name = "MODEL.json")]
+    pub model: PathBuf,
+
+    /// The recording to compensate.
+    #[arg(value_name = "FILE")]
+    pub file: PathBuf,
+
+    #[command(flatten)]
+    pub read: ReadArgs,
+
+    /// Output recording (imutherm log).
+    #[arg(long, short = 'o', value_name = "FILE")]
+    pub output: PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct TcalEvalArgs {
+    /// The model from `tcal fit`.
+    #[arg(value_name = "MODEL.json")]
+    pub model: PathBuf,
+
+    /// Runs to evaluate on (best: runs the fit did not see).
+    #[arg(value_name = "FILE")]
+    pub files: Vec<PathBuf>,
+
+    #[command(flatten)]
+    pub read: ReadArgs,
+
+    /// Also print the coefficients as parameters: px4 or ardupilot.
+    #[arg(long, value_name = "px4|ardupilot")]
+    pub export: Option<String>,
+
+    /// Print one JSON document (schema imutherm.tcal-eval/1).
+    #[arg(long)]
+    pub json: bool,
 }
 
 const SIMULATE_EXAMPLES: &str = "\

@@ -140,36 +140,51 @@ fn dtdt(temp: &[f64], rate_hz: f64) -> Vec<f64> {
         .collect()
 }
 
+/// Running sums of one bin.
+struct BinSum {
+    t: f64,
+    rate: f64,
+    x: Vec<f64>,
+    n: usize,
+    first: usize,
+}
+
 fn bins_of(run: &Run, index: usize, width: f64) -> Vec<Bin> {
     use std::collections::BTreeMap;
     let rates = dtdt(run.temp, run.rate_hz);
     // Keyed by bin and by the sign of dT/dt, so heating and cooling passes
     // through the same temperatures stay apart (that is what the rate term
     // learns from).
-    let mut acc: BTreeMap<(i64, bool), (f64, f64, Vec<f64>, usize, usize)> = BTreeMap::new();
+    let mut acc: BTreeMap<(i64, bool), BinSum> = BTreeMap::new();
     let nch = run.channels.len();
     for (i, &t) in run.temp.iter().enumerate() {
         if !t.is_finite() || run.channels.iter().any(|c| !c.2[i].is_finite()) {
             continue;
         }
         let key = ((t / width).floor() as i64, rates[i] >= 0.0);
-        let e = acc.entry(key).or_insert_with(|| (0.0, 0.0, vec![0.0; nch], 0, i));
-        e.0 += t;
-        e.1 += rates[i];
+        let e = acc.entry(key).or_insert_with(|| BinSum {
+            t: 0.0,
+            rate: 0.0,
+            x: vec![0.0; nch],
+            n: 0,
+            first: i,
+        });
+        e.t += t;
+        e.rate += rates[i];
         for (k, c) in run.channels.iter().enumerate() {
-            e.2[k] += c.2[i];
+            e.x[k] += c.2[i];
         }
-        e.3 += 1;
+        e.n += 1;
     }
     acc.into_values()
-        .filter(|e| e.3 > 0)
-        .map(|(t, r, x, n, first)| {
-            let nf = n as f64;
+        .filter(|e| e.n > 0)
+        .map(|e| {
+            let nf = e.n as f64;
             Bin {
-                t: t / nf,
-                dtdt: r / nf,
-                x: x.into_iter().map(|v| v / nf).collect(),
-                first,
+                t: e.t / nf,
+                dtdt: e.rate / nf,
+                x: e.x.into_iter().map(|v| v / nf).collect(),
+                first: e.first,
                 run: index,
             }
         })
@@ -393,8 +408,8 @@ impl ChannelModel {
         for (j, &c) in self.coefficients.iter().enumerate() {
             // c·(v/scale + d)^j with v = T − t_ref.
             let mut binom = 1.0;
-            for i in 0..=j {
-                out[i] += c * binom * d.powi((j - i) as i32) / model.scale_c.powi(i as i32);
+            for (i, slot) in out.iter_mut().enumerate().take(j + 1) {
+                *slot += c * binom * d.powi((j - i) as i32) / model.scale_c.powi(i as i32);
                 binom = binom * (j - i) as f64 / (i + 1) as f64;
             }
         }

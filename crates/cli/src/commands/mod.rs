@@ -6,3 +6,5 @@ pub mod info;
 pub mod noise;
 pub mod selection;
 pub mod simulate;
+pub mod tcal;
+pub mod thermal;

@@ -35,6 +35,8 @@ pub struct Selection {
     pub channels: Vec<Channel>,
     /// Mean of the file's temperature channel, °C.
     pub temperature_mean_c: Option<f64>,
+    /// The file's temperature channel, °C, sample by sample.
+    pub temperature: Option<Vec<f64>>,
     /// Sample rate, Hz.
     pub rate_hz: f64,
 }
@@ -140,7 +142,13 @@ pub fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) ->
             unit: ch.unit.clone(),
             rate_hz,
             lines: report.lines,
-            data: std::mem::take(&mut ch.data),
+            // The temperature stays in the recording for the callers that
+            // need it beside the channels.
+            data: if ch.quantity == Quantity::Temperature {
+                ch.data.clone()
+            } else {
+                std::mem::take(&mut ch.data)
+            },
         });
     }
     let temperature_mean_c = rec.temperature().and_then(|t| {
@@ -151,9 +159,11 @@ pub fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) ->
             .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
         (n > 0).then(|| sum / n as f64)
     });
+    let temperature = rec.temperature().map(|t| t.data.clone());
     Ok(Selection {
         channels: out,
         temperature_mean_c,
+        temperature,
         rate_hz,
     })
 }

@@ -1,0 +1,143 @@
+//! `imutherm thermal`: the Allan deviation over temperature.
+
+use std::io::Write;
+
+use anyhow::{Context, Result, bail};
+use rayon::prelude::*;
+use serde_json::json;
+
+use allan::noise_terms::{Term, TermEstimate};
+use thermal::surface::{Slicing, SurfaceRow, surface};
+
+use crate::args::ThermalArgs;
+use crate::commands::confidence::confidence_level;
+use crate::commands::info::recording_options;
+use crate::commands::selection::read_channels;
+
+const SCHEMA: &str = "imutherm.thermal/1";
+
+pub fn run(a: &ThermalArgs) -> Result<()> {
+    let confidence = confidence_level(a.confidence)?;
+    let slicing = match a.by.to_ascii_lowercase().as_str() {
+        "temperature" | "temp" => Slicing::Temperature {
+            bin_width_c: a.bin_width,
+        },
+        "time" => Slicing::Time {
+            window_s: a.window,
+            step_s: a.step.unwrap_or(a.window / 2.0),
+        },
+        other => bail!("--by {other}: expected temperature or time"),
+    };
+    let read = recording_options(&a.read)?;
+    let sel = read_channels(&a.file, &a.channels, &read)?;
+    let Some(temp) = &sel.temperature else {
+        bail!(
+            "{}: no temperature channel (a column named temp…, or with a °C/K unit)",
+            a.file.display()
+        );
+    };
+    let surfaces: Vec<(String, String, Vec<SurfaceRow>)> = sel
+        .channels
+        .par_iter()
+        .map(|ch| {
+            surface(&ch.data, temp, sel.rate_hz, slicing, confidence)
+                .with_context(|| format!("{}: {}", a.file.display(), ch.name))
+                .map(|rows| (ch.name.clone(), ch.unit.clone(), rows))
+        })
+        .collect::<Result<_>>()?;
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    if a.json {
+        let term = |e: &TermEstimate| match e {
+            TermEstimate::Value(v) => json!({"value": v.value, "lo": v.lo, "hi": v.hi}),
+            TermEstimate::NotIdentifiable(why) => json!({"reason": why}),
+        };
+        let channels: Vec<_> = surfaces
+            .iter()
+            .map(|(name, unit, rows)| {
+                json!({
+                    "name": name,
+                    "unit": unit,
+                    "rows": rows.iter().map(|r| json!({
+                        "start": r.start,
+                        "end": r.end,
+                        "t_mean_c": r.t_mean_c,
+                        "t_change_c": r.t_change_c,
+                        "samples": r.samples,
+                        "points": r.points.iter().map(|p| json!({
+                            "tau": p.tau, "m": p.m, "dev": p.dev, "n": p.n, "edf": p.edf,
+                            "dev_lo": p.dev_lo, "dev_hi": p.dev_hi,
+                        })).collect::<Vec<_>>(),
+                        "terms": {
+                            "N": term(r.terms.fit.get(Term::WhiteNoise)),
+                            "B": term(r.terms.fit.get(Term::BiasInstability)),
+                            "K": term(r.terms.fit.get(Term::RateRandomWalk)),
+                            "sigma_min": r.terms.slope.sigma_min.map(|m| json!({"value": m.value, "tau": m.tau})),
+                        },
+                    })).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        let doc = json!({
+            "schema": SCHEMA,
+            "imutherm_version": env!("CARGO_PKG_VERSION"),
+            "file": a.file.display().to_string(),
+            "by": match slicing { Slicing::Temperature { .. } => "temperature", Slicing::Time { .. } => "time" },
+            "rate_hz": sel.rate_hz,
+            "confidence": confidence,
+            "channels": channels,
+        });
+        serde_json::to_writer_pretty(&mut out, &doc)?;
+        writeln!(out)?;
+    } else {
+        let (label, unit) = match slicing {
+            Slicing::Temperature { .. } => ("bin [°C]", "°C"),
+            Slicing::Time { .. } => ("window [s]", "s"),
+        };
+        for (name, ch_unit, rows) in &surfaces {
+            writeln!(
+                out,
+                "# {name} [{ch_unit}] — OADEV over {label}, N and B from the fit"
+            )?;
+            let taus: Vec<f64> =
+                rows.iter()
+                    .flat_map(|r| r.points.iter().map(|p| p.tau))
+                    .fold(Vec::new(), |mut v, t| {
+                        if !v.iter().any(|x: &f64| (x - t).abs() < 1e-12) {
+                            v.push(t);
+                        }
+                        v
+                    });
+            let mut head = format!("{:>16} {:>8} {:>8}", label, "T [°C]", "ΔT [°C]");
+            for t in taus.iter().take(12) {
+                head.push_str(&format!(" {:>10}", format!("τ={t:.3}")));
+            }
+            head.push_str(&format!(" {:>11} {:>11}", "N", "B"));
+            writeln!(out, "{head}")?;
+            for r in rows {
+                let mut line = format!(
+                    "{:>16} {:>8.2} {:>8.2}",
+                    format!("{:.1}–{:.1} {unit}", r.start, r.end),
+                    r.t_mean_c,
+                    r.t_change_c
+                );
+                for t in taus.iter().take(12) {
+                    match r.points.iter().find(|p| (p.tau - t).abs() < 1e-12) {
+                        Some(p) => line.push_str(&format!(" {:>10.3e}", p.dev)),
+                        None => line.push_str(&format!(" {:>10}", "—")),
+                    }
+                }
+                for term in [Term::WhiteNoise, Term::BiasInstability] {
+                    match r.terms.fit.get(term) {
+                        TermEstimate::Value(v) => line.push_str(&format!(" {:>11.3e}", v.value)),
+                        TermEstimate::NotIdentifiable(_) => line.push_str(&format!(" {:>11}", "n/i")),
+                    }
+                }
+                writeln!(out, "{line}")?;
+            }
+            writeln!(out)?;
+        }
+    }
+    out.flush()?;
+    Ok(())
+}

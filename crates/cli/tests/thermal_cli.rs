@@ -1,0 +1,161 @@
+//! `imutherm thermal` and `imutherm tcal` end to end, on simulated runs.
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+
+fn imutherm() -> Command {
+    Command::cargo_bin("imutherm").unwrap()
+}
+
+fn simulate(dir: &std::path::Path, name: &str, profile: &str, seed: &str) -> std::path::PathBuf {
+    let p = dir.join(name);
+    imutherm()
+        .args([
+            "simulate",
+            "--profile",
+            profile,
+            "--duration",
+            "40m",
+            "--rate",
+            "5",
+            "--seed",
+            seed,
+            "-o",
+        ])
+        .arg(&p)
+        .assert()
+        .success();
+    p
+}
+
+#[test]
+fn fit_apply_eval_and_the_surface() {
+    let dir = tempfile::tempdir().unwrap();
+    let cooling = simulate(dir.path(), "cool.txt", "cooling:90:25:700", "1");
+    let heating = simulate(dir.path(), "heat.txt", "ramp:30:85:2000", "2");
+    let model = dir.path().join("model.json");
+    imutherm()
+        .args(["tcal", "fit", "--order", "3", "--tref", "35"])
+        .arg(&cooling)
+        .arg("-o")
+        .arg(&model)
+        .assert()
+        .success()
+        .stderr(predicate::str::contains("gyro_x   order 3"));
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
+    assert_eq!(m["schema"], "imutherm.tcal/1");
+    assert_eq!(m["t_ref_c"], 35.0);
+    assert_eq!(m["channels"].as_array().unwrap().len(), 6);
+
+    // Evaluated on the heating run the fit never saw: the bias over
+    // temperature shrinks by more than 90 %.
+    let out = imutherm()
+        .args(["tcal", "eval", "--json"])
+        .arg(&model)
+        .arg(&heating)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for r in doc["rows"].as_array().unwrap() {
+        let (b, a) = (
+            r["bias_rms_before"].as_f64().unwrap(),
+            r["bias_rms_after"].as_f64().unwrap(),
+        );
+        assert!(a < 0.1 * b, "{}: {b} → {a}", r["channel"]);
+    }
+    imutherm()
+        .args(["tcal", "eval", "--export", "ardupilot"])
+        .arg(&model)
+        .arg(&heating)
+        .assert()
+        .success()
+        .stdout(
+            predicate::str::contains("INS_TCAL1_GYR1_X").and(predicate::str::contains("INS_TCAL1_ACC3_Z")),
+        );
+    imutherm()
+        .args(["tcal", "eval", "--export", "px4"])
+        .arg(&model)
+        .arg(&heating)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("TC_G0_X3_2").and(predicate::str::contains("TC_A0_TREF 35.0000")));
+
+    let comp = dir.path().join("heat_comp.txt");
+    imutherm()
+        .args(["tcal", "apply"])
+        .arg(&model)
+        .arg(&heating)
+        .arg("-o")
+        .arg(&comp)
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(&comp).unwrap();
+    assert!(text.contains("# temperature_compensated_with:"));
+
+    let out = imutherm()
+        .args(["thermal", "--channels", "gyro_x", "--bin-width", "10", "--json"])
+        .arg(&cooling)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(doc["schema"], "imutherm.thermal/1");
+    let rows = doc["channels"][0]["rows"].as_array().unwrap();
+    assert!(rows.len() >= 5, "{} bins", rows.len());
+    assert!(rows.iter().all(|r| !r["points"].as_array().unwrap().is_empty()));
+    imutherm()
+        .args(["thermal", "--by", "time", "--window", "300", "--channels", "gyro"])
+        .arg(&cooling)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("window [s]"));
+}
+
+#[test]
+fn degenerate_inputs_exit_1() {
+    let dir = tempfile::tempdir().unwrap();
+    let flat = simulate(dir.path(), "flat.txt", "constant:34", "3");
+    let model = dir.path().join("m.json");
+    imutherm()
+        .args(["tcal", "fit"])
+        .arg(&flat)
+        .arg("-o")
+        .arg(&model)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("nothing to fit a temperature model to"));
+    let narrow = simulate(dir.path(), "narrow.txt", "ramp:30:33.5:2400", "4");
+    imutherm()
+        .args(["tcal", "fit", "--order", "6"])
+        .arg(&narrow)
+        .arg("-o")
+        .arg(&model)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "cannot determine a polynomial of order 6",
+        ));
+    // A model applied to a file without its channels.
+    let warm = simulate(dir.path(), "warm.txt", "ramp:30:60:2400", "5");
+    imutherm()
+        .args(["tcal", "fit", "--order", "1"])
+        .arg(&warm)
+        .arg("-o")
+        .arg(&model)
+        .assert()
+        .success();
+    let other = dir.path().join("other.csv");
+    std::fs::write(&other, "temp,pressure[hPa]\n30,1013\n31,1012\n").unwrap();
+    imutherm()
+        .args(["tcal", "apply"])
+        .arg(&model)
+        .arg(&other)
+        .arg("-o")
+        .arg(dir.path().join("o.txt"))
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "the model has channel 'accel_x', the file does not",
+        ));
+}
