@@ -111,6 +111,10 @@ pub struct Model {
     pub scale_c: f64,
     /// Bin width used, °C.
     pub bin_width_c: f64,
+    /// The runs the model was fitted on (file names, as the caller gave
+    /// them), so that an evaluation can tell held-out runs apart.
+    #[serde(default)]
+    pub fitted_on: Vec<String>,
     /// Per channel.
     pub channels: Vec<ChannelModel>,
 }
@@ -322,6 +326,7 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
         centre_c: centre,
         scale_c: scale,
         bin_width_c: opts.bin_width_c,
+        fitted_on: Vec::new(),
         channels,
     })
 }

@@ -8,6 +8,7 @@ use anyhow::{Context, Result, bail};
 use serde_json::json;
 
 use imu::{LogFormat, RecordingOptions, read_recording, write_recording};
+use thermal::surface::{Slicing, surface};
 use thermal::tcal::{FitOptions, Model, Order, Run, fit as fit_model};
 
 use crate::args::{TcalApplyArgs, TcalEvalArgs, TcalFitArgs};
@@ -65,10 +66,9 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
         bin_width_c: a.bin_width,
         rate_term: a.rate_term,
     };
-    let model = fit_model(&fit_runs, &opts).with_context(|| {
-        let names: Vec<String> = a.files.iter().map(|f| f.display().to_string()).collect();
-        names.join(", ")
-    })?;
+    let names: Vec<String> = a.files.iter().map(|f| f.display().to_string()).collect();
+    let mut model = fit_model(&fit_runs, &opts).with_context(|| names.join(", "))?;
+    model.fitted_on = names;
     let text = serde_json::to_string_pretty(&model)?;
     std::fs::write(&a.output, text + "\n").with_context(|| format!("writing {}", a.output.display()))?;
     eprintln!(
@@ -144,29 +144,77 @@ pub fn apply(a: &TcalApplyArgs) -> Result<()> {
     Ok(())
 }
 
-/// Bin means of `x` over 1 °C bins: (mean T, mean x).
-fn bin_means(x: &[f64], t: &[f64]) -> Vec<(f64, f64)> {
-    let mut bins: std::collections::BTreeMap<i64, (f64, f64, usize)> = Default::default();
+/// One 1 °C bin: mean temperature, mean value, standard error of the mean.
+#[derive(Clone, Copy)]
+struct BinMean {
+    t: f64,
+    mean: f64,
+    se: f64,
+}
+
+/// Bin means of `x` over 1 °C bins. The standard error is that of white
+/// samples; correlated noise makes it a lower bound.
+fn bin_means(x: &[f64], t: &[f64]) -> Vec<BinMean> {
+    let mut bins: std::collections::BTreeMap<i64, (f64, f64, f64, usize)> = Default::default();
     for (&v, &tt) in x.iter().zip(t) {
         if v.is_finite() && tt.is_finite() {
             let e = bins.entry(tt.floor() as i64).or_default();
             e.0 += tt;
             e.1 += v;
-            e.2 += 1;
+            e.2 += v * v;
+            e.3 += 1;
         }
     }
     bins.values()
-        .map(|&(t, v, n)| (t / n as f64, v / n as f64))
+        .filter(|b| b.3 > 1)
+        .map(|&(t, s, s2, n)| {
+            let nf = n as f64;
+            let mean = s / nf;
+            let var = ((s2 - s * mean) / (nf - 1.0)).max(0.0);
+            BinMean {
+                t: t / nf,
+                mean,
+                se: (var / nf).sqrt(),
+            }
+        })
         .collect()
 }
 
 /// RMS and largest deviation of the bin means from their mean: the bias
 /// left over temperature.
-fn spread(bins: &[(f64, f64)]) -> (f64, f64) {
-    let mean = bins.iter().map(|b| b.1).sum::<f64>() / bins.len().max(1) as f64;
-    let rms = (bins.iter().map(|b| (b.1 - mean).powi(2)).sum::<f64>() / bins.len().max(1) as f64).sqrt();
-    let max = bins.iter().fold(0.0f64, |m, b| m.max((b.1 - mean).abs()));
+fn spread(bins: &[BinMean]) -> (f64, f64) {
+    let mean = bins.iter().map(|b| b.mean).sum::<f64>() / bins.len().max(1) as f64;
+    let rms = (bins.iter().map(|b| (b.mean - mean).powi(2)).sum::<f64>() / bins.len().max(1) as f64).sqrt();
+    let max = bins.iter().fold(0.0f64, |m, b| m.max((b.mean - mean).abs()));
     (rms, max)
+}
+
+/// σ_min of each 5 °C slice of the ADEV surface: (mean T, σ_min, τ).
+fn surface_minima(x: &[f64], t: &[f64], rate: f64) -> Vec<(f64, f64, f64)> {
+    surface(x, t, rate, Slicing::Temperature { bin_width_c: 5.0 }, 0.683)
+        .map(|rows| {
+            rows.iter()
+                .filter_map(|r| {
+                    r.terms
+                        .slope
+                        .sigma_min
+                        .map(|m| (r.t_mean_c, m.value, m.tau.unwrap_or(f64::NAN)))
+                })
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+struct EvalRow {
+    file: String,
+    held_out: bool,
+    channel: String,
+    unit: String,
+    before: Vec<BinMean>,
+    after: Vec<BinMean>,
+    adev_before: Vec<(f64, f64, f64)>,
+    adev_after: Vec<(f64, f64, f64)>,
+    out_of_range: usize,
 }
 
 pub fn eval(a: &TcalEvalArgs) -> Result<()> {
@@ -176,63 +224,92 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
     let mut rows = Vec::new();
     for file in &a.files {
         let (sel, temp) = run_data(file, &names, &read)?;
+        let shown = file.display().to_string();
+        let held_out = !model.fitted_on.iter().any(|f| Path::new(f) == file.as_path());
         for ch in sel.channels {
-            let before = bin_means(&ch.data, &temp);
             let mut comp = ch.data.clone();
             let report = model.apply(&ch.name, &mut comp, &temp, sel.rate_hz)?;
-            let after = bin_means(&comp, &temp);
-            let (rb, mb) = spread(&before);
-            let (ra, ma) = spread(&after);
-            rows.push((
-                file.display().to_string(),
-                ch.name,
-                ch.unit,
-                rb,
-                mb,
-                ra,
-                ma,
-                report.out_of_range,
-            ));
+            rows.push(EvalRow {
+                file: shown.clone(),
+                held_out,
+                before: bin_means(&ch.data, &temp),
+                after: bin_means(&comp, &temp),
+                adev_before: surface_minima(&ch.data, &temp, sel.rate_hz),
+                adev_after: surface_minima(&comp, &temp, sel.rate_hz),
+                channel: ch.name,
+                unit: ch.unit,
+                out_of_range: report.out_of_range,
+            });
         }
     }
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     if a.json {
+        let bins = |b: &[BinMean]| {
+            b.iter()
+                .map(|b| json!({"t_c": b.t, "mean": b.mean, "lo": b.mean - 1.96 * b.se, "hi": b.mean + 1.96 * b.se}))
+                .collect::<Vec<_>>()
+        };
+        let minima = |m: &[(f64, f64, f64)]| {
+            m.iter()
+                .map(|m| json!({"t_c": m.0, "sigma_min": m.1, "tau": m.2}))
+                .collect::<Vec<_>>()
+        };
         let doc = json!({
             "schema": "imutherm.tcal-eval/1",
             "model": a.model.display().to_string(),
-            "rows": rows.iter().map(|r| json!({
-                "file": r.0, "channel": r.1, "unit": r.2,
-                "bias_rms_before": r.3, "bias_max_before": r.4,
-                "bias_rms_after": r.5, "bias_max_after": r.6,
-                "samples_out_of_range": r.7,
-            })).collect::<Vec<_>>(),
+            "rows": rows.iter().map(|r| {
+                let (rb, mb) = spread(&r.before);
+                let (ra, ma) = spread(&r.after);
+                json!({
+                    "file": r.file, "held_out": r.held_out, "channel": r.channel, "unit": r.unit,
+                    "bias_rms_before": rb, "bias_max_before": mb,
+                    "bias_rms_after": ra, "bias_max_after": ma,
+                    "samples_out_of_range": r.out_of_range,
+                    "bins_before": bins(&r.before), "bins_after": bins(&r.after),
+                    "adev_minimum_over_temperature_before": minima(&r.adev_before),
+                    "adev_minimum_over_temperature_after": minima(&r.adev_after),
+                })
+            }).collect::<Vec<_>>(),
         });
         serde_json::to_writer_pretty(&mut out, &doc)?;
         writeln!(out)?;
     } else if !rows.is_empty() {
         writeln!(
             out,
-            "residual bias over 1 °C temperature bins (spread of the bin means), before → after"
+            "residual bias over 1 °C temperature bins (spread of the bin means), before → after; \
+             ADEV minimum per 5 °C bin, before → after"
         )?;
         for r in &rows {
-            let reduction = if r.3 > 0.0 { 100.0 * (1.0 - r.5 / r.3) } else { 0.0 };
+            let (rb, mb) = spread(&r.before);
+            let (ra, ma) = spread(&r.after);
+            let reduction = if rb > 0.0 { 100.0 * (1.0 - ra / rb) } else { 0.0 };
             writeln!(
                 out,
-                "{:<24} {:<8} RMS {:.3e} → {:.3e} {} ({reduction:.1} % less), max {:.3e} → {:.3e}{}",
-                r.0,
-                r.1,
-                r.3,
-                r.5,
-                r.2,
-                r.4,
-                r.6,
-                if r.7 > 0 {
-                    format!(", {} samples out of range", r.7)
+                "{:<24} {:<8} {} RMS {:.3e} → {:.3e} {} ({reduction:.1} % less), max {:.3e} → {:.3e}{}",
+                r.file,
+                r.channel,
+                if r.held_out { "held out" } else { "fitted  " },
+                rb,
+                ra,
+                r.unit,
+                mb,
+                ma,
+                if r.out_of_range > 0 {
+                    format!(", {} samples out of range", r.out_of_range)
                 } else {
                     String::new()
                 }
             )?;
+            let pairs: Vec<String> = r
+                .adev_before
+                .iter()
+                .zip(&r.adev_after)
+                .map(|(b, a)| format!("{:.0} °C {:.2e}→{:.2e}", b.0, b.1, a.1))
+                .collect();
+            if !pairs.is_empty() {
+                writeln!(out, "{:<24} {:<8}   σ_min: {}", "", "", pairs.join(", "))?;
+            }
         }
     }
     if let Some(kind) = &a.export {
