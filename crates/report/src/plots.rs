@@ -1,0 +1,319 @@
+//! The plots, as SVG text.
+
+use std::sync::Once;
+
+use plotters::prelude::*;
+
+use allan::Point;
+use thermal::surface::SurfaceRow;
+
+use crate::PlotError;
+
+static FONT: Once = Once::new();
+
+/// Registers the embedded font once: SVG text needs metrics for layout.
+fn font() {
+    FONT.call_once(|| {
+        // A failure leaves plotters' built-in fallback; the plot still draws.
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            include_bytes!("../assets/DejaVuSans.ttf"),
+        );
+    });
+}
+
+fn err<E: std::fmt::Debug>(e: E) -> PlotError {
+    PlotError(format!("{e:?}"))
+}
+
+/// Colours that stay apart in print and for most colour vision.
+const PALETTE: [RGBColor; 7] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(0, 0, 0),
+];
+
+/// One curve of an ADEV plot.
+pub struct Curve<'a> {
+    /// Legend text.
+    pub label: String,
+    /// The points, by increasing τ.
+    pub points: &'a [Point],
+}
+
+fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    if !lo.is_finite() {
+        return (1e-3, 1.0);
+    }
+    let (a, b) = (lo.log10().floor(), hi.log10().ceil());
+    (10f64.powf(a), 10f64.powf(if b > a { b } else { a + 1.0 }))
+}
+
+/// Allan deviation curves on log-log axes, each with its confidence band.
+pub fn adev_plot(title: &str, unit: &str, curves: &[Curve]) -> Result<String, PlotError> {
+    font();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (720, 480)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let taus = log_range(curves.iter().flat_map(|c| c.points.iter().map(|p| p.tau)));
+        let devs = log_range(curves.iter().flat_map(|c| {
+            c.points
+                .iter()
+                .flat_map(|p| [p.dev_lo.max(p.dev * 1e-3), p.dev_hi])
+        }));
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d((taus.0..taus.1).log_scale(), (devs.0..devs.1).log_scale())
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc("τ [s]")
+            .y_desc(format!("Allan deviation [{unit}]"))
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .x_label_formatter(&|v| format!("{v}"))
+            .draw()
+            .map_err(err)?;
+        for (i, c) in curves.iter().enumerate() {
+            let colour = PALETTE[i % PALETTE.len()];
+            let band: Vec<(f64, f64)> = c
+                .points
+                .iter()
+                .map(|p| (p.tau, p.dev_hi))
+                .chain(c.points.iter().rev().map(|p| (p.tau, p.dev_lo.max(devs.0))))
+                .collect();
+            chart
+                .draw_series(std::iter::once(Polygon::new(band, colour.mix(0.18))))
+                .map_err(err)?;
+            chart
+                .draw_series(LineSeries::new(
+                    c.points.iter().map(|p| (p.tau, p.dev)),
+                    colour.stroke_width(2),
+                ))
+                .map_err(err)?
+                .label(c.label.clone())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
+            chart
+                .draw_series(
+                    c.points
+                        .iter()
+                        .map(|p| Circle::new((p.tau, p.dev), 3, colour.filled())),
+                )
+                .map_err(err)?;
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(err)?;
+        root.present().map_err(err)?;
+    }
+    Ok(svg)
+}
+
+/// Blue (low) to yellow (high), through green: readable in grey too.
+fn heat(v: f64) -> RGBColor {
+    let stops = [
+        (68.0, 1.0, 84.0),
+        (59.0, 82.0, 139.0),
+        (33.0, 145.0, 140.0),
+        (94.0, 201.0, 98.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let x = v.clamp(0.0, 1.0) * (stops.len() - 1) as f64;
+    let i = (x.floor() as usize).min(stops.len() - 2);
+    let f = x - i as f64;
+    let (a, b) = (stops[i], stops[i + 1]);
+    let mix = |p: f64, q: f64| (p + (q - p) * f).round() as u8;
+    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+/// The ADEV over temperature as a heat map: τ (log) across, the slices'
+/// mean temperature up, σ as a log colour scale.
+pub fn adev_heatmap(title: &str, unit: &str, rows: &[SurfaceRow]) -> Result<String, PlotError> {
+    font();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (720, 480)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let (main, bar) = root.split_horizontally(640);
+        let taus = log_range(rows.iter().flat_map(|r| r.points.iter().map(|p| p.tau)));
+        let (tmin, tmax) = rows.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
+            (a.min(r.t_mean_c), b.max(r.t_mean_c))
+        });
+        let (tmin, tmax) = if tmin.is_finite() && tmax > tmin {
+            (tmin, tmax)
+        } else {
+            (tmin - 1.0, tmin + 1.0)
+        };
+        let step = if rows.len() > 1 {
+            (tmax - tmin) / (rows.len() - 1) as f64
+        } else {
+            1.0
+        };
+        let devs: Vec<f64> = rows
+            .iter()
+            .flat_map(|r| r.points.iter().map(|p| p.dev.log10()))
+            .collect();
+        let (dlo, dhi) = devs
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        let span = if dhi > dlo { dhi - dlo } else { 1.0 };
+        let mut chart = ChartBuilder::on(&main)
+            .caption(title, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(
+                (taus.0..taus.1).log_scale(),
+                (tmin - step / 2.0)..(tmax + step / 2.0),
+            )
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc("τ [s]")
+            .y_desc("temperature [°C]")
+            .x_label_formatter(&|v| format!("{v}"))
+            .draw()
+            .map_err(err)?;
+        for r in rows {
+            for (k, p) in r.points.iter().enumerate() {
+                let left = if k == 0 {
+                    p.tau / 2f64.sqrt()
+                } else {
+                    (p.tau * r.points[k - 1].tau).sqrt()
+                };
+                let right = match r.points.get(k + 1) {
+                    Some(q) => (p.tau * q.tau).sqrt(),
+                    None => p.tau * 2f64.sqrt(),
+                };
+                let colour = heat((p.dev.log10() - dlo) / span);
+                chart
+                    .draw_series(std::iter::once(Rectangle::new(
+                        [(left, r.t_mean_c - step / 2.0), (right, r.t_mean_c + step / 2.0)],
+                        colour.filled(),
+                    )))
+                    .map_err(err)?;
+            }
+        }
+        // The colour bar, with its scale in the plotted unit.
+        let mut cb = ChartBuilder::on(&bar)
+            .margin_top(44)
+            .margin_bottom(52)
+            .y_label_area_size(0)
+            .right_y_label_area_size(70)
+            .build_cartesian_2d(0.0..1.0, (10f64.powf(dlo)..10f64.powf(dlo + span)).log_scale())
+            .map_err(err)?;
+        cb.configure_mesh()
+            .disable_x_mesh()
+            .disable_x_axis()
+            .y_desc(format!("σ [{unit}]"))
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .draw()
+            .map_err(err)?;
+        let n = 64;
+        cb.draw_series((0..n).map(|i| {
+            let (a, b) = (i as f64 / n as f64, (i + 1) as f64 / n as f64);
+            Rectangle::new(
+                [
+                    (0.0, 10f64.powf(dlo + a * span)),
+                    (1.0, 10f64.powf(dlo + b * span)),
+                ],
+                heat(a).filled(),
+            )
+        }))
+        .map_err(err)?;
+        root.present().map_err(err)?;
+    }
+    Ok(svg)
+}
+
+/// Bias against temperature (bin means, before and after compensation) and
+/// the fitted curve.
+pub fn bias_plot(
+    title: &str,
+    unit: &str,
+    before: &[(f64, f64)],
+    after: &[(f64, f64)],
+    model: &dyn Fn(f64) -> f64,
+) -> Result<String, PlotError> {
+    font();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (720, 420)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let all = before.iter().chain(after);
+        let (tlo, thi, ylo, yhi) = all.fold(
+            (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY),
+            |(a, b, c, d), &(t, y)| (a.min(t), b.max(t), c.min(y), d.max(y)),
+        );
+        if !tlo.is_finite() {
+            return Err(PlotError("no bins to plot".into()));
+        }
+        let pad = 0.05 * (yhi - ylo).max(1e-12);
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(80)
+            .build_cartesian_2d(tlo..thi.max(tlo + 1.0), (ylo - pad)..(yhi + pad))
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc("temperature [°C]")
+            .y_desc(format!("bias [{unit}]"))
+            .y_label_formatter(&|v| format!("{v:.2e}"))
+            .draw()
+            .map_err(err)?;
+        let (c0, c1, c2) = (PALETTE[0], PALETTE[1], PALETTE[2]);
+        chart
+            .draw_series(before.iter().map(|&(t, y)| Circle::new((t, y), 3, c0.filled())))
+            .map_err(err)?
+            .label("bin means, raw")
+            .legend(move |(x, y)| Circle::new((x + 9, y), 3, c0.filled()));
+        let steps = 200;
+        chart
+            .draw_series(LineSeries::new(
+                (0..=steps).map(|i| {
+                    let t = tlo + (thi - tlo) * i as f64 / steps as f64;
+                    (t, model(t))
+                }),
+                c1.stroke_width(2),
+            ))
+            .map_err(err)?
+            .label("fitted bias p(T)")
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c1.stroke_width(2)));
+        chart
+            .draw_series(after.iter().map(|&(t, y)| Circle::new((t, y), 3, c2.filled())))
+            .map_err(err)?
+            .label("bin means, compensated")
+            .legend(move |(x, y)| Circle::new((x + 9, y), 3, c2.filled()));
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(err)?;
+        root.present().map_err(err)?;
+    }
+    Ok(svg)
+}

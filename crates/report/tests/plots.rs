@@ -1,0 +1,55 @@
+//! The plots are real SVG, and text from files cannot break out of them.
+
+use allan::{Options, TauSpec, analyze};
+use report::plots::{Curve, adev_heatmap, adev_plot, bias_plot};
+use thermal::surface::{Slicing, surface};
+
+fn noise(n: usize, seed: u64) -> Vec<f64> {
+    let mut s = seed;
+    (0..n)
+        .map(|_| {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        })
+        .collect()
+}
+
+#[test]
+fn adev_plot_is_svg_with_escaped_labels() {
+    let pts = analyze(
+        &noise(4096, 1),
+        &Options {
+            taus: TauSpec::Octave,
+            ..Options::default()
+        },
+    )
+    .unwrap()
+    .points;
+    let svg = adev_plot(
+        "gyro <script>alert(1)</script>",
+        "rad/s",
+        &[Curve {
+            label: "a & b".into(),
+            points: &pts,
+        }],
+    )
+    .unwrap();
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    assert!(!svg.contains("<script>"), "unescaped title in {svg:.300}");
+    assert!(svg.contains("<polyline") || svg.contains("<path"));
+    assert!(svg.contains("<text"));
+}
+
+#[test]
+fn heatmap_and_bias_plot_draw() {
+    let x = noise(20_000, 2);
+    let t: Vec<f64> = (0..20_000).map(|i| 20.0 + i as f64 * 0.002).collect();
+    let rows = surface(&x, &t, 10.0, Slicing::Temperature { bin_width_c: 10.0 }, 0.683).unwrap();
+    let svg = adev_heatmap("gyro_x", "rad/s", &rows).unwrap();
+    assert!(svg.matches("<rect").count() > 20);
+    let bins: Vec<(f64, f64)> = (0..10).map(|i| (20.0 + i as f64, i as f64 * 0.1)).collect();
+    let svg = bias_plot("bias", "rad/s", &bins, &bins, &|t| (t - 20.0) * 0.1).unwrap();
+    assert!(svg.matches("<circle").count() >= 20);
+}
