@@ -15,6 +15,15 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Run the thesis's experiment on simulated data: four constant-temperature
+    /// runs (34, 43, 62, 82 °C) and a cooling run (100 → 20 °C) of the
+    /// mpu9250-thesis preset, noise terms, ADEV over temperature, a compensation
+    /// fitted on the cooling run and evaluated on a held-out heating run; writes
+    /// DIR/report.html.
+    #[command(
+        after_help = "Examples:\n  imutherm demo                 full: 1 h runs at 100 Hz\n  imutherm demo --quick --out /tmp/demo"
+    )]
+    Demo(DemoArgs),
     /// Allan-family deviations (adev, oadev, mdev, tdev, hdev, ohdev, totdev…)
     /// of every column of one or more files, with EDF and confidence intervals.
     #[command(after_help = ADEV_EXAMPLES)]
@@ -90,6 +99,17 @@ pub struct ThermalArgs {
     /// Print one JSON document (schema imutherm.thermal/1).
     #[arg(long)]
     pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Where to write the simulated runs, the model and report.html.
+    #[arg(long, default_value = "imutherm-demo", value_name = "DIR")]
+    pub out: PathBuf,
+
+    /// Shorter runs at a lower rate: the whole demo in well under a minute.
+    #[arg(long)]
+    pub quick: bool,
 }
 
 #[derive(Debug, Subcommand)]

@@ -14,6 +14,7 @@ use clap::Parser;
 fn main() -> ExitCode {
     let cli = args::Cli::parse();
     let result = match cli.command {
+        args::Command::Demo(a) => commands::demo::run(&a),
         args::Command::Adev(a) => commands::adev::run(&a),
         args::Command::Info(a) => commands::info::run(&a),
         args::Command::Noise(a) => commands::noise::run(&a),

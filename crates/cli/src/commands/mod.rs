@@ -2,6 +2,7 @@
 
 pub mod adev;
 pub mod confidence;
+pub mod demo;
 pub mod info;
 pub mod noise;
 pub mod selection;

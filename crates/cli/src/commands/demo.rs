@@ -1,0 +1,430 @@
+//! `imutherm demo`: the thesis's whole experiment on simulated data.
+
+use std::f64::consts::PI;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+
+use allan::noise_terms::{NoiseTerms, Term, TermEstimate, identify};
+use allan::{Options, Point, TauSpec};
+use imu::{Quantity, RecordingOptions};
+use imusim::thermal::Profile;
+use imusim::{Simulator, presets};
+use report::html::Page;
+use report::plots::{Curve, adev_heatmap, adev_plot, bias_plot};
+use thermal::surface::{Slicing, surface};
+use thermal::tcal::{FitOptions, Run, fit};
+
+use crate::args::DemoArgs;
+use crate::commands::selection::{Channel, read_channels};
+
+/// The thesis's constant-temperature runs, °C.
+const TEMPERATURES: [f64; 4] = [34.0, 43.0, 62.0, 82.0];
+
+struct Analysed {
+    channel: Channel,
+    points: Vec<Point>,
+    terms: NoiseTerms,
+}
+
+fn simulate(
+    path: &Path,
+    profile: Profile,
+    seed: u64,
+    rate: f64,
+    duration: f64,
+    bar: &ProgressBar,
+) -> Result<()> {
+    let mut cfg = presets::preset("mpu9250-thesis")?;
+    cfg.rate_hz = rate;
+    cfg.duration_s = duration;
+    cfg.seed = seed;
+    cfg.profile = profile;
+    let sim = Simulator::new(cfg)?;
+    let file = File::create(path).with_context(|| format!("creating {}", path.display()))?;
+    let base = bar.position();
+    sim.write_log(
+        BufWriter::new(file),
+        &sim.metadata(Some("mpu9250-thesis")),
+        |done, _| bar.set_position(base + done),
+    )?;
+    Ok(())
+}
+
+fn analyse_run(path: &Path) -> Result<(Vec<Analysed>, Option<f64>)> {
+    let sel = read_channels(path, &[], &RecordingOptions::default())?;
+    let temp = sel.temperature_mean_c;
+    let rate = sel.rate_hz;
+    let out = sel
+        .channels
+        .into_par_iter()
+        .map(|channel| {
+            let opts = Options {
+                rate_hz: rate,
+                taus: TauSpec::Octave,
+                confidence: 0.95,
+                ..Options::default()
+            };
+            let sparse = allan::analyze(&channel.data, &opts)?;
+            let dense = allan::analyze(
+                &channel.data,
+                &Options {
+                    taus: TauSpec::Many,
+                    ..opts
+                },
+            )?;
+            let terms = identify(&dense.points, &sparse.points, 0.95);
+            Ok(Analysed {
+                channel,
+                points: sparse.points,
+                terms,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok((out, temp))
+}
+
+fn deg(q: Quantity) -> f64 {
+    if q == Quantity::AngularRate {
+        180.0 / PI
+    } else {
+        1.0
+    }
+}
+
+pub fn run(a: &DemoArgs) -> Result<()> {
+    let started = Instant::now();
+    let (rate, constant_s, cooling_s) = if a.quick {
+        (20.0, 900.0, 3600.0)
+    } else {
+        (100.0, 3600.0, 3.0 * 3600.0)
+    };
+    std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
+    let file = |name: &str| a.out.join(name);
+
+    // 1. The recordings.
+    let total = ((4.0 * constant_s + 2.0 * cooling_s) * rate) as u64;
+    let bar = ProgressBar::new(total).with_style(
+        ProgressStyle::with_template("{msg:<28} [{bar:40}] {percent:>3} %")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    bar.set_message("simulating the runs");
+    let mut runs: Vec<PathBuf> = Vec::new();
+    for (i, t) in TEMPERATURES.iter().enumerate() {
+        let p = file(&format!("run_{t:.0}C.txt"));
+        let profile = Profile::Constant {
+            temp_c: *t,
+            fluctuation_c: 0.05,
+            fluctuation_tau_s: 60.0,
+        };
+        simulate(&p, profile, 10 + i as u64, rate, constant_s, &bar)?;
+        runs.push(p);
+    }
+    let cooling = file("cooling_100_to_20C.txt");
+    let cooling_profile = Profile::Cooling {
+        start_c: 100.0,
+        ambient_c: 20.0,
+        tau_s: cooling_s / 4.0,
+    };
+    simulate(&cooling, cooling_profile, 20, rate, cooling_s, &bar)?;
+    let heating = file("heating_25_to_95C.txt");
+    let heating_profile = Profile::Ramp {
+        from_c: 25.0,
+        to_c: 95.0,
+        duration_s: cooling_s * 0.9,
+    };
+    simulate(&heating, heating_profile, 21, rate, cooling_s, &bar)?;
+    bar.finish_and_clear();
+
+    // 2. Noise terms of the constant runs.
+    eprintln!("noise terms of the four constant-temperature runs…");
+    let analysed: Vec<(Vec<Analysed>, Option<f64>)> =
+        runs.iter().map(|p| analyse_run(p)).collect::<Result<_>>()?;
+
+    // 3. ADEV over temperature of the cooling run.
+    eprintln!("ADEV over temperature of the cooling run…");
+    let cool = read_channels(&cooling, &[], &RecordingOptions::default())?;
+    let cool_temp = cool
+        .temperature
+        .clone()
+        .context("the cooling run has no temperature")?;
+    let surfaces: Vec<_> = cool
+        .channels
+        .par_iter()
+        .map(|c| {
+            surface(
+                &c.data,
+                &cool_temp,
+                cool.rate_hz,
+                Slicing::Temperature { bin_width_c: 5.0 },
+                0.683,
+            )
+        })
+        .collect::<Result<_, _>>()?;
+
+    // 4. Compensation fitted on the cooling run, evaluated on the heating run.
+    eprintln!("compensation: fit on cooling, evaluation on heating…");
+    let cols: Vec<(String, String, &[f64])> = cool
+        .channels
+        .iter()
+        .map(|c| (c.name.clone(), c.unit.clone(), c.data.as_slice()))
+        .collect();
+    let mut model = fit(
+        &[Run {
+            channels: &cols,
+            temp: &cool_temp,
+            rate_hz: cool.rate_hz,
+        }],
+        &FitOptions::default(),
+    )?;
+    model.fitted_on = vec![cooling.display().to_string()];
+    std::fs::write(
+        file("tcal_model.json"),
+        serde_json::to_string_pretty(&model)? + "\n",
+    )?;
+    let heat = read_channels(&heating, &[], &RecordingOptions::default())?;
+    let heat_temp = heat
+        .temperature
+        .clone()
+        .context("the heating run has no temperature")?;
+    let mut compensation = Vec::new();
+    for c in &heat.channels {
+        let mut comp = c.data.clone();
+        model.apply(&c.name, &mut comp, &heat_temp, heat.rate_hz)?;
+        let before = bin_means(&c.data, &heat_temp);
+        let after = bin_means(&comp, &heat_temp);
+        compensation.push((c.name.clone(), c.unit.clone(), c.quantity, before, after));
+    }
+
+    // 5. The report.
+    let mut page = Page::new("imutherm — temperature dependency of a simulated MPU-9250");
+    page.paragraph(&format!(
+        "Simulated with the mpu9250-thesis preset: four {} s runs at {} Hz held at 34, 43, 62 and 82 °C, \
+         a {} s cooling run from 100 °C towards 20 °C and a heating run from 25 to 95 °C that the \
+         compensation never saw.",
+        constant_s, rate, cooling_s
+    ));
+    page.heading("Command");
+    page.code(&format!(
+        "{} (imutherm {})",
+        std::env::args().collect::<Vec<_>>().join(" "),
+        env!("CARGO_PKG_VERSION")
+    ));
+    page.heading("Inputs");
+    let inputs: Vec<Vec<String>> = runs
+        .iter()
+        .chain([&cooling, &heating])
+        .map(|p| vec![p.display().to_string()])
+        .collect();
+    page.table("recordings", &["file".to_string()], &inputs);
+
+    page.heading("Noise parameters (thesis layout)");
+    let header: Vec<String> = std::iter::once("axis".to_string())
+        .chain(
+            analysed
+                .iter()
+                .map(|(_, t)| t.map_or("—".into(), |t| format!("{t:.0} °C"))),
+        )
+        .collect();
+    for (q, nunit, bunit) in [
+        (Quantity::Acceleration, "m/s/√s", "m/s²"),
+        (Quantity::AngularRate, "°/√s", "°/s"),
+    ] {
+        let names: Vec<String> = analysed[0]
+            .0
+            .iter()
+            .filter(|r| r.channel.quantity == q)
+            .map(|r| r.channel.name.clone())
+            .collect();
+        let row = |name: &str, cell: &dyn Fn(&Analysed) -> String| -> Vec<String> {
+            std::iter::once(name.to_string())
+                .chain(analysed.iter().map(|(rs, _)| {
+                    rs.iter()
+                        .find(|r| r.channel.name == name)
+                        .map_or("—".into(), cell)
+                }))
+                .collect()
+        };
+        let n_rows: Vec<Vec<String>> = names
+            .iter()
+            .map(|n| {
+                row(n, &|r| match r.terms.slope.get(Term::WhiteNoise) {
+                    TermEstimate::Value(v) => format!("{:.4}", v.value * deg(q)),
+                    TermEstimate::NotIdentifiable(_) => "not identifiable".into(),
+                })
+            })
+            .collect();
+        page.table(
+            &format!(
+                "{} random walk N [{nunit}] (slope method at τ = 1 s)",
+                if q == Quantity::AngularRate {
+                    "Angle"
+                } else {
+                    "Velocity"
+                }
+            ),
+            &header,
+            &n_rows,
+        );
+        let b_rows: Vec<Vec<String>> = names
+            .iter()
+            .map(|n| {
+                row(n, &|r| match r.terms.slope.sigma_min {
+                    Some(m) => format!("{:.4} (at {:.1} s)", m.value * deg(q), m.tau.unwrap_or(f64::NAN)),
+                    None => "—".into(),
+                })
+            })
+            .collect();
+        page.table(
+            &format!("Bias instability as the thesis quotes it: σ_min [{bunit}] (at τ); B = σ_min/0.664"),
+            &header,
+            &b_rows,
+        );
+        let fit_rows: Vec<Vec<String>> = names
+            .iter()
+            .map(|n| {
+                row(n, &|r| match r.terms.fit.get(Term::BiasInstability) {
+                    TermEstimate::Value(v) => format!(
+                        "{:.4} [{:.4}, {:.4}]",
+                        v.value * deg(q),
+                        v.lo * deg(q),
+                        v.hi * deg(q)
+                    ),
+                    TermEstimate::NotIdentifiable(_) => "not identifiable".into(),
+                })
+            })
+            .collect();
+        page.table(
+            &format!("Bias instability B from the model fit [{bunit}], 95 % interval"),
+            &header,
+            &fit_rows,
+        );
+    }
+
+    page.heading("Allan deviation at each temperature");
+    for name in analysed[0]
+        .0
+        .iter()
+        .map(|r| r.channel.name.clone())
+        .collect::<Vec<_>>()
+    {
+        let curves: Vec<Curve> = analysed
+            .iter()
+            .filter_map(|(rs, t)| {
+                rs.iter().find(|r| r.channel.name == name).map(|r| Curve {
+                    label: t.map_or("—".into(), |t| format!("{t:.0} °C")),
+                    points: &r.points,
+                })
+            })
+            .collect();
+        let unit = analysed[0]
+            .0
+            .iter()
+            .find(|r| r.channel.name == name)
+            .map_or(String::new(), |r| r.channel.unit.clone());
+        page.figure(
+            &adev_plot(&name, &unit, &curves)?,
+            &format!("{name}: overlapping ADEV, 95 % bands"),
+        );
+    }
+
+    page.heading("Cooling run: ADEV over temperature (3D ADEV)");
+    for (c, rows) in cool.channels.iter().zip(&surfaces) {
+        page.figure(
+            &adev_heatmap(&c.name, &c.unit, rows)?,
+            &format!("{}: σ(τ, T) over 5 °C bins of the cooling run", c.name),
+        );
+    }
+
+    page.heading("Temperature compensation (fitted on cooling, evaluated on heating)");
+    let mut comp_rows = Vec::new();
+    for (name, unit, _, before, after) in &compensation {
+        let cm = model.channel(name).context("model channel")?;
+        // The same unit: its raw bias is p(T) itself.
+        let curve = |t: f64| cm.bias(&model, t.clamp(model.t_min_c, model.t_max_c));
+        page.figure(
+            &bias_plot(
+                &format!("{name}: bias against temperature"),
+                unit,
+                before,
+                after,
+                &curve,
+            )?,
+            &format!("{name}: 1 °C bin means of the heating run, raw and compensated, and the fitted p(T)"),
+        );
+        let (rb, ra) = (spread(before), spread(after));
+        comp_rows.push(vec![
+            name.clone(),
+            format!("{}", cm.order),
+            format!("{rb:.3e} {unit}"),
+            format!("{ra:.3e} {unit}"),
+            format!("{:.1} %", 100.0 * (1.0 - ra / rb)),
+        ]);
+    }
+    page.table(
+        "residual bias over temperature on the held-out heating run (RMS of 1 °C bin means)",
+        &["channel", "order", "raw", "compensated", "reduction"].map(String::from),
+        &comp_rows,
+    );
+    let html = page.finish();
+    let report_path = file("report.html");
+    std::fs::write(&report_path, &html).with_context(|| format!("writing {}", report_path.display()))?;
+
+    // 6. Summary.
+    println!("report: {}", report_path.display());
+    println!(
+        "{:<8} {:>12} {:>12} {:>12} {:>12}",
+        "axis", "N 34 °C", "N 82 °C", "bias raw", "bias comp"
+    );
+    for (i, r) in analysed[0].0.iter().enumerate() {
+        let q = r.channel.quantity;
+        let n = |a: &Analysed| {
+            a.terms
+                .slope
+                .get(Term::WhiteNoise)
+                .value()
+                .map_or(f64::NAN, |v| v.value * deg(q))
+        };
+        let hot = analysed[3].0.get(i).map_or(f64::NAN, n);
+        let (_, _, _, b, af) = &compensation[i.min(compensation.len() - 1)];
+        println!(
+            "{:<8} {:>12.5} {:>12.5} {:>12.3e} {:>12.3e}",
+            r.channel.name,
+            n(r),
+            hot,
+            spread(b),
+            spread(af)
+        );
+    }
+    println!(
+        "(N in °/√s for gyros, m/s/√s for accelerometers; bias: RMS over temperature on the held-out run)"
+    );
+    eprintln!("done in {:.1} s", started.elapsed().as_secs_f64());
+    Ok(())
+}
+
+fn bin_means(x: &[f64], t: &[f64]) -> Vec<(f64, f64)> {
+    let mut bins: std::collections::BTreeMap<i64, (f64, f64, usize)> = Default::default();
+    for (&v, &tt) in x.iter().zip(t) {
+        if v.is_finite() && tt.is_finite() {
+            let e = bins.entry(tt.floor() as i64).or_default();
+            e.0 += tt;
+            e.1 += v;
+            e.2 += 1;
+        }
+    }
+    bins.values()
+        .map(|&(t, v, n)| (t / n as f64, v / n as f64))
+        .collect()
+}
+
+fn spread(bins: &[(f64, f64)]) -> f64 {
+    let mean = bins.iter().map(|b| b.1).sum::<f64>() / bins.len().max(1) as f64;
+    (bins.iter().map(|b| (b.1 - mean).powi(2)).sum::<f64>() / bins.len().max(1) as f64).sqrt()
+}

@@ -1,0 +1,32 @@
+//! `imutherm demo --quick`: the whole experiment, and a report a browser can show.
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+
+#[test]
+fn quick_demo_writes_a_complete_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("demo");
+    Command::cargo_bin("imutherm")
+        .unwrap()
+        .args(["demo", "--quick", "--out"])
+        .arg(&out)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("report: ").and(predicate::str::contains("gyro_z")));
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.starts_with("<!DOCTYPE html>") && html.trim_end().ends_with("</html>"));
+    // Six ADEV plots, six heat maps, six bias plots.
+    assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 18, "figures");
+    assert!(html.contains("Angle random walk N [°/√s]"));
+    assert!(html.contains("34 °C") && html.contains("82 °C"));
+    assert!(html.contains("residual bias over temperature on the held-out heating run"));
+    // Self-contained: nothing is fetched (the SVG namespace URI is a name,
+    // not a download).
+    for fetch in ["src=\"http", "href=\"http", "<link", "<script", "url(http"] {
+        assert!(!html.contains(fetch), "{fetch}");
+    }
+    let model: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("tcal_model.json")).unwrap()).unwrap();
+    assert_eq!(model["schema"], "imutherm.tcal/1");
+}
