@@ -51,6 +51,27 @@ pub enum Command {
     /// Temperature compensation of the bias: fit, apply, evaluate.
     #[command(subcommand)]
     Tcal(TcalCommand),
+    /// One self-contained HTML page for a set of recordings: their summaries
+    /// and problems, the thesis's noise tables, ADEV plots, and the ADEV over
+    /// temperature of runs whose temperature changes.
+    #[command(
+        after_help = "Example:\n  imutherm report run_34C.txt run_43C.txt run_62C.txt run_82C.txt cooling.txt --out rep"
+    )]
+    Report(ReportArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// Recordings (one per temperature for the tables).
+    #[arg(required = true, value_name = "FILE")]
+    pub files: Vec<PathBuf>,
+
+    /// Where to write report.html.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+
+    #[command(flatten)]
+    pub read: ReadArgs,
 }
 
 const THERMAL_EXAMPLES: &str = "\

@@ -1,6 +1,5 @@
 //! `imutherm demo`: the thesis's whole experiment on simulated data.
 
-use std::f64::consts::PI;
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -10,27 +9,21 @@ use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use allan::noise_terms::{NoiseTerms, Term, TermEstimate, identify};
-use allan::{Options, Point, TauSpec};
-use imu::{Quantity, RecordingOptions};
+use allan::noise_terms::Term;
+use imu::RecordingOptions;
 use imusim::thermal::Profile;
 use imusim::{Simulator, presets};
 use report::html::Page;
-use report::plots::{Curve, adev_heatmap, adev_plot, bias_plot};
+use report::plots::{adev_heatmap, bias_plot};
 use thermal::surface::{Slicing, surface};
 use thermal::tcal::{FitOptions, Run, fit};
 
 use crate::args::DemoArgs;
-use crate::commands::selection::{Channel, read_channels};
+use crate::commands::experiment::{Analysed, adev_figures, analyse_run, deg, noise_tables};
+use crate::commands::selection::read_channels;
 
 /// The thesis's constant-temperature runs, °C.
 const TEMPERATURES: [f64; 4] = [34.0, 43.0, 62.0, 82.0];
-
-struct Analysed {
-    channel: Channel,
-    points: Vec<Point>,
-    terms: NoiseTerms,
-}
 
 fn simulate(
     path: &Path,
@@ -54,47 +47,6 @@ fn simulate(
         |done, _| bar.set_position(base + done),
     )?;
     Ok(())
-}
-
-fn analyse_run(path: &Path) -> Result<(Vec<Analysed>, Option<f64>)> {
-    let sel = read_channels(path, &[], &RecordingOptions::default())?;
-    let temp = sel.temperature_mean_c;
-    let rate = sel.rate_hz;
-    let out = sel
-        .channels
-        .into_par_iter()
-        .map(|channel| {
-            let opts = Options {
-                rate_hz: rate,
-                taus: TauSpec::Octave,
-                confidence: 0.95,
-                ..Options::default()
-            };
-            let sparse = allan::analyze(&channel.data, &opts)?;
-            let dense = allan::analyze(
-                &channel.data,
-                &Options {
-                    taus: TauSpec::Many,
-                    ..opts
-                },
-            )?;
-            let terms = identify(&dense.points, &sparse.points, 0.95);
-            Ok(Analysed {
-                channel,
-                points: sparse.points,
-                terms,
-            })
-        })
-        .collect::<Result<Vec<_>>>()?;
-    Ok((out, temp))
-}
-
-fn deg(q: Quantity) -> f64 {
-    if q == Quantity::AngularRate {
-        180.0 / PI
-    } else {
-        1.0
-    }
 }
 
 pub fn run(a: &DemoArgs) -> Result<()> {
@@ -144,8 +96,10 @@ pub fn run(a: &DemoArgs) -> Result<()> {
 
     // 2. Noise terms of the constant runs.
     eprintln!("noise terms of the four constant-temperature runs…");
-    let analysed: Vec<(Vec<Analysed>, Option<f64>)> =
-        runs.iter().map(|p| analyse_run(p)).collect::<Result<_>>()?;
+    let analysed: Vec<(Vec<Analysed>, Option<f64>)> = runs
+        .iter()
+        .map(|p| analyse_run(p, &RecordingOptions::default()))
+        .collect::<Result<_>>()?;
 
     // 3. ADEV over temperature of the cooling run.
     eprintln!("ADEV over temperature of the cooling run…");
@@ -224,115 +178,8 @@ pub fn run(a: &DemoArgs) -> Result<()> {
         .collect();
     page.table("recordings", &["file".to_string()], &inputs);
 
-    page.heading("Noise parameters (thesis layout)");
-    let header: Vec<String> = std::iter::once("axis".to_string())
-        .chain(
-            analysed
-                .iter()
-                .map(|(_, t)| t.map_or("—".into(), |t| format!("{t:.0} °C"))),
-        )
-        .collect();
-    for (q, nunit, bunit) in [
-        (Quantity::Acceleration, "m/s/√s", "m/s²"),
-        (Quantity::AngularRate, "°/√s", "°/s"),
-    ] {
-        let names: Vec<String> = analysed[0]
-            .0
-            .iter()
-            .filter(|r| r.channel.quantity == q)
-            .map(|r| r.channel.name.clone())
-            .collect();
-        let row = |name: &str, cell: &dyn Fn(&Analysed) -> String| -> Vec<String> {
-            std::iter::once(name.to_string())
-                .chain(analysed.iter().map(|(rs, _)| {
-                    rs.iter()
-                        .find(|r| r.channel.name == name)
-                        .map_or("—".into(), cell)
-                }))
-                .collect()
-        };
-        let n_rows: Vec<Vec<String>> = names
-            .iter()
-            .map(|n| {
-                row(n, &|r| match r.terms.slope.get(Term::WhiteNoise) {
-                    TermEstimate::Value(v) => format!("{:.4}", v.value * deg(q)),
-                    TermEstimate::NotIdentifiable(_) => "not identifiable".into(),
-                })
-            })
-            .collect();
-        page.table(
-            &format!(
-                "{} random walk N [{nunit}] (slope method at τ = 1 s)",
-                if q == Quantity::AngularRate {
-                    "Angle"
-                } else {
-                    "Velocity"
-                }
-            ),
-            &header,
-            &n_rows,
-        );
-        let b_rows: Vec<Vec<String>> = names
-            .iter()
-            .map(|n| {
-                row(n, &|r| match r.terms.slope.sigma_min {
-                    Some(m) => format!("{:.4} (at {:.1} s)", m.value * deg(q), m.tau.unwrap_or(f64::NAN)),
-                    None => "—".into(),
-                })
-            })
-            .collect();
-        page.table(
-            &format!("Bias instability as the thesis quotes it: σ_min [{bunit}] (at τ); B = σ_min/0.664"),
-            &header,
-            &b_rows,
-        );
-        let fit_rows: Vec<Vec<String>> = names
-            .iter()
-            .map(|n| {
-                row(n, &|r| match r.terms.fit.get(Term::BiasInstability) {
-                    TermEstimate::Value(v) => format!(
-                        "{:.4} [{:.4}, {:.4}]",
-                        v.value * deg(q),
-                        v.lo * deg(q),
-                        v.hi * deg(q)
-                    ),
-                    TermEstimate::NotIdentifiable(_) => "not identifiable".into(),
-                })
-            })
-            .collect();
-        page.table(
-            &format!("Bias instability B from the model fit [{bunit}], 95 % interval"),
-            &header,
-            &fit_rows,
-        );
-    }
-
-    page.heading("Allan deviation at each temperature");
-    for name in analysed[0]
-        .0
-        .iter()
-        .map(|r| r.channel.name.clone())
-        .collect::<Vec<_>>()
-    {
-        let curves: Vec<Curve> = analysed
-            .iter()
-            .filter_map(|(rs, t)| {
-                rs.iter().find(|r| r.channel.name == name).map(|r| Curve {
-                    label: t.map_or("—".into(), |t| format!("{t:.0} °C")),
-                    points: &r.points,
-                })
-            })
-            .collect();
-        let unit = analysed[0]
-            .0
-            .iter()
-            .find(|r| r.channel.name == name)
-            .map_or(String::new(), |r| r.channel.unit.clone());
-        page.figure(
-            &adev_plot(&name, &unit, &curves)?,
-            &format!("{name}: overlapping ADEV, 95 % bands"),
-        );
-    }
+    noise_tables(&mut page, &analysed);
+    adev_figures(&mut page, &analysed)?;
 
     page.heading("Cooling run: ADEV over temperature (3D ADEV)");
     for (c, rows) in cool.channels.iter().zip(&surfaces) {

@@ -3,8 +3,10 @@
 pub mod adev;
 pub mod confidence;
 pub mod demo;
+pub mod experiment;
 pub mod info;
 pub mod noise;
+pub mod report;
 pub mod selection;
 pub mod simulate;
 pub mod tcal;

@@ -1,0 +1,184 @@
+//! The parts of an experiment's report shared by `demo` and `report`: each
+//! run's noise terms, the thesis's tables, the ADEV figures.
+
+use std::f64::consts::PI;
+use std::path::Path;
+
+use anyhow::Result;
+use rayon::prelude::*;
+
+use allan::noise_terms::{NoiseTerms, Term, TermEstimate, identify};
+use allan::{Options, Point, TauSpec};
+use imu::{Quantity, RecordingOptions};
+use report::html::Page;
+use report::plots::{Curve, adev_plot};
+
+use crate::commands::selection::{Channel, read_channels};
+
+/// One channel of one run, analysed.
+pub struct Analysed {
+    /// The channel.
+    pub channel: Channel,
+    /// Its OADEV at octave taus, 95 % intervals.
+    pub points: Vec<Point>,
+    /// Its noise terms.
+    pub terms: NoiseTerms,
+}
+
+/// Reads the inertial channels of a run and identifies their noise terms.
+pub fn analyse_run(path: &Path, read: &RecordingOptions) -> Result<(Vec<Analysed>, Option<f64>)> {
+    let sel = read_channels(path, &[], read)?;
+    let temp = sel.temperature_mean_c;
+    let rate = sel.rate_hz;
+    let out = sel
+        .channels
+        .into_par_iter()
+        .map(|channel| {
+            let opts = Options {
+                rate_hz: rate,
+                taus: TauSpec::Octave,
+                confidence: 0.95,
+                ..Options::default()
+            };
+            let sparse = allan::analyze(&channel.data, &opts)?;
+            let dense = allan::analyze(
+                &channel.data,
+                &Options {
+                    taus: TauSpec::Many,
+                    ..opts
+                },
+            )?;
+            let terms = identify(&dense.points, &sparse.points, 0.95);
+            Ok(Analysed {
+                channel,
+                points: sparse.points,
+                terms,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok((out, temp))
+}
+
+/// Radians to degrees for angular rates, 1 otherwise: the thesis quotes
+/// gyro terms in degrees.
+pub fn deg(q: Quantity) -> f64 {
+    if q == Quantity::AngularRate {
+        180.0 / PI
+    } else {
+        1.0
+    }
+}
+
+/// The thesis's tables: one per term and sensor, rows = axes, columns = the
+/// runs' mean temperatures.
+pub fn noise_tables(page: &mut Page, analysed: &[(Vec<Analysed>, Option<f64>)]) {
+    // Rows are the first run's channels.
+    let first: &[Analysed] = analysed.first().map_or(&[], |a| a.0.as_slice());
+    page.heading("Noise parameters (thesis layout)");
+    let header: Vec<String> = std::iter::once("axis".to_string())
+        .chain(
+            analysed
+                .iter()
+                .map(|(_, t)| t.map_or("—".into(), |t| format!("{t:.0} °C"))),
+        )
+        .collect();
+    for (q, nunit, bunit) in [
+        (Quantity::Acceleration, "m/s/√s", "m/s²"),
+        (Quantity::AngularRate, "°/√s", "°/s"),
+    ] {
+        let names: Vec<String> = first
+            .iter()
+            .filter(|r| r.channel.quantity == q)
+            .map(|r| r.channel.name.clone())
+            .collect();
+        let row = |name: &str, cell: &dyn Fn(&Analysed) -> String| -> Vec<String> {
+            std::iter::once(name.to_string())
+                .chain(analysed.iter().map(|(rs, _)| {
+                    rs.iter()
+                        .find(|r| r.channel.name == name)
+                        .map_or("—".into(), cell)
+                }))
+                .collect()
+        };
+        let n_rows: Vec<Vec<String>> = names
+            .iter()
+            .map(|n| {
+                row(n, &|r| match r.terms.slope.get(Term::WhiteNoise) {
+                    TermEstimate::Value(v) => format!("{:.4}", v.value * deg(q)),
+                    TermEstimate::NotIdentifiable(_) => "not identifiable".into(),
+                })
+            })
+            .collect();
+        page.table(
+            &format!(
+                "{} random walk N [{nunit}] (slope method at τ = 1 s)",
+                if q == Quantity::AngularRate {
+                    "Angle"
+                } else {
+                    "Velocity"
+                }
+            ),
+            &header,
+            &n_rows,
+        );
+        let b_rows: Vec<Vec<String>> = names
+            .iter()
+            .map(|n| {
+                row(n, &|r| match r.terms.slope.sigma_min {
+                    Some(m) => format!("{:.4} (at {:.1} s)", m.value * deg(q), m.tau.unwrap_or(f64::NAN)),
+                    None => "—".into(),
+                })
+            })
+            .collect();
+        page.table(
+            &format!("Bias instability as the thesis quotes it: σ_min [{bunit}] (at τ); B = σ_min/0.664"),
+            &header,
+            &b_rows,
+        );
+        let fit_rows: Vec<Vec<String>> = names
+            .iter()
+            .map(|n| {
+                row(n, &|r| match r.terms.fit.get(Term::BiasInstability) {
+                    TermEstimate::Value(v) => format!(
+                        "{:.4} [{:.4}, {:.4}]",
+                        v.value * deg(q),
+                        v.lo * deg(q),
+                        v.hi * deg(q)
+                    ),
+                    TermEstimate::NotIdentifiable(_) => "not identifiable".into(),
+                })
+            })
+            .collect();
+        page.table(
+            &format!("Bias instability B from the model fit [{bunit}], 95 % interval"),
+            &header,
+            &fit_rows,
+        );
+    }
+}
+
+/// The ADEV of each channel with one curve per run.
+pub fn adev_figures(page: &mut Page, analysed: &[(Vec<Analysed>, Option<f64>)]) -> Result<()> {
+    let first: &[Analysed] = analysed.first().map_or(&[], |a| a.0.as_slice());
+    page.heading("Allan deviation at each temperature");
+    for name in first.iter().map(|r| r.channel.name.clone()).collect::<Vec<_>>() {
+        let curves: Vec<Curve> = analysed
+            .iter()
+            .filter_map(|(rs, t)| {
+                rs.iter().find(|r| r.channel.name == name).map(|r| Curve {
+                    label: t.map_or("—".into(), |t| format!("{t:.0} °C")),
+                    points: &r.points,
+                })
+            })
+            .collect();
+        let unit = first
+            .iter()
+            .find(|r| r.channel.name == name)
+            .map_or(String::new(), |r| r.channel.unit.clone());
+        page.figure(
+            &adev_plot(&name, &unit, &curves)?,
+            &format!("{name}: overlapping ADEV, 95 % bands"),
+        );
+    }
+    Ok(())
+}

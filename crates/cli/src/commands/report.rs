@@ -1,0 +1,116 @@
+//! `imutherm report`: one HTML page for a set of recordings.
+
+use anyhow::{Context, Result};
+
+use imu::read_recording_with_report;
+use report::html::Page;
+use report::plots::adev_heatmap;
+use thermal::surface::{Slicing, surface};
+
+use crate::args::ReportArgs;
+use crate::commands::experiment::{adev_figures, analyse_run, noise_tables};
+use crate::commands::info::recording_options;
+
+/// Temperature span from which a run gets its ADEV-over-temperature maps, °C.
+const SURFACE_SPAN_C: f64 = 5.0;
+
+pub fn run(a: &ReportArgs) -> Result<()> {
+    let read = recording_options(&a.read)?;
+    let mut page = Page::new("imutherm report");
+    page.heading("Command");
+    page.code(&format!(
+        "{} (imutherm {})",
+        std::env::args().collect::<Vec<_>>().join(" "),
+        env!("CARGO_PKG_VERSION")
+    ));
+
+    page.heading("Inputs");
+    let mut rows = Vec::new();
+    let mut problems = Vec::new();
+    let mut changing = Vec::new();
+    for f in &a.files {
+        let (rec, rep) = read_recording_with_report(f, &read)?;
+        let temp = rec.temperature().map(|t| {
+            let v: Vec<f64> = t.data.iter().copied().filter(|x| x.is_finite()).collect();
+            let (lo, hi) = v.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                (a.min(x), b.max(x))
+            });
+            (lo, v.iter().sum::<f64>() / v.len().max(1) as f64, hi)
+        });
+        if let Some((lo, _, hi)) = temp
+            && hi - lo >= SURFACE_SPAN_C
+        {
+            changing.push(f.clone());
+        }
+        rows.push(vec![
+            f.display().to_string(),
+            rec.meta.device.clone().unwrap_or_else(|| "—".into()),
+            rec.len().to_string(),
+            rec.rate_hz.map_or("unknown".into(), |r| format!("{r} Hz")),
+            rec.duration_s().map_or("—".into(), |d| format!("{d:.1} s")),
+            temp.map_or("—".into(), |(lo, m, hi)| format!("{lo:.1} / {m:.1} / {hi:.1}")),
+            (rep.problems.len() + rep.unlisted).to_string(),
+        ]);
+        for p in &rep.problems {
+            problems.push(vec![
+                f.display().to_string(),
+                p.line.map_or("—".into(), |l| l.to_string()),
+                p.message.clone(),
+            ]);
+        }
+    }
+    page.table(
+        "recordings",
+        &[
+            "file",
+            "device",
+            "samples",
+            "rate",
+            "duration",
+            "temperature min / mean / max [°C]",
+            "problems",
+        ]
+        .map(String::from),
+        &rows,
+    );
+    if !problems.is_empty() {
+        page.table(
+            "problems found while reading",
+            &["file", "line", "problem"].map(String::from),
+            &problems,
+        );
+    }
+
+    let analysed = a
+        .files
+        .iter()
+        .map(|f| analyse_run(f, &read).with_context(|| f.display().to_string()))
+        .collect::<Result<Vec<_>>>()?;
+    noise_tables(&mut page, &analysed);
+    adev_figures(&mut page, &analysed)?;
+
+    for f in &changing {
+        page.heading(&format!("ADEV over temperature: {}", f.display()));
+        let sel = crate::commands::selection::read_channels(f, &[], &read)?;
+        let Some(temp) = &sel.temperature else { continue };
+        for c in &sel.channels {
+            let rows = surface(
+                &c.data,
+                temp,
+                sel.rate_hz,
+                Slicing::Temperature { bin_width_c: 5.0 },
+                0.683,
+            )?;
+            page.figure(
+                &adev_heatmap(&c.name, &c.unit, &rows)?,
+                &format!("{}: σ(τ, T) over 5 °C bins", c.name),
+            );
+        }
+    }
+
+    std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
+    let path = a.out.join("report.html");
+    std::fs::write(&path, page.finish()).with_context(|| format!("writing {}", path.display()))?;
+    println!("report: {}", path.display());
+    Ok(())
+}

@@ -1,0 +1,47 @@
+//! `imutherm report`: a page for any recordings, with file names shown as text.
+
+use assert_cmd::Command;
+
+#[test]
+fn report_escapes_file_names_and_draws_every_figure() {
+    let dir = tempfile::tempdir().unwrap();
+    // A file literally named `<script>alert(1)</script>.txt` (its `/` makes
+    // the first part a folder).
+    let folder = dir.path().join("<script>alert(1)<");
+    std::fs::create_dir_all(&folder).unwrap();
+    let evil = folder.join("script>.txt");
+    let cooling = dir.path().join("cooling.txt");
+    for (p, profile) in [(&evil, "constant:34"), (&cooling, "cooling:90:25:600")] {
+        Command::cargo_bin("imutherm")
+            .unwrap()
+            .args([
+                "simulate",
+                "--duration",
+                "30m",
+                "--rate",
+                "5",
+                "--profile",
+                profile,
+                "-o",
+            ])
+            .arg(p)
+            .assert()
+            .success();
+    }
+    let out = dir.path().join("rep");
+    Command::cargo_bin("imutherm")
+        .unwrap()
+        .arg("report")
+        .arg(&evil)
+        .arg(&cooling)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success();
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("&lt;script&gt;alert(1)&lt;/script&gt;.txt"));
+    assert!(!html.contains("<script>"));
+    // Six ADEV plots, and six heat maps for the run whose temperature changes.
+    assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 12);
+    assert!(html.contains("Velocity random walk N"));
+}
