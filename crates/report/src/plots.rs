@@ -44,6 +44,34 @@ pub struct Curve<'a> {
     pub label: String,
     /// The points, by increasing τ.
     pub points: &'a [Point],
+    /// Noise-term asymptotes to draw dashed beside the curve.
+    pub asymptotes: Vec<Asymptote>,
+    /// A point to mark, with its legend text (the ADEV minimum at its τ).
+    pub marker: Option<(f64, f64, String)>,
+}
+
+impl<'a> Curve<'a> {
+    /// A curve with no asymptotes and no marker.
+    pub fn plain(label: impl Into<String>, points: &'a [Point]) -> Curve<'a> {
+        Curve {
+            label: label.into(),
+            points,
+            asymptotes: Vec::new(),
+            marker: None,
+        }
+    }
+}
+
+/// A straight line on log-log axes, σ(τ) = σ1·τ^slope: how a single noise
+/// term reads on an ADEV plot (IEEE 952 Annex C).
+#[derive(Debug, Clone)]
+pub struct Asymptote {
+    /// Legend text, with the term's value and unit.
+    pub label: String,
+    /// σ at τ = 1 s.
+    pub at_1s: f64,
+    /// Slope on log-log axes.
+    pub slope: f64,
 }
 
 fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
@@ -113,6 +141,33 @@ pub fn adev_plot(title: &str, unit: &str, curves: &[Curve]) -> Result<String, Pl
                         .map(|p| Circle::new((p.tau, p.dev), 3, colour.filled())),
                 )
                 .map_err(err)?;
+            for (k, a) in c.asymptotes.iter().enumerate() {
+                let shade = PALETTE[(4 + k) % PALETTE.len()];
+                let line = |tau: f64| a.at_1s * tau.powf(a.slope);
+                let pts: Vec<(f64, f64)> = (0..=40)
+                    .map(|j| {
+                        let tau = taus.0 * (taus.1 / taus.0).powf(j as f64 / 40.0);
+                        (tau, line(tau))
+                    })
+                    .filter(|&(_, v)| v >= devs.0 && v <= devs.1)
+                    .collect();
+                chart
+                    .draw_series(DashedLineSeries::new(pts, 6, 4, shade.stroke_width(1)))
+                    .map_err(err)?
+                    .label(a.label.clone())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], shade.stroke_width(1)));
+            }
+            if let Some((tau, dev, label)) = &c.marker {
+                chart
+                    .draw_series(std::iter::once(TriangleMarker::new(
+                        (*tau, *dev),
+                        7,
+                        BLACK.filled(),
+                    )))
+                    .map_err(err)?
+                    .label(label.clone())
+                    .legend(|(x, y)| TriangleMarker::new((x + 9, y), 5, BLACK.filled()));
+            }
         }
         chart
             .configure_series_labels()

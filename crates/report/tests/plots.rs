@@ -33,6 +33,12 @@ fn adev_plot_is_svg_with_escaped_labels() {
         &[Curve {
             label: "a & b".into(),
             points: &pts,
+            asymptotes: vec![report::plots::Asymptote {
+                label: "N = 0.29 <unit>".into(),
+                at_1s: 0.29,
+                slope: -0.5,
+            }],
+            marker: Some((8.0, pts[3].dev, "σ_min".into())),
         }],
     )
     .unwrap();
@@ -40,6 +46,10 @@ fn adev_plot_is_svg_with_escaped_labels() {
     assert!(!svg.contains("<script>"), "unescaped title in {svg:.300}");
     assert!(svg.contains("<polyline") || svg.contains("<path"));
     assert!(svg.contains("<text"));
+    // The asymptote and the marker are in the legend, escaped.
+    assert!(svg.contains("N = 0.29 &lt;unit&gt;"), "asymptote legend missing");
+    assert!(svg.contains("σ_min"), "marker legend missing");
+    assert!(!svg.contains("<unit>"));
 }
 
 #[test]

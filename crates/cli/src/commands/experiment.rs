@@ -11,7 +11,7 @@ use allan::noise_terms::{NoiseTerms, Term, TermEstimate, identify};
 use allan::{Options, Point, TauSpec};
 use imu::{Quantity, RecordingOptions};
 use report::html::Page;
-use report::plots::{Curve, adev_plot};
+use report::plots::{Asymptote, Curve, adev_plot};
 
 use crate::commands::selection::{Channel, read_channels};
 
@@ -57,6 +57,48 @@ pub fn analyse_run(path: &Path, read: &RecordingOptions) -> Result<(Vec<Analysed
         })
         .collect::<Result<Vec<_>>>()?;
     Ok((out, temp))
+}
+
+/// The fitted noise terms of a channel as ADEV asymptotes (IEEE 952
+/// Annex C), and its ADEV minimum as a marker.
+fn guides(r: &Analysed, run: &str) -> (Vec<Asymptote>, Option<(f64, f64, String)>) {
+    let u = &r.channel.unit;
+    let units = |t: Term| match (r.channel.quantity, t) {
+        (Quantity::AngularRate, Term::WhiteNoise) => "rad/√s".to_string(),
+        (Quantity::AngularRate, Term::BiasInstability) => "rad/s".to_string(),
+        (Quantity::AngularRate, Term::RateRandomWalk) => "rad/s/√s".to_string(),
+        (Quantity::Acceleration, Term::WhiteNoise) => "m/s/√s".to_string(),
+        (Quantity::Acceleration, Term::BiasInstability) => "m/s²".to_string(),
+        (Quantity::Acceleration, Term::RateRandomWalk) => "m/s²/√s".to_string(),
+        (_, Term::Quantization) => format!("{u}·s"),
+        (_, Term::RateRamp) => format!("{u}/s"),
+        (_, Term::WhiteNoise) => format!("{u}·√s"),
+        (_, Term::BiasInstability) => u.clone(),
+        (_, Term::RateRandomWalk) => format!("{u}/√s"),
+    };
+    let lines = Term::ALL
+        .iter()
+        .filter_map(|&t| {
+            let v = r.terms.fit.get(t).value()?.value;
+            // σ(τ) of the term alone, as σ(1 s)·τ^slope.
+            let at_1s = t.variance_basis(1.0).sqrt() * v;
+            Some(Asymptote {
+                label: format!("{} = {:.3e} {} ({run}, fit)", t.symbol(), v, units(t)),
+                at_1s,
+                slope: t.slope(),
+            })
+        })
+        .collect();
+    let marker = r.terms.slope.sigma_min.and_then(|m| {
+        m.tau.map(|tau| {
+            (
+                tau,
+                m.value,
+                format!("σ_min = {:.3e} {u} at τ = {tau:.1} s", m.value),
+            )
+        })
+    });
+    (lines, marker)
 }
 
 /// Radians to degrees for angular rates, 1 otherwise: the thesis quotes
@@ -164,10 +206,23 @@ pub fn adev_figures(page: &mut Page, analysed: &[(Vec<Analysed>, Option<f64>)]) 
     for name in first.iter().map(|r| r.channel.name.clone()).collect::<Vec<_>>() {
         let curves: Vec<Curve> = analysed
             .iter()
-            .filter_map(|(rs, t)| {
-                rs.iter().find(|r| r.channel.name == name).map(|r| Curve {
-                    label: t.map_or("—".into(), |t| format!("{t:.0} °C")),
-                    points: &r.points,
+            .enumerate()
+            .filter_map(|(i, (rs, t))| {
+                rs.iter().find(|r| r.channel.name == name).map(|r| {
+                    let label = t.map_or("—".into(), |t| format!("{t:.0} °C"));
+                    // The fitted terms of the first run, drawn as dashed
+                    // asymptotes; more would hide the curves.
+                    let (asymptotes, marker) = if i == 0 {
+                        guides(r, &label)
+                    } else {
+                        (Vec::new(), None)
+                    };
+                    Curve {
+                        label,
+                        points: &r.points,
+                        asymptotes,
+                        marker,
+                    }
                 })
             })
             .collect();
