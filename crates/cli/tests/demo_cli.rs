@@ -16,8 +16,8 @@ fn quick_demo_writes_a_complete_report() {
         .stdout(predicate::str::contains("report: ").and(predicate::str::contains("gyro_z")));
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.starts_with("<!DOCTYPE html>") && html.trim_end().ends_with("</html>"));
-    // Six ADEV plots, six heat maps, six bias plots.
-    assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 18, "figures");
+    // Six ADEV plots, two raw-data plots, six heat maps, six bias plots.
+    assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 20, "figures");
     assert!(html.contains("Angle random walk N [°/√s]"));
     assert!(html.contains("34 °C") && html.contains("82 °C"));
     assert!(html.contains("residual bias over temperature on the held-out heating run"));

@@ -372,3 +372,121 @@ pub fn bias_plot(
     }
     Ok(svg)
 }
+
+/// Columns a time plot is decimated to: one min/max pair per pixel column
+/// keeps every excursion visible and draws 10^7 samples as fast as 10^3.
+pub const TIME_COLUMNS: usize = 1000;
+
+/// (time, min, max) of each of at most [`TIME_COLUMNS`] equal slices of `x`.
+pub fn envelope(x: &[f64], rate_hz: f64) -> Vec<(f64, f64, f64)> {
+    if x.is_empty() {
+        return Vec::new();
+    }
+    let per = x.len().div_ceil(TIME_COLUMNS).max(1);
+    x.chunks(per)
+        .enumerate()
+        .filter_map(|(i, c)| {
+            let (lo, hi) = c
+                .iter()
+                .filter(|v| v.is_finite())
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                    (a.min(v), b.max(v))
+                });
+            lo.is_finite().then(|| ((i * per) as f64 / rate_hz, lo, hi))
+        })
+        .collect()
+}
+
+/// Samples against time (min/max envelope per pixel column), with the
+/// temperature below when given.
+pub fn time_plot(
+    title: &str,
+    unit: &str,
+    channels: &[(String, &[f64])],
+    rate_hz: f64,
+    temperature: Option<&[f64]>,
+) -> Result<String, PlotError> {
+    font();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (720, 520)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let (top, bottom) = if temperature.is_some() {
+            root.split_vertically(340)
+        } else {
+            root.split_vertically(520)
+        };
+        let envs: Vec<Vec<(f64, f64, f64)>> = channels.iter().map(|(_, x)| envelope(x, rate_hz)).collect();
+        let t_end = channels.iter().map(|(_, x)| x.len()).max().unwrap_or(1) as f64 / rate_hz;
+        let (lo, hi) = envs
+            .iter()
+            .flatten()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), e| {
+                (a.min(e.1), b.max(e.2))
+            });
+        if !lo.is_finite() {
+            return Err(PlotError("nothing to plot".into()));
+        }
+        let pad = 0.05 * (hi - lo).max(1e-12);
+        let mut chart = ChartBuilder::on(&top)
+            .caption(title, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(30)
+            .y_label_area_size(80)
+            .build_cartesian_2d(0.0..t_end.max(1e-9), (lo - pad)..(hi + pad))
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .y_desc(format!("[{unit}]"))
+            .y_label_formatter(&|v| format!("{v:.3e}"))
+            .draw()
+            .map_err(err)?;
+        for (i, ((name, _), env)) in channels.iter().zip(&envs).enumerate() {
+            let colour = PALETTE[i % PALETTE.len()];
+            let band: Vec<(f64, f64)> = env
+                .iter()
+                .map(|e| (e.0, e.2))
+                .chain(env.iter().rev().map(|e| (e.0, e.1)))
+                .collect();
+            chart
+                .draw_series(std::iter::once(Polygon::new(band, colour.mix(0.5))))
+                .map_err(err)?
+                .label(name.clone())
+                .legend(move |(x, y)| {
+                    Rectangle::new([(x, y - 4), (x + 18, y + 4)], colour.mix(0.5).filled())
+                });
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 14))
+            .draw()
+            .map_err(err)?;
+        if let Some(temp) = temperature {
+            let env = envelope(temp, rate_hz);
+            let (tlo, thi) = env.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), e| {
+                (a.min(e.1), b.max(e.2))
+            });
+            let tpad = 0.05 * (thi - tlo).max(0.1);
+            let mut tc = ChartBuilder::on(&bottom)
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(80)
+                .build_cartesian_2d(0.0..t_end.max(1e-9), (tlo - tpad)..(thi + tpad))
+                .map_err(err)?;
+            tc.configure_mesh()
+                .x_desc("time [s]")
+                .y_desc("temperature [°C]")
+                .draw()
+                .map_err(err)?;
+            tc.draw_series(LineSeries::new(
+                env.iter().map(|e| (e.0, 0.5 * (e.1 + e.2))),
+                RED.stroke_width(2),
+            ))
+            .map_err(err)?;
+        }
+        root.present().map_err(err)?;
+    }
+    Ok(svg)
+}

@@ -63,3 +63,18 @@ fn heatmap_and_bias_plot_draw() {
     let svg = bias_plot("bias", "rad/s", &bins, &bins, &|t| (t - 20.0) * 0.1).unwrap();
     assert!(svg.matches("<circle").count() >= 20);
 }
+
+#[test]
+fn time_plot_decimates_with_an_envelope() {
+    let x = noise(2_000_000, 3);
+    // One spike must survive the decimation.
+    let mut y = x.clone();
+    y[1_234_567] = 40.0;
+    let env = report::plots::envelope(&y, 100.0);
+    assert!(env.len() <= report::plots::TIME_COLUMNS);
+    assert!(env.iter().any(|e| e.2 == 40.0));
+    let t: Vec<f64> = (0..x.len()).map(|i| 100.0 - i as f64 * 1e-5).collect();
+    let svg = report::plots::time_plot("gyro", "rad/s", &[("gyro_x".into(), &y)], 100.0, Some(&t)).unwrap();
+    assert!(svg.len() < 400_000, "{} bytes: not decimated", svg.len());
+    assert!(svg.contains("temperature"));
+}

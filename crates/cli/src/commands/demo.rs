@@ -19,7 +19,7 @@ use thermal::surface::{Slicing, surface};
 use thermal::tcal::{FitOptions, Run, fit};
 
 use crate::args::DemoArgs;
-use crate::commands::experiment::{Analysed, adev_figures, analyse_run, deg, noise_tables};
+use crate::commands::experiment::{Analysed, adev_figures, analyse_run, deg, noise_tables, time_figures};
 use crate::commands::selection::read_channels;
 
 /// The thesis's constant-temperature runs, °C.
@@ -180,6 +180,9 @@ pub fn run(a: &DemoArgs) -> Result<()> {
 
     noise_tables(&mut page, &analysed);
     adev_figures(&mut page, &analysed)?;
+
+    page.heading("Cooling run: raw data");
+    time_figures(&mut page, &cool, "cooling run")?;
 
     page.heading("Cooling run: ADEV over temperature (3D ADEV)");
     for (c, rows) in cool.channels.iter().zip(&surfaces) {

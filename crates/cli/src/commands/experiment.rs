@@ -237,3 +237,39 @@ pub fn adev_figures(page: &mut Page, analysed: &[(Vec<Analysed>, Option<f64>)]) 
     }
     Ok(())
 }
+
+/// The raw samples of a run against time, accelerometers and gyroscopes
+/// apart, each with the temperature below.
+pub fn time_figures(page: &mut Page, sel: &crate::commands::selection::Selection, title: &str) -> Result<()> {
+    for (q, what) in [
+        (Quantity::Acceleration, "accelerometer"),
+        (Quantity::AngularRate, "gyroscope"),
+    ] {
+        let chans: Vec<(String, &[f64])> = sel
+            .channels
+            .iter()
+            .filter(|c| c.quantity == q)
+            .map(|c| (c.name.clone(), c.data.as_slice()))
+            .collect();
+        let Some(unit) = sel
+            .channels
+            .iter()
+            .find(|c| c.quantity == q)
+            .map(|c| c.unit.clone())
+        else {
+            continue;
+        };
+        let svg = report::plots::time_plot(
+            &format!("{title}: {what}"),
+            &unit,
+            &chans,
+            sel.rate_hz,
+            sel.temperature.as_deref(),
+        )?;
+        page.figure(
+            &svg,
+            &format!("{title}: {what} samples (min/max per pixel column) and temperature"),
+        );
+    }
+    Ok(())
+}

@@ -8,7 +8,7 @@ use report::plots::adev_heatmap;
 use thermal::surface::{Slicing, surface};
 
 use crate::args::ReportArgs;
-use crate::commands::experiment::{adev_figures, analyse_run, noise_tables};
+use crate::commands::experiment::{adev_figures, analyse_run, noise_tables, time_figures};
 use crate::commands::info::recording_options;
 
 /// Temperature span from which a run gets its ADEV-over-temperature maps, °C.
@@ -92,6 +92,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     for f in &changing {
         page.heading(&format!("ADEV over temperature: {}", f.display()));
         let sel = crate::commands::selection::read_channels(f, &[], &read)?;
+        time_figures(&mut page, &sel, &f.display().to_string())?;
         let Some(temp) = &sel.temperature else { continue };
         for c in &sel.channels {
             let rows = surface(
