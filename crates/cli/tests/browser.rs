@@ -96,6 +96,20 @@ fn the_demo_report_renders_in_chromium() {
             + body.matches("<polyline").count();
         assert!(marks > 10, "figure {i} is nearly empty ({marks} marks)");
     }
+    // The six interactive surfaces were drawn by their script.
+    let canvases = html.matches("<canvas").count();
+    assert_eq!(canvases, 6, "3D surfaces");
+    let rendered = html
+        .split("data-rendered=\"")
+        .skip(1)
+        .filter(|s| {
+            s.split('"')
+                .next()
+                .and_then(|n| n.parse::<usize>().ok())
+                .is_some_and(|n| n > 0)
+        })
+        .count();
+    assert_eq!(rendered, 6, "surfaces drawn");
     // No script error or console message from the page.
     let log = String::from_utf8_lossy(&run.stderr).to_string() + &String::from_utf8_lossy(&dom.stderr);
     for bad in ["Uncaught", "CONSOLE(", "SyntaxError", "ReferenceError"] {

@@ -23,7 +23,7 @@ fn quick_demo_writes_a_complete_report() {
     assert!(html.contains("residual bias over temperature on the held-out heating run"));
     // Self-contained: nothing is fetched (the SVG namespace URI is a name,
     // not a download).
-    for fetch in ["src=\"http", "href=\"http", "<link", "<script", "url(http"] {
+    for fetch in ["src=\"http", "href=\"http", "<link", "<script src", "url(http"] {
         assert!(!html.contains(fetch), "{fetch}");
     }
     let model: serde_json::Value =

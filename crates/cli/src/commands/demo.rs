@@ -186,6 +186,13 @@ pub fn run(a: &DemoArgs) -> Result<()> {
 
     page.heading("Cooling run: ADEV over temperature (3D ADEV)");
     for (c, rows) in cool.channels.iter().zip(&surfaces) {
+        let grid: Vec<(f64, Vec<(f64, f64)>)> = rows
+            .iter()
+            .map(|r| (r.t_mean_c, r.points.iter().map(|p| (p.tau, p.dev)).collect()))
+            .collect();
+        page.surface3d(&c.name, &c.unit, &grid);
+    }
+    for (c, rows) in cool.channels.iter().zip(&surfaces) {
         page.figure(
             &adev_heatmap(&c.name, &c.unit, rows)?,
             &format!("{}: σ(τ, T) over 5 °C bins of the cooling run", c.name),
