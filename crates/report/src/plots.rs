@@ -2,6 +2,7 @@
 
 use std::sync::Once;
 
+use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use allan::Point;
@@ -89,97 +90,119 @@ fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 
 /// Allan deviation curves on log-log axes, each with its confidence band.
 pub fn adev_plot(title: &str, unit: &str, curves: &[Curve]) -> Result<String, PlotError> {
-    font();
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (720, 480)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let taus = log_range(curves.iter().flat_map(|c| c.points.iter().map(|p| p.tau)));
-        let devs = log_range(curves.iter().flat_map(|c| {
-            c.points
-                .iter()
-                .flat_map(|p| [p.dev_lo.max(p.dev * 1e-3), p.dev_hi])
-        }));
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 20))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(70)
-            .build_cartesian_2d((taus.0..taus.1).log_scale(), (devs.0..devs.1).log_scale())
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc("τ [s]")
-            .y_desc(format!("Allan deviation [{unit}]"))
-            .y_label_formatter(&|v| format!("{v:.0e}"))
-            .x_label_formatter(&|v| format!("{v}"))
-            .draw()
-            .map_err(err)?;
-        for (i, c) in curves.iter().enumerate() {
-            let colour = PALETTE[i % PALETTE.len()];
-            let band: Vec<(f64, f64)> = c
-                .points
-                .iter()
-                .map(|p| (p.tau, p.dev_hi))
-                .chain(c.points.iter().rev().map(|p| (p.tau, p.dev_lo.max(devs.0))))
-                .collect();
-            chart
-                .draw_series(std::iter::once(Polygon::new(band, colour.mix(0.18))))
-                .map_err(err)?;
-            chart
-                .draw_series(LineSeries::new(
-                    c.points.iter().map(|p| (p.tau, p.dev)),
-                    colour.stroke_width(2),
-                ))
-                .map_err(err)?
-                .label(c.label.clone())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
-            chart
-                .draw_series(
-                    c.points
-                        .iter()
-                        .map(|p| Circle::new((p.tau, p.dev), 3, colour.filled())),
-                )
-                .map_err(err)?;
-            for (k, a) in c.asymptotes.iter().enumerate() {
-                let shade = PALETTE[(4 + k) % PALETTE.len()];
-                let line = |tau: f64| a.at_1s * tau.powf(a.slope);
-                let pts: Vec<(f64, f64)> = (0..=40)
-                    .map(|j| {
-                        let tau = taus.0 * (taus.1 / taus.0).powf(j as f64 / 40.0);
-                        (tau, line(tau))
-                    })
-                    .filter(|&(_, v)| v >= devs.0 && v <= devs.1)
-                    .collect();
-                chart
-                    .draw_series(DashedLineSeries::new(pts, 6, 4, shade.stroke_width(1)))
-                    .map_err(err)?
-                    .label(a.label.clone())
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], shade.stroke_width(1)));
-            }
-            if let Some((tau, dev, label)) = &c.marker {
-                chart
-                    .draw_series(std::iter::once(TriangleMarker::new(
-                        (*tau, *dev),
-                        7,
-                        BLACK.filled(),
-                    )))
-                    .map_err(err)?
-                    .label(label.clone())
-                    .legend(|(x, y)| TriangleMarker::new((x + 9, y), 5, BLACK.filled()));
-            }
-        }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(err)?;
+        adev_plot_on(&root, title, unit, curves)?;
         root.present().map_err(err)?;
     }
     Ok(svg)
+}
+
+/// [`adev_plot`] as a PNG file.
+pub fn adev_plot_png(
+    path: &std::path::Path,
+    title: &str,
+    unit: &str,
+    curves: &[Curve],
+) -> Result<(), PlotError> {
+    let root = BitMapBackend::new(path, (720, 480)).into_drawing_area();
+    adev_plot_on(&root, title, unit, curves)?;
+    root.present().map_err(err)
+}
+
+fn adev_plot_on<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    unit: &str,
+    curves: &[Curve],
+) -> Result<(), PlotError> {
+    font();
+    root.fill(&WHITE).map_err(err)?;
+    let taus = log_range(curves.iter().flat_map(|c| c.points.iter().map(|p| p.tau)));
+    let devs = log_range(curves.iter().flat_map(|c| {
+        c.points
+            .iter()
+            .flat_map(|p| [p.dev_lo.max(p.dev * 1e-3), p.dev_hi])
+    }));
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d((taus.0..taus.1).log_scale(), (devs.0..devs.1).log_scale())
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("τ [s]")
+        .y_desc(format!("Allan deviation [{unit}]"))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .x_label_formatter(&|v| format!("{v}"))
+        .draw()
+        .map_err(err)?;
+    for (i, c) in curves.iter().enumerate() {
+        let colour = PALETTE[i % PALETTE.len()];
+        let band: Vec<(f64, f64)> = c
+            .points
+            .iter()
+            .map(|p| (p.tau, p.dev_hi))
+            .chain(c.points.iter().rev().map(|p| (p.tau, p.dev_lo.max(devs.0))))
+            .collect();
+        chart
+            .draw_series(std::iter::once(Polygon::new(band, colour.mix(0.18))))
+            .map_err(err)?;
+        chart
+            .draw_series(LineSeries::new(
+                c.points.iter().map(|p| (p.tau, p.dev)),
+                colour.stroke_width(2),
+            ))
+            .map_err(err)?
+            .label(c.label.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
+        chart
+            .draw_series(
+                c.points
+                    .iter()
+                    .map(|p| Circle::new((p.tau, p.dev), 3, colour.filled())),
+            )
+            .map_err(err)?;
+        for (k, a) in c.asymptotes.iter().enumerate() {
+            let shade = PALETTE[(4 + k) % PALETTE.len()];
+            let line = |tau: f64| a.at_1s * tau.powf(a.slope);
+            let pts: Vec<(f64, f64)> = (0..=40)
+                .map(|j| {
+                    let tau = taus.0 * (taus.1 / taus.0).powf(j as f64 / 40.0);
+                    (tau, line(tau))
+                })
+                .filter(|&(_, v)| v >= devs.0 && v <= devs.1)
+                .collect();
+            chart
+                .draw_series(DashedLineSeries::new(pts, 6, 4, shade.stroke_width(1)))
+                .map_err(err)?
+                .label(a.label.clone())
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], shade.stroke_width(1)));
+        }
+        if let Some((tau, dev, label)) = &c.marker {
+            chart
+                .draw_series(std::iter::once(TriangleMarker::new(
+                    (*tau, *dev),
+                    7,
+                    BLACK.filled(),
+                )))
+                .map_err(err)?
+                .label(label.clone())
+                .legend(|(x, y)| TriangleMarker::new((x + 9, y), 5, BLACK.filled()));
+        }
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(err)?;
+    Ok(())
 }
 
 /// Blue (low) to yellow (high), through green: readable in grey too.
@@ -202,103 +225,125 @@ fn heat(v: f64) -> RGBColor {
 /// The ADEV over temperature as a heat map: τ (log) across, the slices'
 /// mean temperature up, σ as a log colour scale.
 pub fn adev_heatmap(title: &str, unit: &str, rows: &[SurfaceRow]) -> Result<String, PlotError> {
-    font();
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (720, 480)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let (main, bar) = root.split_horizontally(640);
-        let taus = log_range(rows.iter().flat_map(|r| r.points.iter().map(|p| p.tau)));
-        let (tmin, tmax) = rows.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
-            (a.min(r.t_mean_c), b.max(r.t_mean_c))
-        });
-        let (tmin, tmax) = if tmin.is_finite() && tmax > tmin {
-            (tmin, tmax)
-        } else {
-            (tmin - 1.0, tmin + 1.0)
-        };
-        let step = if rows.len() > 1 {
-            (tmax - tmin) / (rows.len() - 1) as f64
-        } else {
-            1.0
-        };
-        let devs: Vec<f64> = rows
-            .iter()
-            .flat_map(|r| r.points.iter().map(|p| p.dev.log10()))
-            .collect();
-        let (dlo, dhi) = devs
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-                (a.min(v), b.max(v))
-            });
-        let span = if dhi > dlo { dhi - dlo } else { 1.0 };
-        let mut chart = ChartBuilder::on(&main)
-            .caption(title, ("sans-serif", 20))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
-            .build_cartesian_2d(
-                (taus.0..taus.1).log_scale(),
-                (tmin - step / 2.0)..(tmax + step / 2.0),
-            )
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc("τ [s]")
-            .y_desc("temperature [°C]")
-            .x_label_formatter(&|v| format!("{v}"))
-            .draw()
-            .map_err(err)?;
-        for r in rows {
-            for (k, p) in r.points.iter().enumerate() {
-                let left = if k == 0 {
-                    p.tau / 2f64.sqrt()
-                } else {
-                    (p.tau * r.points[k - 1].tau).sqrt()
-                };
-                let right = match r.points.get(k + 1) {
-                    Some(q) => (p.tau * q.tau).sqrt(),
-                    None => p.tau * 2f64.sqrt(),
-                };
-                let colour = heat((p.dev.log10() - dlo) / span);
-                chart
-                    .draw_series(std::iter::once(Rectangle::new(
-                        [(left, r.t_mean_c - step / 2.0), (right, r.t_mean_c + step / 2.0)],
-                        colour.filled(),
-                    )))
-                    .map_err(err)?;
-            }
-        }
-        // The colour bar, with its scale in the plotted unit.
-        let mut cb = ChartBuilder::on(&bar)
-            .margin_top(44)
-            .margin_bottom(52)
-            .y_label_area_size(0)
-            .right_y_label_area_size(70)
-            .build_cartesian_2d(0.0..1.0, (10f64.powf(dlo)..10f64.powf(dlo + span)).log_scale())
-            .map_err(err)?;
-        cb.configure_mesh()
-            .disable_x_mesh()
-            .disable_x_axis()
-            .y_desc(format!("σ [{unit}]"))
-            .y_label_formatter(&|v| format!("{v:.0e}"))
-            .draw()
-            .map_err(err)?;
-        let n = 64;
-        cb.draw_series((0..n).map(|i| {
-            let (a, b) = (i as f64 / n as f64, (i + 1) as f64 / n as f64);
-            Rectangle::new(
-                [
-                    (0.0, 10f64.powf(dlo + a * span)),
-                    (1.0, 10f64.powf(dlo + b * span)),
-                ],
-                heat(a).filled(),
-            )
-        }))
-        .map_err(err)?;
+        adev_heatmap_on(&root, title, unit, rows)?;
         root.present().map_err(err)?;
     }
     Ok(svg)
+}
+
+/// [`adev_heatmap`] as a PNG file.
+pub fn adev_heatmap_png(
+    path: &std::path::Path,
+    title: &str,
+    unit: &str,
+    rows: &[SurfaceRow],
+) -> Result<(), PlotError> {
+    let root = BitMapBackend::new(path, (720, 480)).into_drawing_area();
+    adev_heatmap_on(&root, title, unit, rows)?;
+    root.present().map_err(err)
+}
+
+fn adev_heatmap_on<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    unit: &str,
+    rows: &[SurfaceRow],
+) -> Result<(), PlotError> {
+    font();
+    root.fill(&WHITE).map_err(err)?;
+    let (main, bar) = root.split_horizontally(640);
+    let taus = log_range(rows.iter().flat_map(|r| r.points.iter().map(|p| p.tau)));
+    let (tmin, tmax) = rows.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
+        (a.min(r.t_mean_c), b.max(r.t_mean_c))
+    });
+    let (tmin, tmax) = if tmin.is_finite() && tmax > tmin {
+        (tmin, tmax)
+    } else {
+        (tmin - 1.0, tmin + 1.0)
+    };
+    let step = if rows.len() > 1 {
+        (tmax - tmin) / (rows.len() - 1) as f64
+    } else {
+        1.0
+    };
+    let devs: Vec<f64> = rows
+        .iter()
+        .flat_map(|r| r.points.iter().map(|p| p.dev.log10()))
+        .collect();
+    let (dlo, dhi) = devs
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    let span = if dhi > dlo { dhi - dlo } else { 1.0 };
+    let mut chart = ChartBuilder::on(&main)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(
+            (taus.0..taus.1).log_scale(),
+            (tmin - step / 2.0)..(tmax + step / 2.0),
+        )
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("τ [s]")
+        .y_desc("temperature [°C]")
+        .x_label_formatter(&|v| format!("{v}"))
+        .draw()
+        .map_err(err)?;
+    for r in rows {
+        for (k, p) in r.points.iter().enumerate() {
+            let left = if k == 0 {
+                p.tau / 2f64.sqrt()
+            } else {
+                (p.tau * r.points[k - 1].tau).sqrt()
+            };
+            let right = match r.points.get(k + 1) {
+                Some(q) => (p.tau * q.tau).sqrt(),
+                None => p.tau * 2f64.sqrt(),
+            };
+            let colour = heat((p.dev.log10() - dlo) / span);
+            chart
+                .draw_series(std::iter::once(Rectangle::new(
+                    [(left, r.t_mean_c - step / 2.0), (right, r.t_mean_c + step / 2.0)],
+                    colour.filled(),
+                )))
+                .map_err(err)?;
+        }
+    }
+    // The colour bar, with its scale in the plotted unit.
+    let mut cb = ChartBuilder::on(&bar)
+        .margin_top(44)
+        .margin_bottom(52)
+        .y_label_area_size(0)
+        .right_y_label_area_size(70)
+        .build_cartesian_2d(0.0..1.0, (10f64.powf(dlo)..10f64.powf(dlo + span)).log_scale())
+        .map_err(err)?;
+    cb.configure_mesh()
+        .disable_x_mesh()
+        .disable_x_axis()
+        .y_desc(format!("σ [{unit}]"))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .draw()
+        .map_err(err)?;
+    let n = 64;
+    cb.draw_series((0..n).map(|i| {
+        let (a, b) = (i as f64 / n as f64, (i + 1) as f64 / n as f64);
+        Rectangle::new(
+            [
+                (0.0, 10f64.powf(dlo + a * span)),
+                (1.0, 10f64.powf(dlo + b * span)),
+            ],
+            heat(a).filled(),
+        )
+    }))
+    .map_err(err)?;
+    Ok(())
 }
 
 /// Bias against temperature (bin means, before and after compensation) and
@@ -310,67 +355,93 @@ pub fn bias_plot(
     after: &[(f64, f64)],
     model: &dyn Fn(f64) -> f64,
 ) -> Result<String, PlotError> {
-    font();
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (720, 420)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let all = before.iter().chain(after);
-        let (tlo, thi, ylo, yhi) = all.fold(
-            (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY),
-            |(a, b, c, d), &(t, y)| (a.min(t), b.max(t), c.min(y), d.max(y)),
-        );
-        if !tlo.is_finite() {
-            return Err(PlotError("no bins to plot".into()));
-        }
-        let pad = 0.05 * (yhi - ylo).max(1e-12);
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 20))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(80)
-            .build_cartesian_2d(tlo..thi.max(tlo + 1.0), (ylo - pad)..(yhi + pad))
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc("temperature [°C]")
-            .y_desc(format!("bias [{unit}]"))
-            .y_label_formatter(&|v| format!("{v:.2e}"))
-            .draw()
-            .map_err(err)?;
-        let (c0, c1, c2) = (PALETTE[0], PALETTE[1], PALETTE[2]);
-        chart
-            .draw_series(before.iter().map(|&(t, y)| Circle::new((t, y), 3, c0.filled())))
-            .map_err(err)?
-            .label("bin means, raw")
-            .legend(move |(x, y)| Circle::new((x + 9, y), 3, c0.filled()));
-        let steps = 200;
-        chart
-            .draw_series(LineSeries::new(
-                (0..=steps).map(|i| {
-                    let t = tlo + (thi - tlo) * i as f64 / steps as f64;
-                    (t, model(t))
-                }),
-                c1.stroke_width(2),
-            ))
-            .map_err(err)?
-            .label("fitted bias p(T)")
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c1.stroke_width(2)));
-        chart
-            .draw_series(after.iter().map(|&(t, y)| Circle::new((t, y), 3, c2.filled())))
-            .map_err(err)?
-            .label("bin means, compensated")
-            .legend(move |(x, y)| Circle::new((x + 9, y), 3, c2.filled()));
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(err)?;
+        bias_plot_on(&root, title, unit, before, after, model)?;
         root.present().map_err(err)?;
     }
     Ok(svg)
+}
+
+/// [`bias_plot`] as a PNG file.
+pub fn bias_plot_png(
+    path: &std::path::Path,
+    title: &str,
+    unit: &str,
+    before: &[(f64, f64)],
+    after: &[(f64, f64)],
+    model: &dyn Fn(f64) -> f64,
+) -> Result<(), PlotError> {
+    let root = BitMapBackend::new(path, (720, 420)).into_drawing_area();
+    bias_plot_on(&root, title, unit, before, after, model)?;
+    root.present().map_err(err)
+}
+
+fn bias_plot_on<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    unit: &str,
+    before: &[(f64, f64)],
+    after: &[(f64, f64)],
+    model: &dyn Fn(f64) -> f64,
+) -> Result<(), PlotError> {
+    font();
+    root.fill(&WHITE).map_err(err)?;
+    let all = before.iter().chain(after);
+    let (tlo, thi, ylo, yhi) = all.fold(
+        (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY),
+        |(a, b, c, d), &(t, y)| (a.min(t), b.max(t), c.min(y), d.max(y)),
+    );
+    if !tlo.is_finite() {
+        return Err(PlotError("no bins to plot".into()));
+    }
+    let pad = 0.05 * (yhi - ylo).max(1e-12);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(80)
+        .build_cartesian_2d(tlo..thi.max(tlo + 1.0), (ylo - pad)..(yhi + pad))
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("temperature [°C]")
+        .y_desc(format!("bias [{unit}]"))
+        .y_label_formatter(&|v| format!("{v:.2e}"))
+        .draw()
+        .map_err(err)?;
+    let (c0, c1, c2) = (PALETTE[0], PALETTE[1], PALETTE[2]);
+    chart
+        .draw_series(before.iter().map(|&(t, y)| Circle::new((t, y), 3, c0.filled())))
+        .map_err(err)?
+        .label("bin means, raw")
+        .legend(move |(x, y)| Circle::new((x + 9, y), 3, c0.filled()));
+    let steps = 200;
+    chart
+        .draw_series(LineSeries::new(
+            (0..=steps).map(|i| {
+                let t = tlo + (thi - tlo) * i as f64 / steps as f64;
+                (t, model(t))
+            }),
+            c1.stroke_width(2),
+        ))
+        .map_err(err)?
+        .label("fitted bias p(T)")
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c1.stroke_width(2)));
+    chart
+        .draw_series(after.iter().map(|&(t, y)| Circle::new((t, y), 3, c2.filled())))
+        .map_err(err)?
+        .label("bin means, compensated")
+        .legend(move |(x, y)| Circle::new((x + 9, y), 3, c2.filled()));
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .draw()
+        .map_err(err)?;
+    Ok(())
 }
 
 /// Columns a time plot is decimated to: one min/max pair per pixel column
@@ -406,87 +477,111 @@ pub fn time_plot(
     rate_hz: f64,
     temperature: Option<&[f64]>,
 ) -> Result<String, PlotError> {
-    font();
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (720, 520)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let (top, bottom) = if temperature.is_some() {
-            root.split_vertically(340)
-        } else {
-            root.split_vertically(520)
-        };
-        let envs: Vec<Vec<(f64, f64, f64)>> = channels.iter().map(|(_, x)| envelope(x, rate_hz)).collect();
-        let t_end = channels.iter().map(|(_, x)| x.len()).max().unwrap_or(1) as f64 / rate_hz;
-        let (lo, hi) = envs
-            .iter()
-            .flatten()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), e| {
-                (a.min(e.1), b.max(e.2))
-            });
-        if !lo.is_finite() {
-            return Err(PlotError("nothing to plot".into()));
-        }
-        let pad = 0.05 * (hi - lo).max(1e-12);
-        let mut chart = ChartBuilder::on(&top)
-            .caption(title, ("sans-serif", 20))
-            .margin(12)
-            .x_label_area_size(30)
-            .y_label_area_size(80)
-            .build_cartesian_2d(0.0..t_end.max(1e-9), (lo - pad)..(hi + pad))
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .y_desc(format!("[{unit}]"))
-            .y_label_formatter(&|v| format!("{v:.3e}"))
-            .draw()
-            .map_err(err)?;
-        for (i, ((name, _), env)) in channels.iter().zip(&envs).enumerate() {
-            let colour = PALETTE[i % PALETTE.len()];
-            let band: Vec<(f64, f64)> = env
-                .iter()
-                .map(|e| (e.0, e.2))
-                .chain(env.iter().rev().map(|e| (e.0, e.1)))
-                .collect();
-            chart
-                .draw_series(std::iter::once(Polygon::new(band, colour.mix(0.5))))
-                .map_err(err)?
-                .label(name.clone())
-                .legend(move |(x, y)| {
-                    Rectangle::new([(x, y - 4), (x + 18, y + 4)], colour.mix(0.5).filled())
-                });
-        }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(err)?;
-        if let Some(temp) = temperature {
-            let env = envelope(temp, rate_hz);
-            let (tlo, thi) = env.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), e| {
-                (a.min(e.1), b.max(e.2))
-            });
-            let tpad = 0.05 * (thi - tlo).max(0.1);
-            let mut tc = ChartBuilder::on(&bottom)
-                .margin(12)
-                .x_label_area_size(40)
-                .y_label_area_size(80)
-                .build_cartesian_2d(0.0..t_end.max(1e-9), (tlo - tpad)..(thi + tpad))
-                .map_err(err)?;
-            tc.configure_mesh()
-                .x_desc("time [s]")
-                .y_desc("temperature [°C]")
-                .draw()
-                .map_err(err)?;
-            tc.draw_series(LineSeries::new(
-                env.iter().map(|e| (e.0, 0.5 * (e.1 + e.2))),
-                RED.stroke_width(2),
-            ))
-            .map_err(err)?;
-        }
+        time_plot_on(&root, title, unit, channels, rate_hz, temperature)?;
         root.present().map_err(err)?;
     }
     Ok(svg)
+}
+
+/// [`time_plot`] as a PNG file.
+pub fn time_plot_png(
+    path: &std::path::Path,
+    title: &str,
+    unit: &str,
+    channels: &[(String, &[f64])],
+    rate_hz: f64,
+    temperature: Option<&[f64]>,
+) -> Result<(), PlotError> {
+    let root = BitMapBackend::new(path, (720, 520)).into_drawing_area();
+    time_plot_on(&root, title, unit, channels, rate_hz, temperature)?;
+    root.present().map_err(err)
+}
+
+fn time_plot_on<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    unit: &str,
+    channels: &[(String, &[f64])],
+    rate_hz: f64,
+    temperature: Option<&[f64]>,
+) -> Result<(), PlotError> {
+    font();
+    root.fill(&WHITE).map_err(err)?;
+    let (top, bottom) = if temperature.is_some() {
+        root.split_vertically(340)
+    } else {
+        root.split_vertically(520)
+    };
+    let envs: Vec<Vec<(f64, f64, f64)>> = channels.iter().map(|(_, x)| envelope(x, rate_hz)).collect();
+    let t_end = channels.iter().map(|(_, x)| x.len()).max().unwrap_or(1) as f64 / rate_hz;
+    let (lo, hi) = envs
+        .iter()
+        .flatten()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), e| {
+            (a.min(e.1), b.max(e.2))
+        });
+    if !lo.is_finite() {
+        return Err(PlotError("nothing to plot".into()));
+    }
+    let pad = 0.05 * (hi - lo).max(1e-12);
+    let mut chart = ChartBuilder::on(&top)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(30)
+        .y_label_area_size(80)
+        .build_cartesian_2d(0.0..t_end.max(1e-9), (lo - pad)..(hi + pad))
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .y_desc(format!("[{unit}]"))
+        .y_label_formatter(&|v| format!("{v:.3e}"))
+        .draw()
+        .map_err(err)?;
+    for (i, ((name, _), env)) in channels.iter().zip(&envs).enumerate() {
+        let colour = PALETTE[i % PALETTE.len()];
+        let band: Vec<(f64, f64)> = env
+            .iter()
+            .map(|e| (e.0, e.2))
+            .chain(env.iter().rev().map(|e| (e.0, e.1)))
+            .collect();
+        chart
+            .draw_series(std::iter::once(Polygon::new(band, colour.mix(0.5))))
+            .map_err(err)?
+            .label(name.clone())
+            .legend(move |(x, y)| Rectangle::new([(x, y - 4), (x + 18, y + 4)], colour.mix(0.5).filled()));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .draw()
+        .map_err(err)?;
+    if let Some(temp) = temperature {
+        let env = envelope(temp, rate_hz);
+        let (tlo, thi) = env.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), e| {
+            (a.min(e.1), b.max(e.2))
+        });
+        let tpad = 0.05 * (thi - tlo).max(0.1);
+        let mut tc = ChartBuilder::on(&bottom)
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(80)
+            .build_cartesian_2d(0.0..t_end.max(1e-9), (tlo - tpad)..(thi + tpad))
+            .map_err(err)?;
+        tc.configure_mesh()
+            .x_desc("time [s]")
+            .y_desc("temperature [°C]")
+            .draw()
+            .map_err(err)?;
+        tc.draw_series(LineSeries::new(
+            env.iter().map(|e| (e.0, 0.5 * (e.1 + e.2))),
+            RED.stroke_width(2),
+        ))
+        .map_err(err)?;
+    }
+    Ok(())
 }

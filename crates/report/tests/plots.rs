@@ -78,3 +78,15 @@ fn time_plot_decimates_with_an_envelope() {
     assert!(svg.len() < 400_000, "{} bytes: not decimated", svg.len());
     assert!(svg.contains("temperature"));
 }
+
+#[test]
+fn png_on_request() {
+    let pts = analyze(&noise(4096, 4), &Options::default()).unwrap().points;
+    let dir = std::env::temp_dir().join(format!("imutherm-png-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("adev.png");
+    report::plots::adev_plot_png(&path, "gyro", "rad/s", &[Curve::plain("a", &pts)]).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n") && bytes.len() > 5000, "{} bytes", bytes.len());
+    let _ = std::fs::remove_dir_all(&dir);
+}
