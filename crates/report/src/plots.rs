@@ -125,7 +125,7 @@ fn adev_plot_on<DB: DrawingBackend>(
             .iter()
             .flat_map(|p| [p.dev_lo.max(p.dev * 1e-3), p.dev_hi])
     }));
-    let mut chart = ChartBuilder::on(&root)
+    let mut chart = ChartBuilder::on(root)
         .caption(title, ("sans-serif", 20))
         .margin(12)
         .x_label_area_size(40)
@@ -397,7 +397,7 @@ fn bias_plot_on<DB: DrawingBackend>(
         return Err(PlotError("no bins to plot".into()));
     }
     let pad = 0.05 * (yhi - ylo).max(1e-12);
-    let mut chart = ChartBuilder::on(&root)
+    let mut chart = ChartBuilder::on(root)
         .caption(title, ("sans-serif", 20))
         .margin(12)
         .x_label_area_size(40)
