@@ -70,6 +70,11 @@ pub struct ReportArgs {
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 
+    /// svg (the plots inline in report.html) or png (also every plot as a
+    /// PNG file in DIR/figures).
+    #[arg(long, default_value = "svg", value_name = "svg|png")]
+    pub format: String,
+
     #[command(flatten)]
     pub read: ReadArgs,
 }
@@ -131,6 +136,11 @@ pub struct DemoArgs {
     /// Shorter runs at a lower rate: the whole demo in well under a minute.
     #[arg(long)]
     pub quick: bool,
+
+    /// svg (the plots inline in report.html) or png (also every plot as a
+    /// PNG file in DIR/figures).
+    #[arg(long, default_value = "svg", value_name = "svg|png")]
+    pub format: String,
 }
 
 #[derive(Debug, Subcommand)]

@@ -9,7 +9,7 @@ fn quick_demo_writes_a_complete_report() {
     let out = dir.path().join("demo");
     Command::cargo_bin("imutherm")
         .unwrap()
-        .args(["demo", "--quick", "--out"])
+        .args(["demo", "--quick", "--format", "png", "--out"])
         .arg(&out)
         .assert()
         .success()
@@ -26,6 +26,9 @@ fn quick_demo_writes_a_complete_report() {
     for fetch in ["src=\"http", "href=\"http", "<link", "<script src", "url(http"] {
         assert!(!html.contains(fetch), "{fetch}");
     }
+    // --format png: every plot also as a PNG file.
+    let pngs = std::fs::read_dir(out.join("figures")).unwrap().count();
+    assert_eq!(pngs, 20, "PNG figures");
     let model: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("tcal_model.json")).unwrap()).unwrap();
     assert_eq!(model["schema"], "imutherm.tcal/1");

@@ -19,7 +19,9 @@ use thermal::surface::{Slicing, surface};
 use thermal::tcal::{FitOptions, Run, fit};
 
 use crate::args::DemoArgs;
-use crate::commands::experiment::{Analysed, adev_figures, analyse_run, deg, noise_tables, time_figures};
+use crate::commands::experiment::{
+    Analysed, PngDir, adev_figures, analyse_run, deg, noise_tables, time_figures,
+};
 use crate::commands::selection::read_channels;
 
 /// The thesis's constant-temperature runs, °C.
@@ -57,6 +59,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
         (100.0, 3600.0, 3.0 * 3600.0)
     };
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
+    let png = PngDir::new(&a.format, &a.out)?;
     let file = |name: &str| a.out.join(name);
 
     // 1. The recordings.
@@ -179,10 +182,10 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     page.table("recordings", &["file".to_string()], &inputs);
 
     noise_tables(&mut page, &analysed);
-    adev_figures(&mut page, &analysed)?;
+    adev_figures(&mut page, &analysed, &png)?;
 
     page.heading("Cooling run: raw data");
-    time_figures(&mut page, &cool, "cooling run")?;
+    time_figures(&mut page, &cool, "cooling run", &png)?;
 
     page.heading("Cooling run: ADEV over temperature (3D ADEV)");
     for (c, rows) in cool.channels.iter().zip(&surfaces) {
@@ -197,6 +200,9 @@ pub fn run(a: &DemoArgs) -> Result<()> {
             &adev_heatmap(&c.name, &c.unit, rows)?,
             &format!("{}: σ(τ, T) over 5 °C bins of the cooling run", c.name),
         );
+        if let Some(p) = png.path(&format!("adev_over_temperature_{}", c.name)) {
+            report::plots::adev_heatmap_png(&p, &c.name, &c.unit, rows)?;
+        }
     }
 
     page.heading("Temperature compensation (fitted on cooling, evaluated on heating)");
@@ -215,6 +221,16 @@ pub fn run(a: &DemoArgs) -> Result<()> {
             )?,
             &format!("{name}: 1 °C bin means of the heating run, raw and compensated, and the fitted p(T)"),
         );
+        if let Some(p) = png.path(&format!("compensation_{name}")) {
+            report::plots::bias_plot_png(
+                &p,
+                &format!("{name}: bias against temperature"),
+                unit,
+                before,
+                after,
+                &curve,
+            )?;
+        }
         let (rb, ra) = (spread(before), spread(after));
         comp_rows.push(vec![
             name.clone(),

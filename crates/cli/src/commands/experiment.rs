@@ -59,6 +59,33 @@ pub fn analyse_run(path: &Path, read: &RecordingOptions) -> Result<(Vec<Analysed
     Ok((out, temp))
 }
 
+/// Where PNG copies of the figures go, when asked for.
+pub struct PngDir(pub Option<std::path::PathBuf>);
+
+impl PngDir {
+    /// From `--format svg|png` and the output folder (PNGs in DIR/figures).
+    pub fn new(format: &str, out: &Path) -> Result<PngDir> {
+        match format.to_ascii_lowercase().as_str() {
+            "svg" => Ok(PngDir(None)),
+            "png" => {
+                let dir = out.join("figures");
+                std::fs::create_dir_all(&dir)?;
+                Ok(PngDir(Some(dir)))
+            }
+            other => anyhow::bail!("--format {other}: expected svg or png"),
+        }
+    }
+
+    /// The file for a figure called `name`, if PNGs are wanted.
+    pub fn path(&self, name: &str) -> Option<std::path::PathBuf> {
+        let safe: String = name
+            .chars()
+            .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+            .collect();
+        self.0.as_ref().map(|d| d.join(format!("{safe}.png")))
+    }
+}
+
 /// The fitted noise terms of a channel as ADEV asymptotes (IEEE 952
 /// Annex C), and its ADEV minimum as a marker.
 fn guides(r: &Analysed, run: &str) -> (Vec<Asymptote>, Option<(f64, f64, String)>) {
@@ -200,7 +227,7 @@ pub fn noise_tables(page: &mut Page, analysed: &[(Vec<Analysed>, Option<f64>)]) 
 }
 
 /// The ADEV of each channel with one curve per run.
-pub fn adev_figures(page: &mut Page, analysed: &[(Vec<Analysed>, Option<f64>)]) -> Result<()> {
+pub fn adev_figures(page: &mut Page, analysed: &[(Vec<Analysed>, Option<f64>)], png: &PngDir) -> Result<()> {
     let first: &[Analysed] = analysed.first().map_or(&[], |a| a.0.as_slice());
     page.heading("Allan deviation at each temperature");
     for name in first.iter().map(|r| r.channel.name.clone()).collect::<Vec<_>>() {
@@ -234,13 +261,21 @@ pub fn adev_figures(page: &mut Page, analysed: &[(Vec<Analysed>, Option<f64>)]) 
             &adev_plot(&name, &unit, &curves)?,
             &format!("{name}: overlapping ADEV, 95 % bands"),
         );
+        if let Some(p) = png.path(&format!("adev_{name}")) {
+            report::plots::adev_plot_png(&p, &name, &unit, &curves)?;
+        }
     }
     Ok(())
 }
 
 /// The raw samples of a run against time, accelerometers and gyroscopes
 /// apart, each with the temperature below.
-pub fn time_figures(page: &mut Page, sel: &crate::commands::selection::Selection, title: &str) -> Result<()> {
+pub fn time_figures(
+    page: &mut Page,
+    sel: &crate::commands::selection::Selection,
+    title: &str,
+    png: &PngDir,
+) -> Result<()> {
     for (q, what) in [
         (Quantity::Acceleration, "accelerometer"),
         (Quantity::AngularRate, "gyroscope"),
@@ -259,13 +294,18 @@ pub fn time_figures(page: &mut Page, sel: &crate::commands::selection::Selection
         else {
             continue;
         };
-        let svg = report::plots::time_plot(
-            &format!("{title}: {what}"),
-            &unit,
-            &chans,
-            sel.rate_hz,
-            sel.temperature.as_deref(),
-        )?;
+        let heading = format!("{title}: {what}");
+        let svg = report::plots::time_plot(&heading, &unit, &chans, sel.rate_hz, sel.temperature.as_deref())?;
+        if let Some(p) = png.path(&format!("time_{heading}")) {
+            report::plots::time_plot_png(
+                &p,
+                &heading,
+                &unit,
+                &chans,
+                sel.rate_hz,
+                sel.temperature.as_deref(),
+            )?;
+        }
         page.figure(
             &svg,
             &format!("{title}: {what} samples (min/max per pixel column) and temperature"),

@@ -8,7 +8,7 @@ use report::plots::adev_heatmap;
 use thermal::surface::{Slicing, surface};
 
 use crate::args::ReportArgs;
-use crate::commands::experiment::{adev_figures, analyse_run, noise_tables, time_figures};
+use crate::commands::experiment::{PngDir, adev_figures, analyse_run, noise_tables, time_figures};
 use crate::commands::info::recording_options;
 
 /// Temperature span from which a run gets its ADEV-over-temperature maps, °C.
@@ -16,6 +16,8 @@ const SURFACE_SPAN_C: f64 = 5.0;
 
 pub fn run(a: &ReportArgs) -> Result<()> {
     let read = recording_options(&a.read)?;
+    std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
+    let png = PngDir::new(&a.format, &a.out)?;
     let mut page = Page::new("imutherm report");
     page.heading("Command");
     page.code(&format!(
@@ -87,12 +89,12 @@ pub fn run(a: &ReportArgs) -> Result<()> {
         .map(|f| analyse_run(f, &read).with_context(|| f.display().to_string()))
         .collect::<Result<Vec<_>>>()?;
     noise_tables(&mut page, &analysed);
-    adev_figures(&mut page, &analysed)?;
+    adev_figures(&mut page, &analysed, &png)?;
 
     for f in &changing {
         page.heading(&format!("ADEV over temperature: {}", f.display()));
         let sel = crate::commands::selection::read_channels(f, &[], &read)?;
-        time_figures(&mut page, &sel, &f.display().to_string())?;
+        time_figures(&mut page, &sel, &f.display().to_string(), &png)?;
         let Some(temp) = &sel.temperature else { continue };
         for c in &sel.channels {
             let rows = surface(
@@ -106,10 +108,12 @@ pub fn run(a: &ReportArgs) -> Result<()> {
                 &adev_heatmap(&c.name, &c.unit, &rows)?,
                 &format!("{}: σ(τ, T) over 5 °C bins", c.name),
             );
+            if let Some(p) = png.path(&format!("adev_over_temperature_{}_{}", f.display(), c.name)) {
+                report::plots::adev_heatmap_png(&p, &c.name, &c.unit, &rows)?;
+            }
         }
     }
 
-    std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let path = a.out.join("report.html");
     std::fs::write(&path, page.finish()).with_context(|| format!("writing {}", path.display()))?;
     println!("report: {}", path.display());
