@@ -87,7 +87,7 @@ fn the_demo_report_renders_in_chromium() {
         .expect("chromium runs");
     let html = String::from_utf8_lossy(&dom.stdout);
     let figures: Vec<&str> = html.split("<figure class=\"plot\">").skip(1).collect();
-    assert_eq!(figures.len(), 20, "figures in the rendered page");
+    assert_eq!(figures.len(), 28, "figures in the rendered page");
     for (i, f) in figures.iter().enumerate() {
         let body = f.split("</figure>").next().unwrap_or("");
         assert!(body.contains("<svg"), "figure {i} has no svg");

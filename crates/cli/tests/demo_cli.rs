@@ -16,8 +16,9 @@ fn quick_demo_writes_a_complete_report() {
         .stdout(predicate::str::contains("report: ").and(predicate::str::contains("gyro_z")));
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.starts_with("<!DOCTYPE html>") && html.trim_end().ends_with("</html>"));
-    // Six ADEV plots, two raw-data plots, six heat maps, six bias plots.
-    assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 20, "figures");
+    // Eight sensor ADEV plots (two per run), six per-axis ADEV plots over
+    // temperature, two raw-data plots, six heat maps, six bias plots.
+    assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 28, "figures");
     assert!(html.contains("Angle random walk N [°/√s]"));
     assert!(html.contains("34 °C") && html.contains("82 °C"));
     assert!(html.contains("residual bias over temperature on the held-out heating run"));
@@ -28,7 +29,7 @@ fn quick_demo_writes_a_complete_report() {
     }
     // --format png: every plot also as a PNG file.
     let pngs = std::fs::read_dir(out.join("figures")).unwrap().count();
-    assert_eq!(pngs, 20, "PNG figures");
+    assert_eq!(pngs, 28, "PNG figures");
     let model: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("tcal_model.json")).unwrap()).unwrap();
     assert_eq!(model["schema"], "imutherm.tcal/1");

@@ -41,8 +41,8 @@ fn report_escapes_file_names_and_draws_every_figure() {
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("&lt;script&gt;alert(1)&lt;/script&gt;.txt"));
     assert!(!html.contains("<script>"));
-    // Six ADEV plots; for the run whose temperature changes two raw-data
-    // plots and six heat maps.
-    assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 14);
+    // Two sensor ADEV plots per run, six per-axis ADEV plots; for the run
+    // whose temperature changes two raw-data plots and six heat maps.
+    assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 18);
     assert!(html.contains("Velocity random walk N"));
 }

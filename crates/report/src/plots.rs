@@ -49,6 +49,8 @@ pub struct Curve<'a> {
     pub asymptotes: Vec<Asymptote>,
     /// A point to mark, with its legend text (the ADEV minimum at its τ).
     pub marker: Option<(f64, f64, String)>,
+    /// The curve's colour; `None` takes the next of the palette.
+    pub colour: Option<[u8; 3]>,
 }
 
 impl<'a> Curve<'a> {
@@ -59,8 +61,17 @@ impl<'a> Curve<'a> {
             points,
             asymptotes: Vec::new(),
             marker: None,
+            colour: None,
         }
     }
+}
+
+/// A colour for a temperature on a cold-to-hot scale (blue through purple
+/// to red), `fraction` 0 for the coldest recording, 1 for the hottest.
+pub fn temperature_colour(fraction: f64) -> [u8; 3] {
+    let f = fraction.clamp(0.0, 1.0);
+    let (a, b) = ([0.0, 90.0, 200.0], [215.0, 40.0, 30.0]);
+    [0, 1, 2].map(|k| (a[k] + (b[k] - a[k]) * f).round() as u8)
 }
 
 /// A straight line on log-log axes, σ(τ) = σ1·τ^slope: how a single noise
@@ -141,7 +152,9 @@ fn adev_plot_on<DB: DrawingBackend>(
         .draw()
         .map_err(err)?;
     for (i, c) in curves.iter().enumerate() {
-        let colour = PALETTE[i % PALETTE.len()];
+        let colour = c
+            .colour
+            .map_or(PALETTE[i % PALETTE.len()], |[r, g, b]| RGBColor(r, g, b));
         let band: Vec<(f64, f64)> = c
             .points
             .iter()

@@ -39,6 +39,7 @@ fn adev_plot_is_svg_with_escaped_labels() {
                 slope: -0.5,
             }],
             marker: Some((8.0, pts[3].dev, "σ_min".into())),
+            colour: Some(report::plots::temperature_colour(0.5)),
         }],
     )
     .unwrap();
@@ -87,6 +88,10 @@ fn png_on_request() {
     let path = dir.join("adev.png");
     report::plots::adev_plot_png(&path, "gyro", "rad/s", &[Curve::plain("a", &pts)]).unwrap();
     let bytes = std::fs::read(&path).unwrap();
-    assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n") && bytes.len() > 5000, "{} bytes", bytes.len());
+    assert!(
+        bytes.starts_with(b"\x89PNG\r\n\x1a\n") && bytes.len() > 5000,
+        "{} bytes",
+        bytes.len()
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

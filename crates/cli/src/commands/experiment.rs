@@ -11,7 +11,7 @@ use allan::noise_terms::{NoiseTerms, Term, TermEstimate, identify};
 use allan::{Options, Point, TauSpec};
 use imu::{Quantity, RecordingOptions};
 use report::html::Page;
-use report::plots::{Asymptote, Curve, adev_plot};
+use report::plots::{Asymptote, Curve, adev_plot, temperature_colour};
 
 use crate::commands::selection::{Channel, read_channels};
 
@@ -228,6 +228,44 @@ pub fn noise_tables(page: &mut Page, analysed: &[(Vec<Analysed>, Option<f64>)]) 
 
 /// The ADEV of each channel with one curve per run.
 pub fn adev_figures(page: &mut Page, analysed: &[(Vec<Analysed>, Option<f64>)], png: &PngDir) -> Result<()> {
+    // Curves coloured on a cold-to-hot scale by the runs' temperatures.
+    let (t_lo, t_hi) = analysed
+        .iter()
+        .filter_map(|a| a.1)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), t| {
+            (a.min(t), b.max(t))
+        });
+    // One plot per sensor and run: its three axes together.
+    for (rs, t) in analysed {
+        let run = t.map_or("—".to_string(), |t| format!("{t:.0} °C"));
+        for q in [Quantity::Acceleration, Quantity::AngularRate] {
+            let curves: Vec<Curve> = rs
+                .iter()
+                .filter(|r| r.channel.quantity == q)
+                .map(|r| Curve::plain(r.channel.name.clone(), &r.points))
+                .collect();
+            let Some(unit) = rs
+                .iter()
+                .find(|r| r.channel.quantity == q)
+                .map(|r| r.channel.unit.clone())
+            else {
+                continue;
+            };
+            let what = if q == Quantity::AngularRate {
+                "gyroscope"
+            } else {
+                "accelerometer"
+            };
+            let title = format!("{what} at {run}");
+            page.figure(
+                &adev_plot(&title, &unit, &curves)?,
+                &format!("{title}: the three axes, 95 % bands"),
+            );
+            if let Some(p) = png.path(&format!("adev_{title}")) {
+                report::plots::adev_plot_png(&p, &title, &unit, &curves)?;
+            }
+        }
+    }
     let first: &[Analysed] = analysed.first().map_or(&[], |a| a.0.as_slice());
     page.heading("Allan deviation at each temperature");
     for name in first.iter().map(|r| r.channel.name.clone()).collect::<Vec<_>>() {
@@ -249,6 +287,7 @@ pub fn adev_figures(page: &mut Page, analysed: &[(Vec<Analysed>, Option<f64>)], 
                         points: &r.points,
                         asymptotes,
                         marker,
+                        colour: t.map(|t| temperature_colour((t - t_lo) / (t_hi - t_lo).max(1e-9))),
                     }
                 })
             })
