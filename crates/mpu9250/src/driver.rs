@@ -1,0 +1,263 @@
+//! The driver: generic over the bus, owns it (`new(bus)`, `release()`).
+
+use embedded_hal::i2c::I2c;
+use embedded_hal::spi::{Operation, SpiDevice};
+
+use crate::config::Config;
+use crate::regs;
+
+/// Register access over I2C or SPI.
+pub trait Bus {
+    /// The bus's error.
+    type Error: core::fmt::Debug;
+    /// Writes one register.
+    fn write_reg(&mut self, reg: u8, value: u8) -> Result<(), Self::Error>;
+    /// Reads consecutive registers (or the FIFO port) in one burst.
+    fn read_regs(&mut self, reg: u8, buf: &mut [u8]) -> Result<(), Self::Error>;
+}
+
+/// The chip on an I2C bus at 0x68 (AD0 low) or 0x69 (AD0 high).
+#[derive(Debug)]
+pub struct I2cBus<I> {
+    i2c: I,
+    address: u8,
+}
+
+impl<I> I2cBus<I> {
+    /// The bus and the chip's address.
+    pub fn new(i2c: I, address: u8) -> Self {
+        I2cBus { i2c, address }
+    }
+
+    /// Gives the bus back.
+    pub fn release(self) -> I {
+        self.i2c
+    }
+
+    /// The bus itself (a simulated chip's clock is advanced through it).
+    pub fn inner_mut(&mut self) -> &mut I {
+        &mut self.i2c
+    }
+}
+
+impl<I: I2c> Bus for I2cBus<I> {
+    type Error = I::Error;
+
+    fn write_reg(&mut self, reg: u8, value: u8) -> Result<(), Self::Error> {
+        self.i2c.write(self.address, &[reg, value])
+    }
+
+    fn read_regs(&mut self, reg: u8, buf: &mut [u8]) -> Result<(), Self::Error> {
+        self.i2c.write_read(self.address, &[reg], buf)
+    }
+}
+
+/// The chip on an SPI device (mode 0 or 3; ≤ 1 MHz for the configuration
+/// registers, ≤ 20 MHz for sensor data: the device's clock is set by its
+/// owner).
+#[derive(Debug)]
+pub struct SpiBus<S> {
+    spi: S,
+}
+
+impl<S> SpiBus<S> {
+    /// The SPI device.
+    pub fn new(spi: S) -> Self {
+        SpiBus { spi }
+    }
+
+    /// Gives the device back.
+    pub fn release(self) -> S {
+        self.spi
+    }
+
+    /// The device itself.
+    pub fn inner_mut(&mut self) -> &mut S {
+        &mut self.spi
+    }
+}
+
+impl<S: SpiDevice> Bus for SpiBus<S> {
+    type Error = S::Error;
+
+    fn write_reg(&mut self, reg: u8, value: u8) -> Result<(), Self::Error> {
+        self.spi.write(&[reg & !regs::SPI_READ, value])
+    }
+
+    fn read_regs(&mut self, reg: u8, buf: &mut [u8]) -> Result<(), Self::Error> {
+        self.spi
+            .transaction(&mut [Operation::Write(&[reg | regs::SPI_READ]), Operation::Read(buf)])
+    }
+}
+
+/// Which chip answered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Chip {
+    /// MPU-9250 (WHO_AM_I 0x71).
+    Mpu9250,
+    /// MPU-9255 (0x73).
+    Mpu9255,
+    /// MPU-6500 (0x70).
+    Mpu6500,
+}
+
+impl Chip {
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Chip::Mpu9250 => "MPU-9250",
+            Chip::Mpu9255 => "MPU-9255",
+            Chip::Mpu6500 => "MPU-6500",
+        }
+    }
+}
+
+/// What went wrong.
+#[derive(Debug, thiserror::Error)]
+pub enum Error<E: core::fmt::Debug> {
+    /// The bus failed (NACK, short transfer…).
+    #[error("bus error: {0:?}")]
+    Bus(E),
+    /// Something answered that is not an MPU-9250 family chip.
+    #[error("WHO_AM_I is 0x{0:02x}: not an MPU-9250, MPU-9255 or MPU-6500")]
+    UnknownDevice(u8),
+    /// A configuration the chip cannot do.
+    #[error("{0}")]
+    Config(String),
+}
+
+/// What one FIFO read brought.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FifoRead {
+    /// This many whole frames were appended.
+    Frames(usize),
+    /// The FIFO overflowed since the last read: its content was discarded
+    /// (512 is not a multiple of 14, so frame alignment was lost) and the
+    /// FIFO reset; the samples in between are lost.
+    Overflow,
+}
+
+/// The driver.
+#[derive(Debug)]
+pub struct Mpu9250<B> {
+    bus: B,
+    chip: Chip,
+    config: Config,
+    scratch: Vec<u8>,
+}
+
+impl<B: Bus> Mpu9250<B> {
+    /// Probes the chip: WHO_AM_I must name an MPU-9250 family member.
+    pub fn new(mut bus: B) -> Result<Self, Error<B::Error>> {
+        let mut id = [0u8];
+        bus.read_regs(regs::WHO_AM_I, &mut id).map_err(Error::Bus)?;
+        let chip = match id[0] {
+            regs::ID_MPU9250 => Chip::Mpu9250,
+            regs::ID_MPU9255 => Chip::Mpu9255,
+            regs::ID_MPU6500 => Chip::Mpu6500,
+            other => return Err(Error::UnknownDevice(other)),
+        };
+        Ok(Mpu9250 {
+            bus,
+            chip,
+            config: Config::default(),
+            scratch: Vec::with_capacity(regs::FIFO_BYTES),
+        })
+    }
+
+    /// The chip that answered.
+    pub fn chip(&self) -> Chip {
+        self.chip
+    }
+
+    /// The configuration in force.
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
+    /// Gives the bus back.
+    pub fn release(self) -> B {
+        self.bus
+    }
+
+    /// The bus, without giving it up.
+    pub fn bus_mut(&mut self) -> &mut B {
+        &mut self.bus
+    }
+
+    /// Resets the chip and sets it up: clock, filters, full scales, rate,
+    /// and the FIFO with accelerometer, temperature and gyroscope.
+    pub fn configure(&mut self, config: Config) -> Result<(), Error<B::Error>> {
+        let div = config.divider().ok_or_else(|| {
+            Error::Config(format!(
+                "{} Hz cannot be made as 1 kHz / (1 + SMPLRT_DIV)",
+                config.rate_hz
+            ))
+        })?;
+        let w = |bus: &mut B, reg, val| bus.write_reg(reg, val).map_err(Error::Bus);
+        w(&mut self.bus, regs::PWR_MGMT_1, regs::H_RESET)?;
+        w(&mut self.bus, regs::PWR_MGMT_1, regs::CLKSEL_AUTO)?;
+        w(&mut self.bus, regs::PWR_MGMT_2, 0)?;
+        // FIFO_MODE cleared: on overflow the oldest bytes go, which the
+        // overflow flag reports.
+        w(&mut self.bus, regs::CONFIG, config.dlpf_cfg())?;
+        w(&mut self.bus, regs::SMPLRT_DIV, div)?;
+        w(&mut self.bus, regs::GYRO_CONFIG, config.gyro_range.bits())?;
+        w(&mut self.bus, regs::ACCEL_CONFIG, config.accel_range.bits())?;
+        w(&mut self.bus, regs::ACCEL_CONFIG2, config.dlpf_cfg())?;
+        self.config = config;
+        self.start_fifo()
+    }
+
+    /// The FIFO start sequence (FIFO_EN = 0, reset, enable, clear the
+    /// status, select the sensors).
+    pub fn start_fifo(&mut self) -> Result<(), Error<B::Error>> {
+        let mut status = [0u8];
+        self.bus.write_reg(regs::FIFO_EN, 0).map_err(Error::Bus)?;
+        self.bus
+            .write_reg(regs::USER_CTRL, regs::FIFO_RST)
+            .map_err(Error::Bus)?;
+        self.bus
+            .write_reg(regs::USER_CTRL, regs::USER_FIFO_EN)
+            .map_err(Error::Bus)?;
+        self.bus
+            .read_regs(regs::INT_STATUS, &mut status)
+            .map_err(Error::Bus)?;
+        self.bus
+            .write_reg(regs::FIFO_EN, regs::FIFO_ALL)
+            .map_err(Error::Bus)
+    }
+
+    /// Reads every whole frame in the FIFO into `out`, raw counts in
+    /// register order (ACCEL_X..Z, TEMP, GYRO_X..Z). Never splits a frame:
+    /// a partial frame stays in the FIFO for the next read.
+    pub fn read_fifo(&mut self, out: &mut Vec<[i16; 7]>) -> Result<FifoRead, Error<B::Error>> {
+        let mut status = [0u8];
+        self.bus
+            .read_regs(regs::INT_STATUS, &mut status)
+            .map_err(Error::Bus)?;
+        if status[0] & regs::FIFO_OFLOW_INT != 0 {
+            self.start_fifo()?;
+            return Ok(FifoRead::Overflow);
+        }
+        let mut count = [0u8; 2];
+        self.bus
+            .read_regs(regs::FIFO_COUNTH, &mut count)
+            .map_err(Error::Bus)?;
+        let bytes = (usize::from(count[0]) << 8 | usize::from(count[1])) & 0x1FFF;
+        let frames = bytes / regs::FRAME_BYTES;
+        if frames == 0 {
+            return Ok(FifoRead::Frames(0));
+        }
+        self.scratch.resize(frames * regs::FRAME_BYTES, 0);
+        self.bus
+            .read_regs(regs::FIFO_R_W, &mut self.scratch)
+            .map_err(Error::Bus)?;
+        for f in self.scratch.chunks_exact(regs::FRAME_BYTES) {
+            out.push(std::array::from_fn(|k| {
+                i16::from_be_bytes([f[2 * k], f[2 * k + 1]])
+            }));
+        }
+        Ok(FifoRead::Frames(frames))
+    }
+}

@@ -1,0 +1,35 @@
+//! # mpu9250 — the sensor driver and a register-level simulated chip
+//!
+//! A driver for the InvenSense MPU-9250 (and MPU-9255, MPU-6500) over
+//! embedded-hal 1.0, on I2C ([`driver::I2cBus`]) or SPI
+//! ([`driver::SpiBus`]): probe, reset, clock, full scales, low-pass filters,
+//! sample rate, and reading the FIFO in whole 14-byte frames, with overflow
+//! detection and a FIFO reset to regain frame alignment. Conversion to SI is
+//! in [`config::Config::to_si`]. The register map is [`regs`].
+//!
+//! [`sim::SimChip`] implements the same bus traits at the register level:
+//! register file, WHO_AM_I, a FIFO that fills in simulated time at the
+//! configured rate and overflows at 512 bytes, and fault injection. The
+//! driver's tests run against it.
+//!
+//! **What it is not:** no magnetometer (AK8963), no DMP, no interrupts.
+//!
+//! ```
+//! use mpu9250::config::Config;
+//! use mpu9250::driver::{FifoRead, I2cBus, Mpu9250};
+//! use mpu9250::sim::{ADDRESS, SimChip};
+//! // A level sensor at rest: 1 g on z, 25 °C.
+//! let chip = SimChip::new(Box::new(|_, _| [0.0, 0.0, 9.80665, 0.0, 0.0, 0.0, 25.0]));
+//! let mut imu = Mpu9250::new(I2cBus::new(chip, ADDRESS)).unwrap();
+//! imu.configure(Config { rate_hz: 200.0, ..Config::default() }).unwrap();
+//! imu.bus_mut().inner_mut().advance(0.05); // 50 ms of simulated time
+//! let mut frames = Vec::new();
+//! assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(10));
+//! let si = imu.config().to_si(&frames[0]);
+//! assert!((si[2] - 9.80665).abs() < 1e-3 && (si[6] - 25.0).abs() < 0.01);
+//! ```
+
+pub mod config;
+pub mod driver;
+pub mod regs;
+pub mod sim;

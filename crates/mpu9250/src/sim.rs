@@ -1,0 +1,339 @@
+//! A simulated MPU-9250 at the register level, on the same bus traits as
+//! the real one (I2C at 0x68, and SPI).
+//!
+//! The FIFO fills in simulated time ([`SimChip::advance`]) at the rate the
+//! registers configure (1 kHz / (1 + SMPLRT_DIV)), from a sample source in
+//! SI units, quantized to the configured full scales; it holds 512 bytes and,
+//! with FIFO_MODE clear, drops its oldest bytes when full and raises
+//! FIFO_OFLOW_INT. An empty FIFO keeps returning its last byte, as the chip
+//! does. Bus errors can be injected at a given rate.
+
+use std::collections::VecDeque;
+
+use embedded_hal::i2c::{ErrorKind, I2c, NoAcknowledgeSource, Operation};
+
+use crate::config::{AccelRange, GyroRange};
+use crate::regs;
+
+/// Where the simulated chip's samples come from: (sample index, time s) →
+/// [ax, ay, az (m/s²), gx, gy, gz (rad/s), temperature (°C)].
+pub type Source = Box<dyn FnMut(u64, f64) -> [f64; 7] + Send>;
+
+/// The I2C address the simulated chip answers at (AD0 low).
+pub const ADDRESS: u8 = 0x68;
+
+/// A failed transfer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SimError {
+    /// Nobody answered, or the transfer was cut (injected or a wrong address).
+    Nack,
+}
+
+impl embedded_hal::i2c::Error for SimError {
+    fn kind(&self) -> ErrorKind {
+        ErrorKind::NoAcknowledge(NoAcknowledgeSource::Address)
+    }
+}
+
+impl embedded_hal::spi::Error for SimError {
+    fn kind(&self) -> embedded_hal::spi::ErrorKind {
+        embedded_hal::spi::ErrorKind::Other
+    }
+}
+
+/// What the chip has been through.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SimStats {
+    /// Samples produced while the FIFO was running.
+    pub samples: u64,
+    /// Overflows (each may lose several frames).
+    pub overflows: u64,
+    /// Transfers failed on purpose.
+    pub injected_errors: u64,
+}
+
+/// The simulated chip.
+pub struct SimChip {
+    regs: [u8; 128],
+    fifo: VecDeque<u8>,
+    last_byte: u8,
+    time_s: f64,
+    next_time_s: f64,
+    source: Source,
+    error_rate: f64,
+    rng: u64,
+    stats: SimStats,
+    who_am_i: u8,
+    /// When the FIFO last started, and frames sampled since.
+    start_s: f64,
+    since_start: u64,
+}
+
+impl std::fmt::Debug for SimChip {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SimChip")
+            .field("time_s", &self.time_s)
+            .field("fifo", &self.fifo.len())
+            .field("stats", &self.stats)
+            .finish_non_exhaustive()
+    }
+}
+
+impl SimChip {
+    /// A chip at power-on, producing samples from `source`.
+    pub fn new(source: Source) -> SimChip {
+        let mut chip = SimChip {
+            regs: [0; 128],
+            fifo: VecDeque::with_capacity(regs::FIFO_BYTES + regs::FRAME_BYTES),
+            last_byte: 0,
+            time_s: 0.0,
+            next_time_s: 0.0,
+            source,
+            error_rate: 0.0,
+            rng: 0x2545_F491_4F6C_DD1D,
+            stats: SimStats::default(),
+            who_am_i: regs::ID_MPU9250,
+            start_s: 0.0,
+            since_start: 0,
+        };
+        chip.reset();
+        chip
+    }
+
+    /// Fails this fraction of transfers (deterministically, from a fixed
+    /// generator).
+    pub fn with_error_rate(mut self, rate: f64) -> SimChip {
+        self.error_rate = rate.clamp(0.0, 1.0);
+        self
+    }
+
+    /// Answers WHO_AM_I with `id` (0x73 an MPU-9255, 0x70 an MPU-6500…).
+    pub fn with_who_am_i(mut self, id: u8) -> SimChip {
+        self.who_am_i = id;
+        self.regs[usize::from(regs::WHO_AM_I)] = id;
+        self
+    }
+
+    /// What the chip has been through.
+    pub fn stats(&self) -> SimStats {
+        self.stats
+    }
+
+    /// Bytes in the FIFO.
+    pub fn fifo_len(&self) -> usize {
+        self.fifo.len()
+    }
+
+    fn reset(&mut self) {
+        self.regs = [0; 128];
+        // Power-on values (RM-MPU-9250A-00 §3): the rest are zero.
+        self.regs[usize::from(regs::PWR_MGMT_1)] = 0x01;
+        self.regs[usize::from(regs::WHO_AM_I)] = self.who_am_i;
+        self.fifo.clear();
+    }
+
+    fn rate_hz(&self) -> f64 {
+        regs::INTERNAL_RATE_HZ / (1.0 + f64::from(self.regs[usize::from(regs::SMPLRT_DIV)]))
+    }
+
+    fn fifo_running(&self) -> bool {
+        self.regs[usize::from(regs::USER_CTRL)] & regs::USER_FIFO_EN != 0
+            && self.regs[usize::from(regs::FIFO_EN)] == regs::FIFO_ALL
+    }
+
+    /// Lets `dt` seconds of simulated time pass: the FIFO receives the
+    /// frames sampled meanwhile.
+    pub fn advance(&mut self, dt: f64) {
+        let end = self.time_s + dt.max(0.0);
+        let period = 1.0 / self.rate_hz();
+        if !self.fifo_running() {
+            self.time_s = end;
+            self.next_time_s = end;
+            return;
+        }
+        let gyro = match (self.regs[usize::from(regs::GYRO_CONFIG)] >> 3) & 3 {
+            0 => GyroRange::Dps250,
+            1 => GyroRange::Dps500,
+            2 => GyroRange::Dps1000,
+            _ => GyroRange::Dps2000,
+        };
+        let accel = match (self.regs[usize::from(regs::ACCEL_CONFIG)] >> 3) & 3 {
+            0 => AccelRange::G2,
+            1 => AccelRange::G4,
+            2 => AccelRange::G8,
+            _ => AccelRange::G16,
+        };
+        let q = |v: f64, lsb: f64| (v / lsb).round().clamp(-32768.0, 32767.0) as i16;
+        // A tolerance of a billionth of a period: sample times are sums of
+        // periods and must not miss the end of an interval by rounding.
+        while self.next_time_s <= end + 1e-9 * period {
+            let k = self.stats.samples;
+            let s = (self.source)(k, self.next_time_s);
+            let raw: [i16; 7] = [
+                q(s[0], accel.lsb_si()),
+                q(s[1], accel.lsb_si()),
+                q(s[2], accel.lsb_si()),
+                q((s[6] - regs::TEMP_OFFSET_C) * regs::TEMP_LSB_PER_C, 1.0),
+                q(s[3], gyro.lsb_rad()),
+                q(s[4], gyro.lsb_rad()),
+                q(s[5], gyro.lsb_rad()),
+            ];
+            for v in raw {
+                self.fifo.extend(v.to_be_bytes());
+            }
+            if self.fifo.len() > regs::FIFO_BYTES {
+                // FIFO_MODE clear: the oldest bytes go, whatever frame
+                // they belong to.
+                let excess = self.fifo.len() - regs::FIFO_BYTES;
+                self.fifo.drain(..excess);
+                if self.regs[usize::from(regs::INT_STATUS)] & regs::FIFO_OFLOW_INT == 0 {
+                    self.stats.overflows += 1;
+                }
+                self.regs[usize::from(regs::INT_STATUS)] |= regs::FIFO_OFLOW_INT;
+            }
+            self.stats.samples += 1;
+            self.since_start += 1;
+            self.next_time_s = self.start_s + (self.since_start + 1) as f64 * period;
+        }
+        self.time_s = end;
+    }
+
+    fn inject(&mut self) -> bool {
+        if self.error_rate <= 0.0 {
+            return false;
+        }
+        self.rng ^= self.rng << 13;
+        self.rng ^= self.rng >> 7;
+        self.rng ^= self.rng << 17;
+        let fail = ((self.rng >> 11) as f64 / (1u64 << 53) as f64) < self.error_rate;
+        if fail {
+            self.stats.injected_errors += 1;
+        }
+        fail
+    }
+
+    fn write_reg(&mut self, reg: u8, value: u8) {
+        let was_running = self.fifo_running();
+        self.store(reg, value);
+        if self.fifo_running() && !was_running {
+            // The first frame is sampled one period after the FIFO starts.
+            self.start_s = self.time_s;
+            self.since_start = 0;
+            self.next_time_s = self.time_s + 1.0 / self.rate_hz();
+        }
+    }
+
+    fn store(&mut self, reg: u8, value: u8) {
+        match reg {
+            regs::PWR_MGMT_1 if value & regs::H_RESET != 0 => self.reset(),
+            regs::USER_CTRL => {
+                if value & regs::FIFO_RST != 0 {
+                    self.fifo.clear();
+                }
+                // FIFO_RST clears itself.
+                self.regs[usize::from(reg)] = value & !regs::FIFO_RST;
+            }
+            regs::FIFO_R_W => {
+                if self.fifo.len() < regs::FIFO_BYTES {
+                    self.fifo.push_back(value);
+                }
+            }
+            regs::WHO_AM_I | regs::FIFO_COUNTH | regs::FIFO_COUNTL | regs::INT_STATUS => {}
+            _ => self.regs[usize::from(reg & 0x7F)] = value,
+        }
+    }
+
+    fn read_regs(&mut self, reg: u8, buf: &mut [u8]) {
+        if reg == regs::FIFO_R_W {
+            for b in buf.iter_mut() {
+                if let Some(v) = self.fifo.pop_front() {
+                    self.last_byte = v;
+                }
+                *b = self.last_byte;
+            }
+            return;
+        }
+        let count = self.fifo.len() as u16;
+        for (i, b) in buf.iter_mut().enumerate() {
+            let r = reg.wrapping_add(i as u8) & 0x7F;
+            *b = match r {
+                regs::FIFO_COUNTH => (count >> 8) as u8,
+                regs::FIFO_COUNTL => count as u8,
+                _ => self.regs[usize::from(r)],
+            };
+            if r == regs::INT_STATUS {
+                // Cleared on read.
+                self.regs[usize::from(r)] = 0;
+            }
+        }
+    }
+}
+
+impl embedded_hal::i2c::ErrorType for SimChip {
+    type Error = SimError;
+}
+
+impl I2c for SimChip {
+    fn transaction(&mut self, address: u8, operations: &mut [Operation<'_>]) -> Result<(), SimError> {
+        if address != ADDRESS || self.inject() {
+            return Err(SimError::Nack);
+        }
+        let mut reg = 0u8;
+        for op in operations {
+            match op {
+                Operation::Write(bytes) => {
+                    if let Some((&r, data)) = bytes.split_first() {
+                        reg = r;
+                        for (i, &v) in data.iter().enumerate() {
+                            self.write_reg(r.wrapping_add(i as u8), v);
+                        }
+                    }
+                }
+                Operation::Read(buf) => self.read_regs(reg, buf),
+            }
+        }
+        Ok(())
+    }
+}
+
+impl embedded_hal::spi::ErrorType for SimChip {
+    type Error = SimError;
+}
+
+impl embedded_hal::spi::SpiDevice for SimChip {
+    fn transaction(
+        &mut self,
+        operations: &mut [embedded_hal::spi::Operation<'_, u8>],
+    ) -> Result<(), SimError> {
+        use embedded_hal::spi::Operation as Op;
+        if self.inject() {
+            return Err(SimError::Nack);
+        }
+        let mut reg = 0u8;
+        let mut reading = false;
+        for op in operations {
+            match op {
+                Op::Write(bytes) => {
+                    if let Some((&r, data)) = bytes.split_first() {
+                        reading = r & regs::SPI_READ != 0;
+                        reg = r & !regs::SPI_READ;
+                        if !reading {
+                            for (i, &v) in data.iter().enumerate() {
+                                self.write_reg(reg.wrapping_add(i as u8), v);
+                            }
+                        }
+                    }
+                }
+                Op::Read(buf) if reading => self.read_regs(reg, buf),
+                Op::Read(buf) => buf.fill(0),
+                Op::Transfer(read, write) => {
+                    read.fill(0);
+                    let _ = write;
+                }
+                Op::TransferInPlace(buf) => buf.fill(0),
+                Op::DelayNs(_) => {}
+            }
+        }
+        Ok(())
+    }
+}
