@@ -99,15 +99,34 @@ fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (10f64.powf(a), 10f64.powf(if b > a { b } else { a + 1.0 }))
 }
 
-/// Allan deviation curves on log-log axes, each with its confidence band.
-pub fn adev_plot(title: &str, unit: &str, curves: &[Curve]) -> Result<String, PlotError> {
+/// Draws with `draw` on an SVG canvas of `size` pixels and returns the text.
+fn to_svg(
+    size: (u32, u32),
+    draw: impl FnOnce(&DrawingArea<SVGBackend, Shift>) -> Result<(), PlotError>,
+) -> Result<String, PlotError> {
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (720, 480)).into_drawing_area();
-        adev_plot_on(&root, title, unit, curves)?;
+        let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+        draw(&root)?;
         root.present().map_err(err)?;
     }
     Ok(svg)
+}
+
+/// Draws with `draw` into a PNG file of `size` pixels.
+fn to_png(
+    path: &std::path::Path,
+    size: (u32, u32),
+    draw: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> Result<(), PlotError>,
+) -> Result<(), PlotError> {
+    let root = BitMapBackend::new(path, size).into_drawing_area();
+    draw(&root)?;
+    root.present().map_err(err)
+}
+
+/// Allan deviation curves on log-log axes, each with its confidence band.
+pub fn adev_plot(title: &str, unit: &str, curves: &[Curve]) -> Result<String, PlotError> {
+    to_svg((720, 480), |root| adev_plot_on(root, title, unit, curves))
 }
 
 /// [`adev_plot`] as a PNG file.
@@ -117,9 +136,7 @@ pub fn adev_plot_png(
     unit: &str,
     curves: &[Curve],
 ) -> Result<(), PlotError> {
-    let root = BitMapBackend::new(path, (720, 480)).into_drawing_area();
-    adev_plot_on(&root, title, unit, curves)?;
-    root.present().map_err(err)
+    to_png(path, (720, 480), |root| adev_plot_on(root, title, unit, curves))
 }
 
 fn adev_plot_on<DB: DrawingBackend>(
@@ -238,13 +255,7 @@ fn heat(v: f64) -> RGBColor {
 /// The ADEV over temperature as a heat map: τ (log) across, the slices'
 /// mean temperature up, σ as a log colour scale.
 pub fn adev_heatmap(title: &str, unit: &str, rows: &[SurfaceRow]) -> Result<String, PlotError> {
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (720, 480)).into_drawing_area();
-        adev_heatmap_on(&root, title, unit, rows)?;
-        root.present().map_err(err)?;
-    }
-    Ok(svg)
+    to_svg((720, 480), |root| adev_heatmap_on(root, title, unit, rows))
 }
 
 /// [`adev_heatmap`] as a PNG file.
@@ -254,9 +265,7 @@ pub fn adev_heatmap_png(
     unit: &str,
     rows: &[SurfaceRow],
 ) -> Result<(), PlotError> {
-    let root = BitMapBackend::new(path, (720, 480)).into_drawing_area();
-    adev_heatmap_on(&root, title, unit, rows)?;
-    root.present().map_err(err)
+    to_png(path, (720, 480), |root| adev_heatmap_on(root, title, unit, rows))
 }
 
 fn adev_heatmap_on<DB: DrawingBackend>(
@@ -368,13 +377,9 @@ pub fn bias_plot(
     after: &[(f64, f64)],
     model: &dyn Fn(f64) -> f64,
 ) -> Result<String, PlotError> {
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (720, 420)).into_drawing_area();
-        bias_plot_on(&root, title, unit, before, after, model)?;
-        root.present().map_err(err)?;
-    }
-    Ok(svg)
+    to_svg((720, 420), |root| {
+        bias_plot_on(root, title, unit, before, after, model)
+    })
 }
 
 /// [`bias_plot`] as a PNG file.
@@ -386,9 +391,9 @@ pub fn bias_plot_png(
     after: &[(f64, f64)],
     model: &dyn Fn(f64) -> f64,
 ) -> Result<(), PlotError> {
-    let root = BitMapBackend::new(path, (720, 420)).into_drawing_area();
-    bias_plot_on(&root, title, unit, before, after, model)?;
-    root.present().map_err(err)
+    to_png(path, (720, 420), |root| {
+        bias_plot_on(root, title, unit, before, after, model)
+    })
 }
 
 fn bias_plot_on<DB: DrawingBackend>(
@@ -490,13 +495,9 @@ pub fn time_plot(
     rate_hz: f64,
     temperature: Option<&[f64]>,
 ) -> Result<String, PlotError> {
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (720, 520)).into_drawing_area();
-        time_plot_on(&root, title, unit, channels, rate_hz, temperature)?;
-        root.present().map_err(err)?;
-    }
-    Ok(svg)
+    to_svg((720, 520), |root| {
+        time_plot_on(root, title, unit, channels, rate_hz, temperature)
+    })
 }
 
 /// [`time_plot`] as a PNG file.
@@ -508,9 +509,9 @@ pub fn time_plot_png(
     rate_hz: f64,
     temperature: Option<&[f64]>,
 ) -> Result<(), PlotError> {
-    let root = BitMapBackend::new(path, (720, 520)).into_drawing_area();
-    time_plot_on(&root, title, unit, channels, rate_hz, temperature)?;
-    root.present().map_err(err)
+    to_png(path, (720, 520), |root| {
+        time_plot_on(root, title, unit, channels, rate_hz, temperature)
+    })
 }
 
 fn time_plot_on<DB: DrawingBackend>(
