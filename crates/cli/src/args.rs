@@ -51,6 +51,10 @@ pub enum Command {
     /// Temperature compensation of the bias: fit, apply, evaluate.
     #[command(subcommand)]
     Tcal(TcalCommand),
+    /// Record an MPU-9250 through its FIFO into an imutherm log (the thesis
+    /// columns plus metadata), losing no sample silently.
+    #[command(after_help = RECORD_EXAMPLES)]
+    Record(RecordArgs),
     /// One self-contained HTML page for a set of recordings: their summaries
     /// and problems, the thesis's noise tables, ADEV plots, and the ADEV over
     /// temperature of runs whose temperature changes.
@@ -58,6 +62,49 @@ pub enum Command {
         after_help = "Example:\n  imutherm report run_34C.txt run_43C.txt run_62C.txt run_82C.txt cooling.txt --out rep"
     )]
     Report(ReportArgs),
+}
+
+const RECORD_EXAMPLES: &str = "\
+Examples:
+  imutherm record --device sim --rate 200 --duration 10s -o test.txt
+  imutherm record --device sim:white --rate 100 --duration 1h -o long.txt
+
+Devices: sim[:PRESET] (a register-level simulated chip fed by the simulator; presets
+mpu9250-thesis, white). Real buses (i2c:/dev/i2c-1[@0x68], spi:/dev/spidev0.0) are
+not part of this build yet.
+Ctrl-C or SIGTERM stops cleanly: every sample read is written, the file ends with a
+complete line and a trailer of what was lost. Lost stretches (FIFO overflows, failed
+reads) are written as rows of nan, which every imutherm reader treats as gaps.";
+
+#[derive(Debug, Args)]
+pub struct RecordArgs {
+    /// The sensor: sim[:PRESET].
+    #[arg(long, value_name = "DEVICE")]
+    pub device: String,
+
+    /// Output rate, Hz (1 kHz / (1 + divider)).
+    #[arg(long, default_value_t = 200.0, value_name = "HZ")]
+    pub rate: f64,
+
+    /// Accelerometer full scale, g (2, 4, 8, 16).
+    #[arg(long, default_value_t = 2.0, value_name = "G")]
+    pub accel_range: f64,
+
+    /// Gyroscope full scale, °/s (250, 500, 1000, 2000).
+    #[arg(long, default_value_t = 250.0, value_name = "DPS")]
+    pub gyro_range: f64,
+
+    /// Gyro low-pass bandwidth, Hz (default: the widest below half the rate).
+    #[arg(long, value_name = "HZ")]
+    pub dlpf: Option<f64>,
+
+    /// Stop after this long (3600, 90m, 2h…); default: until Ctrl-C.
+    #[arg(long, value_name = "D")]
+    pub duration: Option<String>,
+
+    /// Output file (imutherm log).
+    #[arg(long, short = 'o', value_name = "FILE")]
+    pub output: PathBuf,
 }
 
 #[derive(Debug, Args)]

@@ -21,6 +21,7 @@ fn main() -> ExitCode {
         args::Command::Simulate(a) => commands::simulate::run(&a),
         args::Command::Thermal(a) => commands::thermal::run(&a),
         args::Command::Report(a) => commands::report::run(&a),
+        args::Command::Record(a) => commands::record::run(&a),
         args::Command::Tcal(args::TcalCommand::Fit(a)) => commands::tcal::fit(&a),
         args::Command::Tcal(args::TcalCommand::Apply(a)) => commands::tcal::apply(&a),
         args::Command::Tcal(args::TcalCommand::Eval(a)) => commands::tcal::eval(&a),

@@ -95,6 +95,17 @@ impl<W: Write> LogWriter<W> {
         self.out.write_all(text)
     }
 
+    /// The underlying writer (to sync a file to disk, say).
+    pub fn get_mut(&mut self) -> &mut W {
+        &mut self.out
+    }
+
+    /// Writes a `# key: value` line after the rows: a trailer that readers
+    /// skip as a comment.
+    pub fn write_trailer(&mut self, key: &str, value: &str) -> io::Result<()> {
+        writeln!(self.out, "# {}: {}", one_line(key), one_line(value))
+    }
+
     /// Rows written so far.
     pub fn rows(&self) -> u64 {
         self.rows

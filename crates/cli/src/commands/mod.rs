@@ -6,6 +6,7 @@ pub mod demo;
 pub mod experiment;
 pub mod info;
 pub mod noise;
+pub mod record;
 pub mod report;
 pub mod selection;
 pub mod simulate;
