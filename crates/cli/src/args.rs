@@ -105,6 +105,15 @@ pub struct RecordArgs {
     /// Output file (imutherm log).
     #[arg(long, short = 'o', value_name = "FILE")]
     pub output: PathBuf,
+
+    /// Simulated device only: fail this fraction of bus transfers (0.01 = 1 %).
+    #[arg(long, default_value_t = 0.0, value_name = "RATE")]
+    pub sim_bus_errors: f64,
+
+    /// Simulated device only: pause reading for 0.5 s every this many
+    /// seconds, as a slow host would, so that the FIFO overflows.
+    #[arg(long, value_name = "S")]
+    pub sim_stall_every: Option<f64>,
 }
 
 #[derive(Debug, Args)]
@@ -297,8 +306,9 @@ Examples:
   imutherm simulate --preset mpu9250-thesis --print-config > my.toml   then edit, and:
   imutherm simulate --config my.toml -o custom.txt
 
-Profiles: constant:T[:FLUCTUATION]  cooling:START:AMBIENT:TAU_S  ramp:FROM:TO:DURATION_S
-          steps:T1,T2,…:HOLD_S  file:PATH (rows of time_s, temp_c)
+Profiles (°C and seconds; the die follows the chamber with the configuration's sensor_lag_s):
+  constant:T[:FLUCTUATION]   cooling:START:AMBIENT:TAU_S   ramp:FROM:TO:DURATION_S
+  steps:T1,T2,…:HOLD_S (heater time constant 120 s)   file:PATH (rows of time_s, temp_c)
 Durations: 3600, 3600s, 90m, 2h, 1.5h. Presets: mpu9250-thesis, white.";
 
 #[derive(Debug, Args)]

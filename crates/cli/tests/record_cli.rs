@@ -126,3 +126,50 @@ fn sigint_leaves_a_complete_file() {
     assert_eq!(doc["files"][0]["samples"], n);
     assert!(doc["files"][0]["problems"].as_array().unwrap().is_empty());
 }
+
+#[test]
+fn bus_errors_and_overflows_are_counted_and_marked_as_gaps() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("faults.txt");
+    Command::cargo_bin("imutherm")
+        .unwrap()
+        .args([
+            "record",
+            "--device",
+            "sim:white",
+            "--rate",
+            "200",
+            "--duration",
+            "4s",
+            "--sim-bus-errors",
+            "0.01",
+            "--sim-stall-every",
+            "1.5",
+            "-o",
+        ])
+        .arg(&out)
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(&out).unwrap();
+    let trailer = text.lines().find(|l| l.starts_with("# trailer:")).unwrap();
+    let field = |k: &str| -> u64 {
+        trailer
+            .split_whitespace()
+            .find_map(|f| f.strip_prefix(&format!("{k}=")))
+            .and_then(|v| v.parse().ok())
+            .unwrap()
+    };
+    // Every row accounted for: samples read plus samples marked lost.
+    let r = rows(&out);
+    assert!((799..=801).contains(&r.len()), "{} rows", r.len());
+    assert_eq!(field("samples") + field("gap_samples"), r.len() as u64);
+    assert!(field("overflows") >= 1 && field("gap_samples") > 0, "{trailer}");
+    assert!(field("bus_errors") >= 1, "{trailer}");
+    let gaps = r.iter().filter(|row| row.iter().all(|v| v.is_nan())).count() as u64;
+    assert_eq!(gaps, field("gap_samples"));
+    // No half-read frame: a row is all numbers or all gap.
+    assert!(
+        r.iter()
+            .all(|row| row.iter().all(|v| v.is_nan()) || row.iter().all(|v| v.is_finite()))
+    );
+}

@@ -33,7 +33,7 @@ fn writes_a_log_with_its_truth_that_reads_back() {
     }
     // Same seed, same bytes.
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
-    assert!(!dir.path().join("a.partial").exists());
+    assert!(!dir.path().join("a.txt.partial").exists());
     let out = imutherm().args(["info", "--json"]).arg(&a).output().unwrap();
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let f = &doc["files"][0];
@@ -113,4 +113,62 @@ fn bad_configurations_exit_1_with_the_reason() {
         .code(1)
         .stderr(predicate::str::contains("gyro.terms[0].n = -0.00015").and(predicate::str::contains("≥ 0")));
     assert!(!out.exists());
+}
+
+#[test]
+fn a_profile_file_beside_the_configuration() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("chamber.csv"), "time_s, temp_C\n0, 60\n10, 40\n").unwrap();
+    let printed = imutherm()
+        .args(["simulate", "--preset", "white", "--print-config"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8(printed.stdout).unwrap();
+    // Replace the preset's [profile] table with a file profile.
+    let start = text.find("[profile]").unwrap();
+    let end = start + text[start..].find("\n\n").unwrap_or(text.len() - start);
+    let text = format!(
+        "{}[profile]\nkind = \"file\"\npath = \"chamber.csv\"{}",
+        &text[..start],
+        &text[end..]
+    );
+    let cfg = dir.path().join("run.toml");
+    std::fs::write(&cfg, text).unwrap();
+    let log = dir.path().join("run.txt");
+    // Run from elsewhere: the profile is found beside the configuration.
+    imutherm()
+        .current_dir(std::env::temp_dir())
+        .args(["simulate", "--duration", "10", "--rate", "10", "--config"])
+        .arg(&cfg)
+        .arg("-o")
+        .arg(&log)
+        .assert()
+        .success();
+    let out = imutherm().args(["info", "--json"]).arg(&log).output().unwrap();
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let t = &doc["files"][0]["temperature_c"];
+    assert!((t["max"].as_f64().unwrap() - 60.0).abs() < 0.01, "{t}");
+    assert!(t["min"].as_f64().unwrap() < 42.5, "{t}");
+    // And a missing one is an error that names it.
+    imutherm()
+        .args(["simulate", "--profile", "file:no-such-chamber.csv", "-o"])
+        .arg(dir.path().join("x.txt"))
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("no-such-chamber.csv"));
+}
+
+#[test]
+fn help_documents_profiles_and_durations() {
+    imutherm().args(["simulate", "--help"]).assert().success().stdout(
+        predicate::str::contains("cooling:START:AMBIENT:TAU_S")
+            .and(predicate::str::contains("steps:T1,T2"))
+            .and(predicate::str::contains("file:PATH"))
+            .and(predicate::str::contains("90m")),
+    );
+    // A usage error is clap's: exit 2.
+    imutherm()
+        .args(["simulate", "--rate", "fast", "-o", "x.txt"])
+        .assert()
+        .code(2);
 }

@@ -107,6 +107,11 @@ impl SimChip {
         self
     }
 
+    /// Changes the fraction of failed transfers.
+    pub fn set_error_rate(&mut self, rate: f64) {
+        self.error_rate = rate.clamp(0.0, 1.0);
+    }
+
     /// Answers WHO_AM_I with `id` (0x73 an MPU-9255, 0x70 an MPU-6500…).
     pub fn with_who_am_i(mut self, id: u8) -> SimChip {
         self.who_am_i = id;

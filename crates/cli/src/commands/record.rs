@@ -67,6 +67,9 @@ pub fn run(a: &RecordArgs) -> Result<()> {
             let imu = Mpu9250::new(I2cBus::new(chip, ADDRESS)).map_err(|e| anyhow::anyhow!("{e}"))?;
             // The simulated chip runs on the wall clock.
             let mut last = Instant::now();
+            let mut last_stall = Instant::now();
+            let stall_every = a.sim_stall_every;
+            let error_rate = a.sim_bus_errors;
             record(
                 imu,
                 config,
@@ -75,6 +78,15 @@ pub fn run(a: &RecordArgs) -> Result<()> {
                 &format!("sim:{preset}"),
                 a,
                 move |imu| {
+                    // Faults start once the chip is set up, as a marginal bus in
+                    // the middle of a recording would.
+                    imu.bus_mut().inner_mut().set_error_rate(error_rate);
+                    if let Some(every) = stall_every
+                        && last_stall.elapsed().as_secs_f64() >= every
+                    {
+                        std::thread::sleep(Duration::from_millis(500));
+                        last_stall = Instant::now();
+                    }
                     let now = Instant::now();
                     imu.bus_mut().inner_mut().advance((now - last).as_secs_f64());
                     last = now;

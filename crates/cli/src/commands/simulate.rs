@@ -2,7 +2,7 @@
 
 use std::fs::File;
 use std::io::BufWriter;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -41,7 +41,15 @@ fn configuration(a: &SimulateArgs) -> Result<(SimConfig, String)> {
         (Some(path), _) => {
             let text =
                 std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-            let cfg = SimConfig::from_toml(&text).with_context(|| path.display().to_string())?;
+            let mut cfg = SimConfig::from_toml(&text).with_context(|| path.display().to_string())?;
+            // A profile file named in a configuration is found beside it,
+            // wherever imutherm runs from.
+            if let Profile::File { path: profile } = &mut cfg.profile
+                && profile.is_relative()
+                && let Some(dir) = path.parent()
+            {
+                *profile = dir.join(&*profile);
+            }
             (cfg, format!("config {}", path.display()))
         }
         (None, p) => {
@@ -90,16 +98,28 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
     let target = if special {
         out.to_path_buf()
     } else {
-        out.with_extension("partial")
+        let mut name = out.as_os_str().to_os_string();
+        name.push(".partial");
+        PathBuf::from(name)
     };
     let file = File::create(&target).with_context(|| format!("creating {}", target.display()))?;
     let meta = sim.metadata(Some(&source));
-    let rows = sim
+    let written = sim
         .write_log(BufWriter::with_capacity(1 << 20, file), &meta, |done, _| {
             bar.set_position(done)
         })
-        .with_context(|| format!("writing {}", target.display()))?;
+        .with_context(|| format!("writing {}", target.display()));
     bar.finish_and_clear();
+    let rows = match written {
+        Ok(rows) => rows,
+        Err(e) => {
+            if !special {
+                // Best effort: the error above is the one that matters.
+                let _ = std::fs::remove_file(&target);
+            }
+            return Err(e);
+        }
+    };
     if !special {
         rename(&target, out)?;
     }
@@ -118,4 +138,26 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
 
 fn rename(from: &Path, to: &Path) -> Result<()> {
     std::fs::rename(from, to).with_context(|| format!("renaming {} to {}", from.display(), to.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_duration;
+
+    #[test]
+    fn durations() {
+        for (text, s) in [
+            ("2h", 7200.0),
+            ("90m", 5400.0),
+            ("3600s", 3600.0),
+            ("3600", 3600.0),
+            ("1.5h", 5400.0),
+            (" 10 min", 600.0),
+        ] {
+            assert_eq!(parse_duration(text).unwrap(), s, "{text}");
+        }
+        for bad in ["", "h", "ten minutes", "-5s", "0", "3 weeks", "nan", "inf"] {
+            assert!(parse_duration(bad).is_err(), "{bad}");
+        }
+    }
 }
