@@ -69,16 +69,16 @@ Examples:
   imutherm record --device sim --rate 200 --duration 10s -o test.txt
   imutherm record --device sim:white --rate 100 --duration 1h -o long.txt
 
-Devices: sim[:PRESET] (a register-level simulated chip fed by the simulator; presets
-mpu9250-thesis, white). Real buses (i2c:/dev/i2c-1[@0x68], spi:/dev/spidev0.0) are
-not part of this build yet.
+Devices: i2c:/dev/i2c-1[@0x68] (≤ 400 kHz: below 500 Hz only on a Pi 3), spi:/dev/spidev0.0
+(1 MHz, mode 0), or sim[:PRESET] (a register-level simulated chip fed by the simulator;
+presets mpu9250-thesis, white).
 Ctrl-C or SIGTERM stops cleanly: every sample read is written, the file ends with a
 complete line and a trailer of what was lost. Lost stretches (FIFO overflows, failed
 reads) are written as rows of nan, which every imutherm reader treats as gaps.";
 
 #[derive(Debug, Args)]
 pub struct RecordArgs {
-    /// The sensor: sim[:PRESET].
+    /// The sensor: i2c:/dev/i2c-1[@0x68], spi:/dev/spidev0.0 or sim[:PRESET].
     #[arg(long, value_name = "DEVICE")]
     pub device: String,
 

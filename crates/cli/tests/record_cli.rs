@@ -173,3 +173,27 @@ fn bus_errors_and_overflows_are_counted_and_marked_as_gaps() {
             .all(|row| row.iter().all(|v| v.is_nan()) || row.iter().all(|v| v.is_finite()))
     );
 }
+
+#[test]
+fn a_missing_bus_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    for (device, says) in [
+        (
+            "i2c:/dev/i2c-imutherm-none@0x68",
+            "opening /dev/i2c-imutherm-none",
+        ),
+        (
+            "spi:/dev/spidev-imutherm-none",
+            "opening /dev/spidev-imutherm-none",
+        ),
+        ("usb:0", "expected sim[:PRESET], i2c:"),
+    ] {
+        Command::cargo_bin("imutherm")
+            .unwrap()
+            .args(["record", "--device", device, "--duration", "1", "-o"])
+            .arg(dir.path().join("x.txt"))
+            .assert()
+            .code(1)
+            .stderr(predicates::str::contains(says));
+    }
+}

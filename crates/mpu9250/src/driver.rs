@@ -14,6 +14,11 @@ pub trait Bus {
     fn write_reg(&mut self, reg: u8, value: u8) -> Result<(), Self::Error>;
     /// Reads consecutive registers (or the FIFO port) in one burst.
     fn read_regs(&mut self, reg: u8, buf: &mut [u8]) -> Result<(), Self::Error>;
+    /// USER_CTRL bits the bus needs kept set: on SPI, I2C_IF_DIS, so that
+    /// the chip's I2C slave cannot misread SPI traffic.
+    fn user_ctrl_bits(&self) -> u8 {
+        0
+    }
 }
 
 /// The chip on an I2C bus at 0x68 (AD0 low) or 0x69 (AD0 high).
@@ -87,6 +92,10 @@ impl<S: SpiDevice> Bus for SpiBus<S> {
     fn read_regs(&mut self, reg: u8, buf: &mut [u8]) -> Result<(), Self::Error> {
         self.spi
             .transaction(&mut [Operation::Write(&[reg | regs::SPI_READ]), Operation::Read(buf)])
+    }
+
+    fn user_ctrl_bits(&self) -> u8 {
+        regs::I2C_IF_DIS
     }
 }
 
@@ -214,11 +223,12 @@ impl<B: Bus> Mpu9250<B> {
     pub fn start_fifo(&mut self) -> Result<(), Error<B::Error>> {
         let mut status = [0u8];
         self.bus.write_reg(regs::FIFO_EN, 0).map_err(Error::Bus)?;
+        let keep = self.bus.user_ctrl_bits();
         self.bus
-            .write_reg(regs::USER_CTRL, regs::FIFO_RST)
+            .write_reg(regs::USER_CTRL, keep | regs::FIFO_RST)
             .map_err(Error::Bus)?;
         self.bus
-            .write_reg(regs::USER_CTRL, regs::USER_FIFO_EN)
+            .write_reg(regs::USER_CTRL, keep | regs::USER_FIFO_EN)
             .map_err(Error::Bus)?;
         self.bus
             .read_regs(regs::INT_STATUS, &mut status)

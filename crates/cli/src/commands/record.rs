@@ -93,11 +93,44 @@ pub fn run(a: &RecordArgs) -> Result<()> {
                 },
             )
         }
-        "i2c" | "spi" => bail!(
-            "--device {}: real buses are not part of this build yet; use --device sim",
-            a.device
-        ),
-        other => bail!("--device {other}: expected sim[:PRESET]"),
+        #[cfg(target_os = "linux")]
+        "i2c" => {
+            // i2c:/dev/i2c-1[@0x68]
+            let (path, address) = match rest.split_once('@') {
+                Some((p, addr)) => {
+                    let a = u8::from_str_radix(addr.trim_start_matches("0x"), 16).with_context(|| {
+                        format!("--device {}: '{addr}' is not an address like 0x68", a.device)
+                    })?;
+                    (p, a)
+                }
+                None => (rest, 0x68),
+            };
+            let dev = linux_embedded_hal::I2cdev::new(path)
+                .with_context(|| format!("opening {path} (is I2C enabled, and may this user use it?)"))?;
+            let imu = Mpu9250::new(I2cBus::new(dev, address))
+                .map_err(|e| anyhow::anyhow!("{path} @0x{address:02x}: {e}"))?;
+            record(imu, config, rate, duration, &a.device, a, |_| {})
+        }
+        #[cfg(target_os = "linux")]
+        "spi" => {
+            use linux_embedded_hal::spidev::{SpiModeFlags, SpidevOptions};
+            // spi:/dev/spidev0.0; every register at ≤ 1 MHz (PS-MPU-9250A-01 §7.5).
+            let mut dev = linux_embedded_hal::SpidevDevice::open(rest)
+                .with_context(|| format!("opening {rest} (is SPI enabled, and may this user use it?)"))?;
+            let options = SpidevOptions::new()
+                .bits_per_word(8)
+                .max_speed_hz(1_000_000)
+                .mode(SpiModeFlags::SPI_MODE_0)
+                .build();
+            dev.configure(&options)
+                .with_context(|| format!("configuring {rest}"))?;
+            let imu = Mpu9250::new(mpu9250::driver::SpiBus::new(dev))
+                .map_err(|e| anyhow::anyhow!("{rest}: {e}"))?;
+            record(imu, config, rate, duration, &a.device, a, |_| {})
+        }
+        other => {
+            bail!("--device {other}: expected sim[:PRESET], i2c:/dev/i2c-N[@0x68] or spi:/dev/spidevB.C")
+        }
     }
 }
 
