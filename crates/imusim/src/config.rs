@@ -1,33 +1,35 @@
-//! The simulation's configuration, as written in TOML.
+//! The simulation's configuration, as written in TOML. Every value is SI
+//! (rad/s and m/s² based), temperatures in °C, times in s.
 //!
 //! ```toml
 //! rate_hz = 100.0
 //! duration_s = 3600.0
 //! seed = 1
 //! t_ref_c = 25.0          # reference temperature of the bias polynomials
-//! sensor_lag_s = 60.0     # sensor temperature lags the chamber's
+//! sensor_lag_s = 60.0     # the die's temperature lags the chamber's (first order)
 //!
 //! [profile]
 //! kind = "cooling"        # constant | cooling | ramp | steps | file
-//! start_c = 100.0
-//! ambient_c = 20.0
-//! tau_s = 1800.0
+//! start_c = 100.0         # constant: temp_c, fluctuation_c, fluctuation_tau_s
+//! ambient_c = 20.0        # ramp: from_c, to_c, duration_s
+//! tau_s = 1800.0          # steps: levels_c = [..], hold_s, heater_tau_s; file: path
 //!
 //! [sensor]
 //! gyro_range_dps = 250.0  # 250 | 500 | 1000 | 2000
 //! accel_range_g = 2.0     # 2 | 4 | 8 | 16
-//! quantize = true
+//! quantize = true         # 16-bit LSB rounding and clipping, temperature sensor too
 //! roll_deg = 0.0          # static orientation: gravity on the accelerometers
 //! pitch_deg = 0.0
 //!
-//! [gyro]                  # SI: rad/s; per axis x, y, z
+//! [gyro]                  # per axis x, y, z; rad/s
+//! # IEEE 952 terms: q rad, n rad/√s, b rad/s, k rad/s/√s, r rad/s²
 //! terms = [{ n = 1.5e-4, b = 6e-5, k = 5e-6 }, { n = 1.5e-4 }, { n = 1.5e-4 }]
 //! bias = [[-0.036, 3e-4], [0.023], [0.019]]   # polynomial in (T − t_ref), ascending powers
-//! scale_factor = [0.0, 0.0, 0.0]
+//! scale_factor = [0.0, 0.0, 0.0]              # 0.01 = +1 % on the true input
 //! flicker_tau_s = [1.0, 1000.0]               # where B is flat
-//! noise_scale = [[34.0, 1.0], [82.0, 1.13]]   # (°C, factor), interpolated
+//! noise_scale = [[34.0, 1.0], [82.0, 1.13]]   # (°C, factor) on Q, N, B and K; interpolated
 //!
-//! [accel]                 # SI: m/s²
+//! [accel]                 # m/s²: q m/s, n m/s/√s, b m/s², k m/s²/√s, r m/s³
 //! terms = [{ n = 4.6e-3 }, { n = 4.5e-3 }, { n = 7.2e-3 }]
 //! ```
 
@@ -172,8 +174,15 @@ impl GroupConfig {
                 "must be 0 < low ≤ high, in seconds",
             ));
         }
+        if let Some(p) = self.noise_scale.iter().find(|p| !p[0].is_finite()) {
+            return Err(bad(
+                format!("{group}.noise_scale"),
+                p[0],
+                "temperatures must be finite numbers of °C",
+            ));
+        }
         for (i, w) in self.noise_scale.windows(2).enumerate() {
-            if w[1][0] <= w[0][0] || w[1][0].is_nan() {
+            if w[1][0] <= w[0][0] {
                 return Err(bad(
                     format!("{group}.noise_scale[{}]", i + 1),
                     w[1][0],
@@ -220,6 +229,19 @@ impl SimConfig {
                 why: "the duration must be a positive number of seconds",
             });
         }
+        for (name, v) in [
+            ("t_ref_c", self.t_ref_c),
+            ("sensor.roll_deg", self.sensor.roll_deg),
+            ("sensor.pitch_deg", self.sensor.pitch_deg),
+        ] {
+            if !v.is_finite() {
+                return Err(SimError::InvalidParameter {
+                    name: name.into(),
+                    value: v,
+                    why: "must be a finite number",
+                });
+            }
+        }
         if !(self.sensor_lag_s.is_finite() && self.sensor_lag_s >= 0.0) {
             return Err(SimError::InvalidParameter {
                 name: "sensor_lag_s".into(),
@@ -249,5 +271,29 @@ impl SimConfig {
     /// Number of samples.
     pub fn samples(&self) -> u64 {
         (self.duration_s * self.rate_hz).round() as u64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_documented_example_is_a_valid_configuration() {
+        let source = include_str!("config.rs");
+        let start = source.find("//! ```toml\n").map(|i| i + 12).unwrap_or(0);
+        let end = start + source[start..].find("//! ```").unwrap_or(0);
+        let toml: String = source[start..end]
+            .lines()
+            .map(|l| l.trim_start_matches("//!").trim_start_matches(' '))
+            .collect::<Vec<_>>()
+            .join("\n");
+        let cfg = SimConfig::from_toml(&toml).unwrap();
+        assert_eq!(cfg.samples(), 360_000);
+        assert_eq!(cfg.gyro.terms[0].k, 5e-6);
+        assert_eq!(cfg.accel.bias[2], Vec::<f64>::new());
+        assert!((cfg.gyro.noise_factor(58.0) - 1.065).abs() < 1e-12);
+        assert_eq!(cfg.gyro.noise_factor(0.0), 1.0);
+        assert_eq!(cfg.gyro.noise_factor(100.0), 1.13);
     }
 }

@@ -2,28 +2,50 @@
 //!
 //! Six axes (accelerometer and gyroscope) of an MPU-9250-class sensor with
 //! the IEEE Std 952 error terms (quantization Q, white noise N, bias
-//! instability B, rate random walk K, rate ramp R; see [`terms`]), a bias
-//! that is a polynomial of temperature, noise that scales with temperature,
-//! scale-factor errors, gravity for a static orientation, the chip's 16-bit
-//! output quantization and clipping and its temperature sensor; the chamber
-//! temperature follows a [`thermal::Profile`] (constant, Newton cooling,
-//! ramp, heater steps, from a file) and the sensor lags it.
+//! instability B, rate random walk K, rate ramp R; see [`terms`] for their
+//! Allan variances), a bias that is a polynomial of temperature, noise that
+//! scales with temperature, scale-factor errors, gravity for a static
+//! orientation, the chip's 16-bit output quantization and clipping and its
+//! temperature sensor ([`sensor`]). The chamber temperature follows a
+//! [`thermal::Profile`] (constant with a fluctuation, Newton cooling, ramp,
+//! heater steps, a file) and the die lags it by a first-order time constant.
+//! Everything is configured by a [`SimConfig`] (TOML, see [`config`]) or a
+//! named preset ([`presets`]: `mpu9250-thesis`, calibrated to the thesis
+//! *Temperature Dependency of a Low-cost IMU*, and `white`).
 //!
-//! Reproducible: the same seed gives the same bytes; each axis draws from
-//! its own Xoshiro256++ stream. Streaming: memory does not grow with the
-//! duration when writing a log.
+//! Bias instability is a bank of Gauss–Markov processes ([`flicker`]) whose
+//! Allan deviation is flat within ±5 % over the configured τ range.
 //!
-//! **What it is not:** not a motion simulator (the sensor is static), and
-//! not a register-level chip (that is `mpu9250::sim`, which uses this
-//! generator).
+//! Reproducible: the same seed gives the same bytes; every term of every
+//! axis draws from its own Xoshiro256++ stream, so adding a term leaves the
+//! others' realisations unchanged. Streaming: a [`simulate::Generator`]
+//! holds O(1) state and hands out chunks of any size (the simulated chip
+//! pulls from one), and [`Simulator::write_log`] writes imutherm's log with
+//! every true parameter in its `true.*` metadata (listed in [`simulate`]),
+//! so an analysis can be checked against the truth.
+//!
+//! **What it is not:** not a motion simulator (the sensor is static: no
+//! trajectories, no Earth rotation, no vibration), not a register-level
+//! chip (that is `mpu9250::sim`, which uses this generator), and it does not
+//! print: the `imutherm simulate` command adds the progress bar and the
+//! messages.
 //!
 //! ```
-//! let mut cfg = imusim::presets::preset("white").unwrap();
+//! use imusim::{Simulator, presets};
+//!
+//! // Ten seconds of the thesis's MPU-9250 cooling from 100 °C.
+//! let mut cfg = presets::preset("mpu9250-thesis").unwrap();
 //! cfg.duration_s = 10.0;
-//! let sim = imusim::Simulator::new(cfg).unwrap();
-//! let rec = sim.recording(Some("white")).unwrap();
+//! cfg.profile = imusim::thermal::Profile::parse("cooling:100:20:1800").unwrap();
+//! let sim = Simulator::new(cfg).unwrap();
+//! let rec = sim.recording(Some("mpu9250-thesis")).unwrap();
 //! assert_eq!(rec.len(), 1000);
-//! assert_eq!(rec.meta.get("true.gyro_x.n"), Some("0.00015"));
+//! // The truth travels with the data, in SI (rad/√s for the gyro's N).
+//! let n: f64 = rec.meta.get("true.gyro_x.n").unwrap().parse().unwrap();
+//! assert!((n - 0.0084f64.to_radians()).abs() < 1e-12);
+//! // The die starts at the chamber's 100 °C, read by a 333.87 LSB/°C sensor.
+//! let temp = &rec.channel("temp").unwrap().data;
+//! assert!((temp[0] - 100.0).abs() < 1.0 / 333.87);
 //! ```
 
 mod error;
@@ -38,4 +60,4 @@ pub mod thermal;
 
 pub use config::SimConfig;
 pub use error::SimError;
-pub use simulate::Simulator;
+pub use simulate::{Chunk, Generator, Simulator};

@@ -1,5 +1,33 @@
 //! The generator: a recording sample by sample, in chunks, the six axes in
-//! parallel, each from its own random stream.
+//! parallel, each term of each axis from its own random stream.
+//!
+//! Per axis, a sample is
+//!
+//! ```text
+//! y = (1 + scale_factor)·input + bias(T) + R·t + s(T)·(n_Q + n_N + B·flicker) + walk_K
+//! ```
+//!
+//! then rounded to the full scale's LSB and clipped (the output stage);
+//! `input` is gravity for the static orientation (accelerometers) or zero
+//! (gyroscopes), `T` the die temperature, `bias` the configured polynomial,
+//! `s(T)` the noise factor, and the random walk's steps are scaled by
+//! `s(T)` as they are taken.
+//!
+//! ## The truth in the log's metadata
+//!
+//! | key | value |
+//! | --- | --- |
+//! | `seed`, `quantized`, `gyro_full_scale_dps`, `accel_full_scale_g` | the run |
+//! | `true.profile`, `true.sensor_lag_s`, `true.t_ref_c`, `true.orientation_deg` | temperature and attitude |
+//! | `true.{accel,gyro}.unit` | `m/s^2` or `rad/s`: the unit of every value below (times s^-½, s, … as the term needs) |
+//! | `true.{accel,gyro}.noise_scale` | `°C:factor` pairs, interpolated |
+//! | `true.{accel,gyro}.flicker_tau_s` | the τ range where bias instability is flat |
+//! | `true.{g}_{a}.q` `.n` `.b` `.k` `.r` | IEEE 952 Q, N, B, K, R at noise factor 1, SI |
+//! | `true.{g}_{a}.adev_floor` | 0.664·B, the flat Allan deviation of B |
+//! | `true.{g}_{a}.bias_poly` | bias coefficients in (T − t_ref), ascending powers, SI |
+//! | `true.{g}_{a}.scale_factor`, `true.{g}_{a}.input` | scale-factor error and true input (gravity) |
+//!
+//! `{g}_{a}` is `accel_x` … `gyro_z`, as the channels are named.
 
 use std::io::Write;
 
@@ -22,6 +50,10 @@ use crate::thermal::Thermal;
 /// small enough to stay in cache and to report progress often.
 pub const CHUNK: usize = 1 << 15;
 
+/// IEEE 952's flat Allan deviation of bias instability, per unit B:
+/// √(2 ln2/π) ≈ 0.664.
+pub const FLICKER_FLOOR: f64 = 0.664_282_629_657_927_7;
+
 /// One chunk of output: the seven columns of the log, from sample `start`.
 #[derive(Debug, Clone)]
 pub struct Chunk {
@@ -32,14 +64,26 @@ pub struct Chunk {
     pub columns: [Vec<f64>; 7],
     /// The die temperature before the temperature sensor's quantization.
     pub true_temperature: Vec<f64>,
+    /// The chamber's temperature, which the die's lags.
+    pub chamber_temperature: Vec<f64>,
+}
+
+/// The random streams of one axis, one per term, so that adding or
+/// removing a term leaves the others' realisations as they were.
+struct Streams {
+    white: Xoshiro256PlusPlus,
+    quantization: Xoshiro256PlusPlus,
+    flicker: Xoshiro256PlusPlus,
+    walk: Xoshiro256PlusPlus,
 }
 
 struct AxisState {
-    rng: Xoshiro256PlusPlus,
+    rng: Streams,
     terms: NoiseTerms,
     flicker: Option<FlickerBank>,
     walk: f64,
     previous_q: f64,
+    /// The true specific force or rate, before the scale-factor error.
     truth: f64,
     scale_factor: f64,
     group: usize, // 0 accel, 1 gyro
@@ -51,15 +95,17 @@ struct AxisState {
 #[derive(Debug, Clone)]
 pub struct Simulator {
     cfg: SimConfig,
+    /// The prepared profile (a file profile already read).
+    thermal: Thermal,
 }
 
 impl Simulator {
-    /// Checks the configuration.
+    /// Checks the configuration, and reads a file profile, so that a bad
+    /// one fails before any output.
     pub fn new(cfg: SimConfig) -> Result<Simulator, SimError> {
         cfg.validate()?;
-        // A file profile is read now, so a bad one fails before any output.
-        Thermal::new(&cfg.profile, 1.0 / cfg.rate_hz, cfg.sensor_lag_s)?;
-        Ok(Simulator { cfg })
+        let thermal = Thermal::new(&cfg.profile, 1.0 / cfg.rate_hz, cfg.sensor_lag_s)?;
+        Ok(Simulator { cfg, thermal })
     }
 
     /// The configuration.
@@ -68,11 +114,12 @@ impl Simulator {
     }
 
     fn group(&self, g: usize) -> &GroupConfig {
-        if g == 0 { &self.cfg.accel } else { &self.cfg.gyro }
+        group(&self.cfg, g)
     }
 
-    /// Every true parameter, as `true.*` metadata entries, so an analysis of
-    /// the output can be compared with what was put in.
+    /// Every true parameter, as `true.*` metadata entries (listed in the
+    /// module documentation), so an analysis of the output can be compared
+    /// with what was put in.
     pub fn metadata(&self, preset: Option<&str>) -> Metadata {
         let c = &self.cfg;
         let mut m = Metadata {
@@ -94,6 +141,7 @@ impl Simulator {
             "true.orientation_deg",
             format!("roll {} pitch {}", c.sensor.roll_deg, c.sensor.pitch_deg),
         );
+        let gravity = self.gravity();
         for (g, name, unit) in [(0, "accel", "m/s^2"), (1, "gyro", "rad/s")] {
             let gc = self.group(g);
             m.set(format!("true.{name}.unit"), unit);
@@ -115,29 +163,58 @@ impl Simulator {
                 m.set(key("b"), t.b.to_string());
                 m.set(key("k"), t.k.to_string());
                 m.set(key("r"), t.r.to_string());
+                m.set(key("adev_floor"), (FLICKER_FLOOR * t.b).to_string());
                 let poly: Vec<String> = gc.bias[i].iter().map(|v| v.to_string()).collect();
                 m.set(key("bias_poly"), poly.join(" "));
                 m.set(key("scale_factor"), gc.scale_factor[i].to_string());
+                let input = if g == 0 { gravity[i] } else { 0.0 };
+                m.set(key("input"), input.to_string());
             }
         }
         m
     }
 
-    fn axis_states(&self, base: &Xoshiro256PlusPlus) -> Vec<AxisState> {
+    fn gravity(&self) -> [f64; 3] {
+        let s = &self.cfg.sensor;
+        sensor::gravity(s.roll_deg.to_radians(), s.pitch_deg.to_radians())
+    }
+
+    /// A generator at the first sample: chunks on demand, without end (the
+    /// configured duration is for [`Simulator::run`] and the writers). The
+    /// simulated chip pulls its samples from one.
+    pub fn generator(&self) -> Generator {
         let c = &self.cfg;
         let tau0 = 1.0 / c.rate_hz;
-        let gravity = sensor::gravity(c.sensor.roll_deg.to_radians(), c.sensor.pitch_deg.to_radians());
-        let mut stream = base.clone();
-        (0..6)
+        let base = Xoshiro256PlusPlus::seed_from_u64(c.seed);
+        let gravity = self.gravity();
+        // The temperature draws from the seed's own stream. Axis k's white
+        // noise draws from that stream jumped k+1 times (2^128 steps each);
+        // its other terms from the stream long-jumped k+1 times (2^192
+        // steps each) and then jumped 0, 1, 2 times. No two ever overlap.
+        let mut white_base = base.clone();
+        let mut terms_base = base.clone();
+        let axes = (0..6)
             .map(|k| {
-                // Each axis draws from its own stream, 2^128 steps apart.
-                stream.jump();
-                let mut rng = stream.clone();
+                white_base.jump();
+                terms_base.long_jump();
+                let mut s = terms_base.clone();
+                let mut next = || {
+                    let r = s.clone();
+                    s.jump();
+                    r
+                };
+                let mut rng = Streams {
+                    white: white_base.clone(),
+                    quantization: next(),
+                    flicker: next(),
+                    walk: next(),
+                };
                 let (group, axis) = (k / 3, k % 3);
                 let g = self.group(group);
                 let terms = g.terms[axis];
-                let flicker = (terms.b > 0.0)
-                    .then(|| FlickerBank::new(tau0, g.flicker_tau_s[0], g.flicker_tau_s[1], &mut rng));
+                let flicker = (terms.b > 0.0).then(|| {
+                    FlickerBank::new(tau0, g.flicker_tau_s[0], g.flicker_tau_s[1], &mut rng.flicker)
+                });
                 let lsb = c.sensor.quantize.then(|| {
                     if group == 0 {
                         sensor::accel_lsb_si(c.sensor.accel_range_g)
@@ -158,91 +235,26 @@ impl Simulator {
                     lsb,
                 }
             })
-            .collect()
+            .collect();
+        Generator {
+            cfg: c.clone(),
+            thermal: self.thermal.clone(),
+            thermal_rng: base,
+            axes,
+            next: 0,
+        }
     }
 
-    /// Runs the simulation, handing each chunk to `sink` in order.
+    /// Runs the simulation for the configured duration, handing each chunk
+    /// to `sink` in order.
     pub fn run(&self, mut sink: impl FnMut(&Chunk) -> Result<(), SimError>) -> Result<(), SimError> {
-        let c = &self.cfg;
-        let tau0 = 1.0 / c.rate_hz;
-        let total = c.samples();
-        let base = Xoshiro256PlusPlus::seed_from_u64(c.seed);
-        let mut thermal_rng = base.clone();
-        let mut thermal = Thermal::new(&c.profile, tau0, c.sensor_lag_s)?;
-        let mut axes = self.axis_states(&base);
-        let mut start = 0u64;
-        while start < total {
-            let len = (total - start).min(CHUNK as u64) as usize;
-            let temps: Vec<f64> = (0..len).map(|_| thermal.next(&mut thermal_rng)).collect();
-            let mut cols: Vec<Vec<f64>> = axes
-                .par_iter_mut()
-                .map(|ax| self.fill(ax, start, &temps))
-                .collect();
-            cols.push(temps.iter().map(|&t| sensor::temperature_reading(t)).collect());
-            let columns: [Vec<f64>; 7] = match cols.try_into() {
-                Ok(a) => a,
-                Err(_) => unreachable!("six axes and the temperature"),
-            };
-            sink(&Chunk {
-                start,
-                columns,
-                true_temperature: temps,
-            })?;
-            start += len as u64;
+        let total = self.cfg.samples();
+        let mut generator = self.generator();
+        while generator.position() < total {
+            let len = (total - generator.position()).min(CHUNK as u64) as usize;
+            sink(&generator.next_chunk(len))?;
         }
         Ok(())
-    }
-
-    fn fill(&self, ax: &mut AxisState, start: u64, temps: &[f64]) -> Vec<f64> {
-        let c = &self.cfg;
-        let tau0 = 1.0 / c.rate_hz;
-        let g = self.group(ax.group);
-        let t = ax.terms;
-        let white = t.n / tau0.sqrt();
-        let step = t.k * tau0.sqrt();
-        temps
-            .iter()
-            .enumerate()
-            .map(|(i, &temp)| {
-                let s = g.noise_factor(temp);
-                let mut noise = 0.0;
-                let mut walk = 0.0;
-                if t.n > 0.0 {
-                    let w: f64 = StandardNormal.sample(&mut ax.rng);
-                    noise += white * w;
-                }
-                if t.q > 0.0 {
-                    let e: f64 = StandardNormal.sample(&mut ax.rng);
-                    noise += t.q * (e - ax.previous_q) / tau0;
-                    ax.previous_q = e;
-                }
-                if let Some(f) = &mut ax.flicker {
-                    noise += t.b * f.next(&mut ax.rng);
-                }
-                if t.k > 0.0 {
-                    // A sample is the average of the continuous walk over
-                    // its interval (as the sensor's filter averages): the
-                    // walk at the start, half the interval's step, and the
-                    // bridge's own spread of variance K²τ0/12. Point samples
-                    // of the walk would lift the ADEV at τ0 by half.
-                    let (w, xi): (f64, f64) = (
-                        StandardNormal.sample(&mut ax.rng),
-                        StandardNormal.sample(&mut ax.rng),
-                    );
-                    // The walk carries the temperature scaling of each step.
-                    let delta = s * step * w;
-                    walk = ax.walk + 0.5 * delta + s * step * xi / 12f64.sqrt();
-                    ax.walk += delta;
-                }
-                let time = (start + i as u64) as f64 * tau0;
-                let bias = g.bias_at(ax.axis, temp, c.t_ref_c) + t.r * time;
-                let value = (1.0 + ax.scale_factor) * (ax.truth + bias + s * noise + walk);
-                match ax.lsb {
-                    Some(lsb) => sensor::quantize(value, lsb),
-                    None => value,
-                }
-            })
-            .collect()
     }
 
     /// Writes imutherm's log, with every true parameter in its metadata.
@@ -310,8 +322,17 @@ impl Simulator {
 
     /// The whole recording in memory (for tests and short runs).
     pub fn recording(&self, preset: Option<&str>) -> Result<Recording, SimError> {
-        let n = self.cfg.samples() as usize;
-        let mut cols: Vec<Vec<f64>> = (0..7).map(|_| Vec::with_capacity(n)).collect();
+        let n = usize::try_from(self.cfg.samples()).unwrap_or(usize::MAX);
+        let mut cols: Vec<Vec<f64>> = Vec::with_capacity(7);
+        for _ in 0..7 {
+            let mut c = Vec::new();
+            c.try_reserve_exact(n).map_err(|_| {
+                SimError::Io(std::io::Error::other(format!(
+                    "{n} samples do not fit in memory: write them as a log instead"
+                )))
+            })?;
+            cols.push(c);
+        }
         self.run(|chunk| {
             for (dst, src) in cols.iter_mut().zip(&chunk.columns) {
                 dst.extend_from_slice(src);
@@ -336,4 +357,133 @@ impl Simulator {
             meta: self.metadata(preset),
         })
     }
+}
+
+fn group(cfg: &SimConfig, g: usize) -> &GroupConfig {
+    if g == 0 { &cfg.accel } else { &cfg.gyro }
+}
+
+/// The simulation's state: every random stream, the flicker banks, the
+/// random walks and the temperature, at some sample. Memory does not grow
+/// with the samples drawn.
+pub struct Generator {
+    cfg: SimConfig,
+    thermal: Thermal,
+    thermal_rng: Xoshiro256PlusPlus,
+    axes: Vec<AxisState>,
+    next: u64,
+}
+
+impl std::fmt::Debug for Generator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Generator")
+            .field("next", &self.next)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Generator {
+    /// Index of the next sample.
+    pub fn position(&self) -> u64 {
+        self.next
+    }
+
+    /// The next `len` samples.
+    pub fn next_chunk(&mut self, len: usize) -> Chunk {
+        let start = self.next;
+        let mut temps = Vec::with_capacity(len);
+        let mut chamber = Vec::with_capacity(len);
+        for _ in 0..len {
+            temps.push(self.thermal.next(&mut self.thermal_rng));
+            chamber.push(self.thermal.chamber());
+        }
+        let cfg = &self.cfg;
+        // Small chunks (a chip's FIFO read) are not worth the threads.
+        let mut cols: Vec<Vec<f64>> = if len >= 4096 {
+            self.axes
+                .par_iter_mut()
+                .map(|ax| fill(cfg, ax, start, &temps))
+                .collect()
+        } else {
+            self.axes
+                .iter_mut()
+                .map(|ax| fill(cfg, ax, start, &temps))
+                .collect()
+        };
+        cols.push(if cfg.sensor.quantize {
+            temps.iter().map(|&t| sensor::temperature_reading(t)).collect()
+        } else {
+            temps.clone()
+        });
+        let columns: [Vec<f64>; 7] = match cols.try_into() {
+            Ok(a) => a,
+            Err(_) => unreachable!("six axes and the temperature"),
+        };
+        self.next += len as u64;
+        Chunk {
+            start,
+            columns,
+            true_temperature: temps,
+            chamber_temperature: chamber,
+        }
+    }
+}
+
+/// The samples of one axis over a chunk: input × (1 + scale factor) + the
+/// bias polynomial at the die temperature + the rate ramp + the noise terms
+/// scaled by the noise factor at that temperature, then the output stage.
+fn fill(cfg: &SimConfig, ax: &mut AxisState, start: u64, temps: &[f64]) -> Vec<f64> {
+    let tau0 = 1.0 / cfg.rate_hz;
+    let g = group(cfg, ax.group);
+    let t = ax.terms;
+    let white = t.n / tau0.sqrt();
+    let step = t.k * tau0.sqrt();
+    let bridge = step / 12f64.sqrt();
+    let input = (1.0 + ax.scale_factor) * ax.truth;
+    let constant_scale = g.noise_scale.is_empty();
+    temps
+        .iter()
+        .enumerate()
+        .map(|(i, &temp)| {
+            let s = if constant_scale { 1.0 } else { g.noise_factor(temp) };
+            let mut noise = 0.0;
+            if t.n > 0.0 {
+                let w: f64 = StandardNormal.sample(&mut ax.rng.white);
+                noise += white * w;
+            }
+            if t.q > 0.0 {
+                // White phase (angle) noise of σ = Q, differenced into rate:
+                // Allan variance 3Q²/τ² at every τ.
+                let e: f64 = StandardNormal.sample(&mut ax.rng.quantization);
+                noise += t.q * (e - ax.previous_q) / tau0;
+                ax.previous_q = e;
+            }
+            if let Some(f) = &mut ax.flicker {
+                noise += t.b * f.next(&mut ax.rng.flicker);
+            }
+            let mut walk = 0.0;
+            if t.k > 0.0 {
+                // A sample is the average of the continuous walk over its
+                // interval (as the sensor's filter averages): the walk at
+                // the start, half the interval's step, and the bridge's own
+                // spread of variance K²τ0/12. Point samples of the walk
+                // would lift the ADEV at τ0 by half.
+                let (w, xi): (f64, f64) = (
+                    StandardNormal.sample(&mut ax.rng.walk),
+                    StandardNormal.sample(&mut ax.rng.walk),
+                );
+                // The walk carries the temperature scaling of each step.
+                let delta = s * step * w;
+                walk = ax.walk + 0.5 * delta + s * bridge * xi;
+                ax.walk += delta;
+            }
+            let time = (start + i as u64) as f64 * tau0;
+            let bias = g.bias_at(ax.axis, temp, cfg.t_ref_c) + t.r * time;
+            let value = input + bias + s * noise + walk;
+            match ax.lsb {
+                Some(lsb) => sensor::quantize(value, lsb),
+                None => value,
+            }
+        })
+        .collect()
 }

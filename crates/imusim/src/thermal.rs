@@ -258,10 +258,16 @@ impl Profile {
 pub struct Thermal {
     profile: Profile,
     table: Vec<(f64, f64)>,
+    /// Where the last lookup in `table` was: time only moves forward.
+    cursor: usize,
     tau0: f64,
     /// Chamber state where it has one (heater response, fluctuation).
     state: f64,
     fluctuation: f64,
+    /// Per-sample decay and kick of the fluctuation, or of the heater.
+    decay: f64,
+    kick: f64,
+    chamber: f64,
     /// The sensor's own temperature.
     sensor: f64,
     lag_decay: f64,
@@ -277,24 +283,42 @@ impl Thermal {
             Profile::File { path } => read_table(path)?,
             _ => Vec::new(),
         };
+        let (decay, kick) = match profile {
+            Profile::Constant {
+                fluctuation_c,
+                fluctuation_tau_s,
+                ..
+            } => {
+                let phi = (-tau0 / fluctuation_tau_s).exp();
+                (phi, fluctuation_c * (1.0 - phi * phi).sqrt())
+            }
+            Profile::Steps { heater_tau_s, .. } => ((-tau0 / heater_tau_s).exp(), 0.0),
+            _ => (0.0, 0.0),
+        };
         let mut t = Thermal {
             profile: profile.clone(),
             table,
+            cursor: 0,
             tau0,
             state: 0.0,
             fluctuation: 0.0,
+            decay,
+            kick,
+            chamber: 0.0,
             sensor: 0.0,
             lag_decay: if lag_s > 0.0 { (-tau0 / lag_s).exp() } else { 0.0 },
             step: 0,
         };
+        // Everything starts in equilibrium at the profile's first value.
         let start = t.chamber_mean(0.0);
         t.state = start;
+        t.chamber = start;
         t.sensor = start;
         Ok(t)
     }
 
     /// The chamber's deterministic temperature at time `t`.
-    fn chamber_mean(&self, t: f64) -> f64 {
+    fn chamber_mean(&mut self, t: f64) -> f64 {
         match &self.profile {
             Profile::Constant { temp_c, .. } => *temp_c,
             Profile::Cooling {
@@ -311,7 +335,7 @@ impl Thermal {
                 let i = ((t / hold_s) as usize).min(levels_c.len() - 1);
                 levels_c[i]
             }
-            Profile::File { .. } => interpolate(&self.table, t),
+            Profile::File { .. } => interpolate(&self.table, &mut self.cursor, t),
         }
     }
 
@@ -320,54 +344,62 @@ impl Thermal {
         let t = self.step as f64 * self.tau0;
         self.step += 1;
         let chamber = match &self.profile {
-            Profile::Constant {
-                fluctuation_c,
-                fluctuation_tau_s,
-                temp_c,
-            } => {
-                if *fluctuation_c > 0.0 {
-                    let phi = (-self.tau0 / fluctuation_tau_s).exp();
+            Profile::Constant { temp_c, .. } => {
+                if self.kick > 0.0 {
                     let w: f64 = StandardNormal.sample(rng);
-                    self.fluctuation = phi * self.fluctuation + fluctuation_c * (1.0 - phi * phi).sqrt() * w;
+                    self.fluctuation = self.decay * self.fluctuation + self.kick * w;
                 }
                 temp_c + self.fluctuation
             }
-            Profile::Steps { heater_tau_s, .. } => {
+            Profile::Steps { .. } => {
                 let target = self.chamber_mean(t);
-                let a = (-self.tau0 / heater_tau_s).exp();
-                self.state = target + (self.state - target) * a;
+                self.state = target + (self.state - target) * self.decay;
                 self.state
             }
             _ => self.chamber_mean(t),
         };
+        self.chamber = chamber;
         self.sensor = chamber + (self.sensor - chamber) * self.lag_decay;
         self.sensor
     }
+
+    /// The chamber's temperature at the last sample, °C.
+    pub fn chamber(&self) -> f64 {
+        self.chamber
+    }
 }
 
-fn interpolate(table: &[(f64, f64)], t: f64) -> f64 {
-    match table.iter().position(|&(ti, _)| ti > t) {
-        Some(0) => table[0].1,
-        Some(i) => {
+fn interpolate(table: &[(f64, f64)], cursor: &mut usize, t: f64) -> f64 {
+    // `cursor` is the first row later than the previous t; it only moves on.
+    while *cursor < table.len() && table[*cursor].0 <= t {
+        *cursor += 1;
+    }
+    match *cursor {
+        0 => table.first().map_or(0.0, |p| p.1),
+        i if i == table.len() => table.last().map_or(0.0, |p| p.1),
+        i => {
             let (t0, v0) = table[i - 1];
             let (t1, v1) = table[i];
             v0 + (v1 - v0) * (t - t0) / (t1 - t0)
         }
-        None => table.last().map_or(0.0, |p| p.1),
     }
 }
 
 fn read_table(path: &std::path::Path) -> Result<Vec<(f64, f64)>, SimError> {
-    let text =
-        std::fs::read_to_string(path).map_err(|e| SimError::Profile(format!("{}: {e}", path.display())))?;
-    let mut table = Vec::new();
-    for (i, line) in text.lines().enumerate() {
+    use std::io::BufRead;
+    let at = |line: usize, what: String| SimError::Profile(format!("{}:{line}: {what}", path.display()));
+    let file =
+        std::fs::File::open(path).map_err(|e| SimError::Profile(format!("{}: {e}", path.display())))?;
+    let mut table: Vec<(f64, f64)> = Vec::new();
+    let mut header_seen = false;
+    for (i, line) in std::io::BufReader::new(file).lines().enumerate() {
+        let line = line.map_err(|e| at(i + 1, e.to_string()))?;
         let l = line.trim();
         if l.is_empty() || l.starts_with('#') {
             continue;
         }
         let fields: Vec<&str> = l
-            .split(|c: char| c == ',' || c.is_whitespace())
+            .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
             .filter(|f| !f.is_empty())
             .collect();
         let parsed = match fields.as_slice() {
@@ -377,27 +409,20 @@ fn read_table(path: &std::path::Path) -> Result<Vec<(f64, f64)>, SimError> {
         match parsed {
             Some((t, v)) if t.is_finite() && v.is_finite() => {
                 if table.last().is_some_and(|&(tp, _)| t <= tp) {
-                    return Err(SimError::Profile(format!(
-                        "{}:{}: times must increase",
-                        path.display(),
-                        i + 1
-                    )));
+                    return Err(at(i + 1, format!("time {t} s does not increase")));
                 }
                 table.push((t, v));
             }
-            // A header line is allowed before the first row.
-            _ if table.is_empty() && i == 0 => {}
-            _ => {
-                return Err(SimError::Profile(format!(
-                    "{}:{}: expected 'time_s, temp_c', found '{l}'",
-                    path.display(),
-                    i + 1
-                )));
-            }
+            // One header line is allowed before the first row.
+            _ if table.is_empty() && !header_seen => header_seen = true,
+            _ => return Err(at(i + 1, format!("expected 'time_s, temp_c', found '{l}'"))),
         }
     }
     if table.is_empty() {
-        return Err(SimError::Profile(format!("{}: no rows", path.display())));
+        return Err(SimError::Profile(format!(
+            "{}: no rows of 'time_s, temp_c'",
+            path.display()
+        )));
     }
     Ok(table)
 }
