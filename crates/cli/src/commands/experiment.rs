@@ -90,19 +90,7 @@ impl PngDir {
 /// Annex C), and its ADEV minimum as a marker.
 fn guides(r: &Analysed, run: &str) -> (Vec<Asymptote>, Option<(f64, f64, String)>) {
     let u = &r.channel.unit;
-    let units = |t: Term| match (r.channel.quantity, t) {
-        (Quantity::AngularRate, Term::WhiteNoise) => "rad/√s".to_string(),
-        (Quantity::AngularRate, Term::BiasInstability) => "rad/s".to_string(),
-        (Quantity::AngularRate, Term::RateRandomWalk) => "rad/s/√s".to_string(),
-        (Quantity::Acceleration, Term::WhiteNoise) => "m/s/√s".to_string(),
-        (Quantity::Acceleration, Term::BiasInstability) => "m/s²".to_string(),
-        (Quantity::Acceleration, Term::RateRandomWalk) => "m/s²/√s".to_string(),
-        (_, Term::Quantization) => format!("{u}·s"),
-        (_, Term::RateRamp) => format!("{u}/s"),
-        (_, Term::WhiteNoise) => format!("{u}·√s"),
-        (_, Term::BiasInstability) => u.clone(),
-        (_, Term::RateRandomWalk) => format!("{u}/√s"),
-    };
+    let units = |t: Term| crate::commands::noise::si_unit(t, r.channel.quantity, u);
     let lines = Term::ALL
         .iter()
         .filter_map(|&t| {

@@ -32,6 +32,11 @@ enum Units {
 }
 
 /// The factor from the SI value of `term` to `units`, and the unit's label.
+/// The SI unit of `term` for a channel of `quantity` in `data_unit`.
+pub fn si_unit(term: Term, quantity: Quantity, data_unit: &str) -> String {
+    unit_of(term, quantity, data_unit, Units::Si).1
+}
+
 fn unit_of(term: Term, quantity: Quantity, data_unit: &str, units: Units) -> (f64, String) {
     let deg = 180.0 / PI;
     let ug = 1.0 / (STANDARD_GRAVITY * 1e-6);
