@@ -1,6 +1,6 @@
 //! The driver: generic over the bus, owns it (`new(bus)`, `release()`).
 
-use embedded_hal::i2c::I2c;
+use embedded_hal::i2c::{Error as _, ErrorKind, I2c, NoAcknowledgeSource};
 use embedded_hal::spi::{Operation, SpiDevice};
 
 use crate::config::Config;
@@ -18,6 +18,13 @@ pub trait Bus {
     /// the chip's I2C slave cannot misread SPI traffic.
     fn user_ctrl_bits(&self) -> u8 {
         0
+    }
+    /// Whether `error` proves the chip saw nothing of the transfer, so that
+    /// a FIFO read that failed with it took no byte out of the FIFO. Only an
+    /// I2C address NACK proves that; anything else (a NACK on data, a short
+    /// read, any SPI error) may have left the FIFO part-read.
+    fn nothing_transferred(_error: &Self::Error) -> bool {
+        false
     }
 }
 
@@ -54,6 +61,11 @@ impl<I: I2c> Bus for I2cBus<I> {
 
     fn read_regs(&mut self, reg: u8, buf: &mut [u8]) -> Result<(), Self::Error> {
         self.i2c.write_read(self.address, &[reg], buf)
+    }
+
+    fn nothing_transferred(error: &Self::Error) -> bool {
+        // Linux reports ENXIO this way: the address phase got no ACK.
+        error.kind() == ErrorKind::NoAcknowledge(NoAcknowledgeSource::Address)
     }
 }
 
@@ -144,6 +156,17 @@ pub enum FifoRead {
     /// (512 is not a multiple of 14, so frame alignment was lost) and the
     /// FIFO reset; the samples in between are lost.
     Overflow,
+    /// An earlier FIFO read failed part-way (or the count made no sense), so
+    /// frame alignment was unknown: the FIFO was reset, and the samples since
+    /// the last whole read are lost.
+    Resync,
+}
+
+/// Why the FIFO must be reset before it can be read again.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Pending {
+    Overflow,
+    Resync,
 }
 
 /// The driver.
@@ -153,6 +176,11 @@ pub struct Mpu9250<B> {
     chip: Chip,
     config: Config,
     scratch: Vec<u8>,
+    /// A reset owed: INT_STATUS clears on read, so an overflow seen in a
+    /// read that then failed must not be forgotten, and a data burst that
+    /// failed part-way leaves the FIFO misaligned.
+    pending: Option<Pending>,
+    fifo_level: usize,
 }
 
 impl<B: Bus> Mpu9250<B> {
@@ -171,6 +199,8 @@ impl<B: Bus> Mpu9250<B> {
             chip,
             config: Config::default(),
             scratch: Vec::with_capacity(regs::FIFO_BYTES),
+            pending: None,
+            fifo_level: 0,
         })
     }
 
@@ -187,6 +217,11 @@ impl<B: Bus> Mpu9250<B> {
     /// Gives the bus back.
     pub fn release(self) -> B {
         self.bus
+    }
+
+    /// Bytes the FIFO held at the last count read (0…512).
+    pub fn fifo_level(&self) -> usize {
+        self.fifo_level
     }
 
     /// The bus, without giving it up.
@@ -241,33 +276,62 @@ impl<B: Bus> Mpu9250<B> {
     /// Reads every whole frame in the FIFO into `out`, raw counts in
     /// register order (ACCEL_X..Z, TEMP, GYRO_X..Z). Never splits a frame:
     /// a partial frame stays in the FIFO for the next read.
+    ///
+    /// A bus error is returned as it is, and the call can simply be retried:
+    /// if the error may have taken bytes out of the FIFO (anything but an
+    /// address NACK), or came after the overflow flag was read (reading
+    /// clears it), the next call resets the FIFO and says why
+    /// ([`FifoRead::Resync`], [`FifoRead::Overflow`]) instead of decoding
+    /// misaligned bytes.
     pub fn read_fifo(&mut self, out: &mut Vec<[i16; 7]>) -> Result<FifoRead, Error<B::Error>> {
+        if let Some(cause) = self.pending {
+            return self.resync(cause);
+        }
         let mut status = [0u8];
         self.bus
             .read_regs(regs::INT_STATUS, &mut status)
             .map_err(Error::Bus)?;
         if status[0] & regs::FIFO_OFLOW_INT != 0 {
-            self.start_fifo()?;
-            return Ok(FifoRead::Overflow);
+            return self.resync(Pending::Overflow);
         }
         let mut count = [0u8; 2];
         self.bus
             .read_regs(regs::FIFO_COUNTH, &mut count)
             .map_err(Error::Bus)?;
         let bytes = (usize::from(count[0]) << 8 | usize::from(count[1])) & 0x1FFF;
+        self.fifo_level = bytes;
+        if bytes > regs::FIFO_BYTES {
+            // A corrupt count: nothing read under it could be trusted.
+            return self.resync(Pending::Resync);
+        }
         let frames = bytes / regs::FRAME_BYTES;
         if frames == 0 {
             return Ok(FifoRead::Frames(0));
         }
         self.scratch.resize(frames * regs::FRAME_BYTES, 0);
-        self.bus
-            .read_regs(regs::FIFO_R_W, &mut self.scratch)
-            .map_err(Error::Bus)?;
+        if let Err(e) = self.bus.read_regs(regs::FIFO_R_W, &mut self.scratch) {
+            if !B::nothing_transferred(&e) {
+                self.pending = Some(Pending::Resync);
+            }
+            return Err(Error::Bus(e));
+        }
         for f in self.scratch.chunks_exact(regs::FRAME_BYTES) {
             out.push(std::array::from_fn(|k| {
                 i16::from_be_bytes([f[2 * k], f[2 * k + 1]])
             }));
         }
         Ok(FifoRead::Frames(frames))
+    }
+
+    /// Resets the FIFO, remembering the cause until the reset is through.
+    fn resync(&mut self, cause: Pending) -> Result<FifoRead, Error<B::Error>> {
+        self.pending = Some(cause);
+        self.start_fifo()?;
+        self.pending = None;
+        self.fifo_level = 0;
+        Ok(match cause {
+            Pending::Overflow => FifoRead::Overflow,
+            Pending::Resync => FifoRead::Resync,
+        })
     }
 }

@@ -6,7 +6,9 @@
 //! SI units, quantized to the configured full scales; it holds 512 bytes and,
 //! with FIFO_MODE clear, drops its oldest bytes when full and raises
 //! FIFO_OFLOW_INT. An empty FIFO keeps returning its last byte, as the chip
-//! does. Bus errors can be injected at a given rate.
+//! does. Bus errors can be injected at a given rate: half of them an address
+//! NACK (nothing happens), half a transfer that breaks off part-way, which
+//! in a FIFO read loses the bytes already sent, as on a real bus.
 
 use std::collections::VecDeque;
 
@@ -25,13 +27,20 @@ pub const ADDRESS: u8 = 0x68;
 /// A failed transfer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SimError {
-    /// Nobody answered, or the transfer was cut (injected or a wrong address).
+    /// Nobody answered the address (injected, or a wrong address): the chip
+    /// saw nothing.
     Nack,
+    /// The transfer broke off part-way: the chip had already sent this many
+    /// bytes, and a FIFO read has lost them.
+    ShortRead(usize),
 }
 
 impl embedded_hal::i2c::Error for SimError {
     fn kind(&self) -> ErrorKind {
-        ErrorKind::NoAcknowledge(NoAcknowledgeSource::Address)
+        match self {
+            SimError::Nack => ErrorKind::NoAcknowledge(NoAcknowledgeSource::Address),
+            SimError::ShortRead(_) => ErrorKind::Other,
+        }
     }
 }
 
@@ -50,6 +59,8 @@ pub struct SimStats {
     pub overflows: u64,
     /// Transfers failed on purpose.
     pub injected_errors: u64,
+    /// Of those, FIFO reads broken off part-way (bytes lost).
+    pub short_reads: u64,
 }
 
 /// The simulated chip.
@@ -61,6 +72,7 @@ pub struct SimChip {
     next_time_s: f64,
     source: Source,
     error_rate: f64,
+    next_fifo_fault: Option<SimError>,
     rng: u64,
     stats: SimStats,
     who_am_i: u8,
@@ -90,6 +102,7 @@ impl SimChip {
             next_time_s: 0.0,
             source,
             error_rate: 0.0,
+            next_fifo_fault: None,
             rng: 0x2545_F491_4F6C_DD1D,
             stats: SimStats::default(),
             who_am_i: regs::ID_MPU9250,
@@ -110,6 +123,13 @@ impl SimChip {
     /// Changes the fraction of failed transfers.
     pub fn set_error_rate(&mut self, rate: f64) {
         self.error_rate = rate.clamp(0.0, 1.0);
+    }
+
+    /// Makes the next read of the FIFO data port fail with `fault`: a
+    /// [`SimError::Nack`] reads nothing, a [`SimError::ShortRead`] of n
+    /// bytes takes n bytes out of the FIFO first.
+    pub fn fail_next_fifo_read(&mut self, fault: SimError) {
+        self.next_fifo_fault = Some(fault);
     }
 
     /// Answers WHO_AM_I with `id` (0x73 an MPU-9255, 0x70 an MPU-6500…).
@@ -203,18 +223,51 @@ impl SimChip {
         self.time_s = end;
     }
 
+    fn uniform(&mut self) -> f64 {
+        self.rng ^= self.rng << 13;
+        self.rng ^= self.rng >> 7;
+        self.rng ^= self.rng << 17;
+        (self.rng >> 11) as f64 / (1u64 << 53) as f64
+    }
+
     fn inject(&mut self) -> bool {
         if self.error_rate <= 0.0 {
             return false;
         }
-        self.rng ^= self.rng << 13;
-        self.rng ^= self.rng >> 7;
-        self.rng ^= self.rng << 17;
-        let fail = ((self.rng >> 11) as f64 / (1u64 << 53) as f64) < self.error_rate;
+        let fail = self.uniform() < self.error_rate;
         if fail {
             self.stats.injected_errors += 1;
         }
         fail
+    }
+
+    /// The planned failure of a FIFO data read, if one is planned.
+    fn planned_fault(&mut self, reg: u8, len: usize) -> Option<SimError> {
+        if reg != regs::FIFO_R_W {
+            return None;
+        }
+        let fault = self.next_fifo_fault.take()?;
+        self.stats.injected_errors += 1;
+        if let SimError::ShortRead(n) = fault {
+            let mut lost = vec![0u8; n.min(len)];
+            self.read_regs(reg, &mut lost);
+            self.stats.short_reads += 1;
+        }
+        Some(fault)
+    }
+
+    /// An injected failure of a transfer that reads `len` bytes from `reg`:
+    /// an address NACK, or, half the time for a FIFO read, a read that
+    /// breaks off after 1…len−1 bytes have left the FIFO.
+    fn fail_read(&mut self, reg: u8, len: usize) -> SimError {
+        if reg == regs::FIFO_R_W && len > 1 && self.uniform() < 0.5 {
+            let sent = 1 + ((self.uniform() * (len - 1) as f64) as usize).min(len - 2);
+            let mut lost = vec![0u8; sent];
+            self.read_regs(reg, &mut lost);
+            self.stats.short_reads += 1;
+            return SimError::ShortRead(sent);
+        }
+        SimError::Nack
     }
 
     fn write_reg(&mut self, reg: u8, value: u8) {
@@ -280,8 +333,20 @@ impl embedded_hal::i2c::ErrorType for SimChip {
 
 impl I2c for SimChip {
     fn transaction(&mut self, address: u8, operations: &mut [Operation<'_>]) -> Result<(), SimError> {
-        if address != ADDRESS || self.inject() {
+        if address != ADDRESS {
             return Err(SimError::Nack);
+        }
+        if let [Operation::Write(w), Operation::Read(r)] = operations
+            && w.len() == 1
+            && let Some(fault) = self.planned_fault(w[0], r.len())
+        {
+            return Err(fault);
+        }
+        if self.inject() {
+            return Err(match operations {
+                [Operation::Write(w), Operation::Read(r)] if w.len() == 1 => self.fail_read(w[0], r.len()),
+                _ => SimError::Nack,
+            });
         }
         let mut reg = 0u8;
         for op in operations {
@@ -311,8 +376,20 @@ impl embedded_hal::spi::SpiDevice for SimChip {
         operations: &mut [embedded_hal::spi::Operation<'_, u8>],
     ) -> Result<(), SimError> {
         use embedded_hal::spi::Operation as Op;
+        if let [Op::Write(w), Op::Read(r)] = operations
+            && w.len() == 1
+            && w[0] & regs::SPI_READ != 0
+            && let Some(fault) = self.planned_fault(w[0] & !regs::SPI_READ, r.len())
+        {
+            return Err(fault);
+        }
         if self.inject() {
-            return Err(SimError::Nack);
+            return Err(match operations {
+                [Op::Write(w), Op::Read(r)] if w.len() == 1 && w[0] & regs::SPI_READ != 0 => {
+                    self.fail_read(w[0] & !regs::SPI_READ, r.len())
+                }
+                _ => SimError::Nack,
+            });
         }
         let mut reg = 0u8;
         let mut reading = false;

@@ -2,7 +2,7 @@
 
 use mpu9250::config::{AccelRange, Config, GyroRange};
 use mpu9250::driver::{Chip, Error, FifoRead, I2cBus, Mpu9250, SpiBus};
-use mpu9250::sim::{ADDRESS, SimChip};
+use mpu9250::sim::{ADDRESS, SimChip, SimError};
 
 /// Sample k reads k LSB on every axis and on the temperature: a frame whose
 /// seven fields differ was decoded from misaligned bytes.
@@ -112,10 +112,62 @@ fn an_overflow_is_reported_and_the_stream_resumes_aligned() {
     assert_eq!(imu.bus_mut().inner_mut().stats().overflows, 1);
 }
 
+/// Reads 2000 samples at 200 Hz through a bus failing 1 % of transfers,
+/// retrying every error, and checks that every frame is whole and that the
+/// stream jumps only where the driver reported a resynchronisation.
+fn read_through_faults<B: mpu9250::driver::Bus>(
+    mut imu: Mpu9250<B>,
+    chip: fn(&mut Mpu9250<B>) -> &mut SimChip,
+) -> (usize, usize) {
+    let mut frames: Vec<[i16; 7]> = Vec::new();
+    let (mut errors, mut resyncs) = (0, 0);
+    let mut jumps_allowed_at = Vec::new();
+    for _ in 0..400 {
+        chip(&mut imu).advance(0.025);
+        loop {
+            match imu.read_fifo(&mut frames) {
+                Ok(FifoRead::Frames(_)) => break,
+                Ok(FifoRead::Resync) => {
+                    resyncs += 1;
+                    jumps_allowed_at.push(frames.len());
+                }
+                Ok(FifoRead::Overflow) => panic!("no overflow at 40 reads a second"),
+                Err(Error::Bus(_)) => errors += 1,
+                Err(e) => panic!("{e}"),
+            }
+        }
+    }
+    assert!(errors > 0, "1 % of a few thousand transfers");
+    for f in &frames {
+        assert!(f.iter().all(|&v| v == f[0]), "misaligned frame {f:?}");
+    }
+    for (i, w) in frames.windows(2).enumerate() {
+        if w[1][0] != w[0][0] + 1 {
+            assert!(
+                jumps_allowed_at.contains(&(i + 1)),
+                "samples {}..{} lost without a resync",
+                w[0][0] + 1,
+                w[1][0]
+            );
+        }
+    }
+    let stats = chip(&mut imu).stats();
+    // Each short read of the FIFO cost one resync; address NACKs cost none.
+    assert_eq!(resyncs as u64, stats.short_reads, "{stats:?}");
+    // Every sample produced was read, or lost in a resync, or still waits.
+    let lost: u64 = frames
+        .windows(2)
+        .map(|w| (w[1][0] - w[0][0] - 1) as u64)
+        .sum::<u64>()
+        + frames[0][0] as u64;
+    assert!(lost + frames.len() as u64 <= stats.samples);
+    (errors, resyncs)
+}
+
 #[test]
-fn injected_bus_errors_are_errors_and_retries_lose_nothing() {
+fn injected_bus_errors_are_retried_and_part_reads_resynchronise() {
     let cfg = Config::default();
-    let mut imu = loop {
+    let imu = loop {
         // Probing and configuring may meet an injected error too: retry.
         let Ok(mut imu) = Mpu9250::new(I2cBus::new(counting(cfg).with_error_rate(0.01), ADDRESS)) else {
             continue;
@@ -124,23 +176,108 @@ fn injected_bus_errors_are_errors_and_retries_lose_nothing() {
             break imu;
         }
     };
+    let (errors, _) = read_through_faults(imu, |imu| imu.bus_mut().inner_mut());
+    assert!(errors > 5);
+}
+
+#[test]
+fn a_nack_loses_nothing_but_a_part_read_costs_a_resync() {
+    let cfg = Config::default();
+    let mut imu = Mpu9250::new(I2cBus::new(counting(cfg), ADDRESS)).unwrap();
+    imu.configure(cfg).unwrap();
     let mut frames = Vec::new();
-    let mut errors = 0;
-    for _ in 0..400 {
-        imu.bus_mut().inner_mut().advance(0.025);
-        loop {
-            match imu.read_fifo(&mut frames) {
-                Ok(_) => break,
-                Err(Error::Bus(_)) => errors += 1,
-                Err(e) => panic!("{e}"),
+    fn chip(imu: &mut Mpu9250<I2cBus<SimChip>>) -> &mut SimChip {
+        imu.bus_mut().inner_mut()
+    }
+    // An address NACK on the data read: nothing left the FIFO, so the
+    // retry reads on as if nothing happened.
+    chip(&mut imu).advance(0.1);
+    chip(&mut imu).fail_next_fifo_read(SimError::Nack);
+    assert!(imu.read_fifo(&mut frames).is_err());
+    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(20));
+    assert!(frames.iter().enumerate().all(|(k, f)| *f == [k as i16; 7]));
+    // A read broken off after 30 bytes (two frames and two bytes).
+    chip(&mut imu).advance(0.1);
+    chip(&mut imu).fail_next_fifo_read(SimError::ShortRead(30));
+    assert!(imu.read_fifo(&mut frames).is_err());
+    // The FIFO is part-read: the driver resets it rather than decode it.
+    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Resync);
+    assert_eq!(chip(&mut imu).fifo_len(), 0);
+    chip(&mut imu).advance(0.05);
+    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(10));
+    // Samples 20..40 were lost with the FIFO; the stream resumes at 40.
+    assert_eq!(frames.len(), 30);
+    assert_eq!(frames[20], [40; 7]);
+}
+
+/// The simulated chip on I2C, with the `fail`-th transfer from now (1 =
+/// the next) failing before it reaches the chip.
+struct FailNth {
+    bus: I2cBus<SimChip>,
+    fail: u32,
+}
+
+impl FailNth {
+    fn tick(&mut self) -> Result<(), ()> {
+        match self.fail {
+            0 => Ok(()),
+            1 => {
+                self.fail = 0;
+                Err(())
+            }
+            _ => {
+                self.fail -= 1;
+                Ok(())
             }
         }
     }
-    assert!(errors > 0, "1 % of a few thousand transfers");
-    assert_eq!(frames.len(), 2000);
-    assert!(frames.iter().enumerate().all(|(k, f)| f[0] == k as i16));
-    // Every error the chip injected after configuration surfaced as one.
-    assert!(imu.bus_mut().inner_mut().stats().injected_errors as usize >= errors);
+}
+
+impl mpu9250::driver::Bus for FailNth {
+    type Error = ();
+    fn write_reg(&mut self, reg: u8, value: u8) -> Result<(), ()> {
+        self.tick()?;
+        self.bus.write_reg(reg, value).map_err(|_| ())
+    }
+    fn read_regs(&mut self, reg: u8, buf: &mut [u8]) -> Result<(), ()> {
+        self.tick()?;
+        self.bus.read_regs(reg, buf).map_err(|_| ())
+    }
+}
+
+#[test]
+fn an_overflow_is_never_forgotten_whichever_transfer_fails() {
+    // The overflow read clears INT_STATUS; the reset that follows takes four
+    // more transfers. Fail each of the five in turn.
+    for n in 1..=5 {
+        let cfg = Config::default();
+        let bus = FailNth {
+            bus: I2cBus::new(counting(cfg), ADDRESS),
+            fail: 0,
+        };
+        let mut imu = Mpu9250::new(bus).unwrap();
+        imu.configure(cfg).unwrap();
+        imu.bus_mut().bus.inner_mut().advance(1.0);
+        imu.bus_mut().fail = n;
+        let mut frames = Vec::new();
+        assert!(imu.read_fifo(&mut frames).is_err(), "transfer {n}");
+        assert_eq!(
+            imu.read_fifo(&mut frames).unwrap(),
+            FifoRead::Overflow,
+            "transfer {n}"
+        );
+        assert!(frames.is_empty());
+        imu.bus_mut().bus.inner_mut().advance(0.05);
+        assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(10));
+        let first = frames[0][0];
+        assert!(
+            frames
+                .iter()
+                .enumerate()
+                .all(|(i, f)| *f == [first + i as i16; 7]),
+            "transfer {n}"
+        );
+    }
 }
 
 #[test]
