@@ -33,3 +33,4 @@ pub mod config;
 pub mod driver;
 pub mod regs;
 pub mod sim;
+pub mod stream_clock;
