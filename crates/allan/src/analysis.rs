@@ -5,9 +5,9 @@ use rayon::prelude::*;
 
 use crate::confidence::chi2_interval;
 use crate::edf::edf_for;
-use crate::noise_id::{self, NoiseIdMethod};
+use crate::noise_id::{self, NoiseId, NoiseIdMethod};
 use crate::phase::PhaseSeries;
-use crate::stats;
+use crate::stats::{self, Estimate};
 use crate::taus::{self, TauSpec};
 use crate::{AllanError, DataType, Stat};
 
@@ -148,7 +148,7 @@ pub fn analyze_series(series: &PhaseSeries, opts: &Options) -> Result<Vec<Point>
     let n_valid = n_phase.saturating_sub(series.nan_samples() - series.trimmed_samples());
 
     let estimates = stats::compute_many(stat, series, &ms);
-    let points: Vec<Point> = ms
+    let found: Vec<(usize, Estimate, NoiseId)> = ms
         .par_iter()
         .zip(estimates)
         .filter_map(|(&m, est)| {
@@ -156,16 +156,24 @@ pub fn analyze_series(series: &PhaseSeries, opts: &Options) -> Result<Vec<Point>
             if est.n < MIN_TERMS || !est.dev.is_finite() {
                 return None;
             }
-            let id = noise_id::identify(clean, m, stat);
-            let (alpha, edf) = match edf_for(stat, id.alpha, m, n_valid) {
-                Some(e) if e.is_finite() && e > 0.0 => (id.alpha, e),
+            Some((m, est, noise_id::identify(clean, m, stat)))
+        })
+        .collect();
+    let mut ids: Vec<NoiseId> = found.iter().map(|f| f.2).collect();
+    noise_id::cap_by_shorter_tau(&mut ids);
+    let points: Vec<Point> = found
+        .iter()
+        .zip(ids)
+        .map(|(&(m, ref est, _), id)| {
+            let edf = match edf_for(stat, id.alpha, m, n_valid) {
+                Some(e) if e.is_finite() && e > 0.0 => e,
                 // Outside the EDF model's range (a noise steeper than the
                 // statistic can converge on): fall back to the number of
                 // terms, which is the white-noise, non-overlapped bound.
-                _ => (id.alpha, est.n as f64),
+                _ => est.n as f64,
             };
             let (dev_lo, dev_hi) = chi2_interval(est.dev, edf, opts.confidence);
-            Some(Point {
+            Point {
                 tau: taus::tau_of(stat, m, tau0),
                 m,
                 dev: est.dev,
@@ -173,9 +181,9 @@ pub fn analyze_series(series: &PhaseSeries, opts: &Options) -> Result<Vec<Point>
                 edf,
                 dev_lo,
                 dev_hi,
-                alpha,
+                alpha: id.alpha,
                 noise_id: id.method,
-            })
+            }
         })
         .collect();
     if points.is_empty() {

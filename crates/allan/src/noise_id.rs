@@ -61,6 +61,9 @@ pub enum NoiseIdMethod {
     /// Not identified: the data were too short or degenerate, and α was
     /// assumed (see [`DEFAULT_ALPHA`]) or given by the caller.
     Assumed,
+    /// B1 or the assumption gave an α above the one the lag-1 ACF found at
+    /// a shorter τ, and was lowered to it (see [`cap_by_shorter_tau`]).
+    Capped,
 }
 
 impl NoiseIdMethod {
@@ -70,6 +73,7 @@ impl NoiseIdMethod {
             NoiseIdMethod::Lag1Acf => "acf",
             NoiseIdMethod::B1Ratio => "b1",
             NoiseIdMethod::Assumed => "assumed",
+            NoiseIdMethod::Capped => "capped",
         }
     }
 }
@@ -115,6 +119,36 @@ impl NoiseId {
             differences: None,
             b1: None,
             rn: None,
+        }
+    }
+}
+
+/// Lowers, in a curve's identifications (ascending m), every α that rests on
+/// few points (B1 or assumed) to the α the lag-1 ACF found at the largest
+/// shorter τ, when it is above it.
+///
+/// Why: the rate noise is a sum of power laws S_y(f) = Σ h_α f^α, so the
+/// dominant α can only fall as τ grows (lower frequencies belong to the
+/// steeper terms). The ACF method, with ≥ 30 points, is reliable; B1 with
+/// 4…29 averages is not, and when it errs upwards at the longest τ (white
+/// FM read as flicker PM, say) the EDF of the Allan family rises several
+/// fold and the interval shrinks accordingly: white noise at m = N/8 gets
+/// an interval a third as wide as it should. Capping keeps B1 where it is
+/// consistent with the curve and makes the interval conservative where it
+/// is not. Stable32 and AllanTools report the uncapped B1 value.
+pub fn cap_by_shorter_tau(ids: &mut [NoiseId]) {
+    let mut ceiling: Option<i32> = None;
+    for id in ids.iter_mut() {
+        match id.method {
+            NoiseIdMethod::Lag1Acf => ceiling = Some(id.alpha),
+            NoiseIdMethod::B1Ratio | NoiseIdMethod::Assumed | NoiseIdMethod::Capped => {
+                if let Some(c) = ceiling
+                    && id.alpha > c
+                {
+                    id.alpha = c;
+                    id.method = NoiseIdMethod::Capped;
+                }
+            }
         }
     }
 }
@@ -360,6 +394,36 @@ fn modified_to_allan_ratio(x: &[f64], m: usize) -> Option<f64> {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    #[test]
+    fn few_point_readings_never_rise_above_the_acf_at_shorter_tau() {
+        let id = |alpha, method| NoiseId {
+            method,
+            ..NoiseId::assumed(alpha)
+        };
+        use NoiseIdMethod::{Assumed, B1Ratio, Lag1Acf};
+        let mut ids = [
+            id(2, B1Ratio), // nothing shorter to go by: kept
+            id(0, Lag1Acf),
+            id(-1, Lag1Acf),
+            id(1, B1Ratio),  // above −1: capped
+            id(-2, B1Ratio), // below: kept
+            id(0, Assumed),  // above −1 (the last ACF): capped
+        ];
+        cap_by_shorter_tau(&mut ids);
+        let got: Vec<(i32, &str)> = ids.iter().map(|i| (i.alpha, i.method.name())).collect();
+        assert_eq!(
+            got,
+            [
+                (2, "b1"),
+                (0, "acf"),
+                (-1, "acf"),
+                (-1, "capped"),
+                (-2, "b1"),
+                (-1, "capped")
+            ]
+        );
+    }
 
     /// The NBS14 1000-point rate set: LCG n0 = 1234567890,
     /// n' = 16807·n mod (2³¹ − 1), y = n/(2³¹ − 1) (NIST SP 1065 test data).

@@ -240,3 +240,40 @@ fn blocked_sweep_equals_tau_by_tau() {
         }
     }
 }
+
+/// Coverage of the 95 % interval at the τ where noise identification has
+/// few points: white FM of 2000 samples, 400 seeds, at m = 128 and 256
+/// (15 and 7 averages, so B1 decides). The true ADEV is σ/√m. An interval
+/// built on a noise type misread upwards (B1 taking white FM for a PM
+/// noise) is several times too narrow and misses far more than 5 %.
+#[test]
+fn intervals_keep_their_coverage_where_b1_identifies_the_noise() {
+    let seeds = 400;
+    let mut missed = [0usize; 2];
+    let mut capped = 0;
+    for seed in 0..seeds {
+        let y = Gauss::series(1000 + seed, 2000, 1.0);
+        let c = analyze(
+            &y,
+            &Options {
+                confidence: 0.95,
+                taus: TauSpec::List(vec![1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0, 256.0]),
+                ..Options::default()
+            },
+        )
+        .unwrap();
+        for (k, m) in [128usize, 256].into_iter().enumerate() {
+            let p = c.points.iter().find(|p| p.m == m).unwrap();
+            let truth = 1.0 / (m as f64).sqrt();
+            if !(p.dev_lo < truth && truth < p.dev_hi) {
+                missed[k] += 1;
+            }
+            capped += usize::from(p.noise_id == allan::NoiseIdMethod::Capped);
+        }
+    }
+    eprintln!("missed at m = 128, 256: {missed:?} of {seeds}; {capped} capped");
+    // Binomial(400, 0.05): mean 20, sd 4.4; 38 is 4 sd above.
+    for (k, miss) in missed.into_iter().enumerate() {
+        assert!(miss <= 38, "m = {}: {miss} of {seeds} missed", [128, 256][k]);
+    }
+}
