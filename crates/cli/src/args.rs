@@ -71,10 +71,14 @@ Examples:
 
 Devices: i2c:/dev/i2c-1[@0x68] (≤ 400 kHz: below 500 Hz only on a Pi 3), spi:/dev/spidev0.0
 (1 MHz, mode 0), or sim[:PRESET] (a register-level simulated chip fed by the simulator;
-presets mpu9250-thesis, white).
+presets mpu9250-thesis, white, and counter: sample k reads k LSB on every field).
+--duration counts samples: 10s at 200 Hz is 2000 rows, gaps included.
 Ctrl-C or SIGTERM stops cleanly: every sample read is written, the file ends with a
-complete line and a trailer of what was lost. Lost stretches (FIFO overflows, failed
-reads) are written as rows of nan, which every imutherm reader treats as gaps.";
+complete line and a trailer (# trailer: samples=… gap_samples=… overflows=… bus_errors=…
+rate_measured_hz=…). A lost stretch (FIFO overflow, a read broken off, a stalled sensor)
+is a '# gap:' line with its size and cause followed by that many rows of nan, which every
+imutherm reader treats as gaps; its size is estimated from host time to ±1 sample.
+Status: a line on stderr, redrawn every second on a terminal, once a minute otherwise.";
 
 #[derive(Debug, Args)]
 pub struct RecordArgs {
@@ -106,6 +110,12 @@ pub struct RecordArgs {
     #[arg(long, short = 'o', value_name = "FILE")]
     pub output: PathBuf,
 
+    /// Add a column host_time[s]: the Unix time at which the host read each
+    /// sample, less its age in the FIFO (readers keep it as a channel and
+    /// never use it as the time axis unless named with --time-column).
+    #[arg(long)]
+    pub host_time: bool,
+
     /// Simulated device only: fail this fraction of bus transfers (0.01 = 1 %).
     #[arg(long, default_value_t = 0.0, value_name = "RATE")]
     pub sim_bus_errors: f64,
@@ -114,6 +124,12 @@ pub struct RecordArgs {
     /// seconds, as a slow host would, so that the FIFO overflows.
     #[arg(long, value_name = "S")]
     pub sim_stall_every: Option<f64>,
+
+    /// Simulated device only: the chip's clock error, ppm (a real
+    /// MPU-9250's oscillator is off by up to a few percent), which the
+    /// logger measures and reports as rate_measured_hz.
+    #[arg(long, default_value_t = 0.0, value_name = "PPM", allow_hyphen_values = true)]
+    pub sim_clock_ppm: f64,
 }
 
 #[derive(Debug, Args)]

@@ -37,24 +37,41 @@ fn ten_seconds_at_200_hz_are_2000_samples_with_the_configured_noise() {
     let r = rows(&out);
     assert!((1999..=2001).contains(&r.len()), "{} samples", r.len());
     // Gyro x: white noise of N = 1.5e-4 rad/√s (the preset), so the ADEV
-    // at τ0 = 5 ms is N/√τ0 = 2.12e-3 rad/s, plus the ±250 °/s quantization.
+    // at τ0 = 5 ms is N/√τ0 = 2.12e-3 rad/s, plus the ±250 °/s LSB's
+    // rounding, whose variance LSB²/12 adds to the Allan variance at τ0.
     let gx: Vec<f64> = r.iter().map(|row| row[3]).collect();
-    let curve = allan::analyze(
-        &gx,
-        &allan::Options {
-            rate_hz: 200.0,
-            ..allan::Options::default()
-        },
-    )
-    .unwrap();
+    // One test over all octave τ at a 95 % family level (Bonferroni: each
+    // point at 1 − 0.05/points).
+    let curve = |confidence| {
+        allan::analyze(
+            &gx,
+            &allan::Options {
+                rate_hz: 200.0,
+                confidence,
+                ..allan::Options::default()
+            },
+        )
+        .unwrap()
+    };
+    let curve = curve(1.0 - 0.05 / curve(0.95).points.len() as f64);
     let lsb = std::f64::consts::PI / 180.0 / 131.0;
-    let want = ((1.5e-4f64).powi(2) * 200.0 + lsb * lsb / 6.0).sqrt();
-    let p = &curve.points[0];
-    assert!(
-        p.dev_lo * 0.97 < want && want < p.dev_hi * 1.03,
-        "{} vs {want}",
-        p.dev
-    );
+    let want = ((1.5e-4f64).powi(2) * 200.0 + lsb * lsb / 12.0).sqrt();
+    // At every octave τ the white-noise line N/√τ lies in the 95 % interval.
+    for p in &curve.points {
+        let want = if p.tau == 0.005 {
+            want
+        } else {
+            1.5e-4 / p.tau.sqrt()
+        };
+        assert!(
+            p.dev_lo < want && want < p.dev_hi,
+            "τ {} s: {} [{}, {}] vs {want}",
+            p.tau,
+            p.dev,
+            p.dev_lo,
+            p.dev_hi
+        );
+    }
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(text.contains("# trailer: samples=") && text.contains("stopped_by=duration"));
 }
@@ -172,6 +189,113 @@ fn bus_errors_and_overflows_are_counted_and_marked_as_gaps() {
         r.iter()
             .all(|row| row.iter().all(|v| v.is_nan()) || row.iter().all(|v| v.is_finite()))
     );
+    // Each gap is announced with its size.
+    let announced: u64 = text
+        .lines()
+        .filter_map(|l| l.strip_prefix("# gap: "))
+        .map(|l| l.split(' ').next().unwrap().parse::<u64>().unwrap())
+        .sum();
+    assert_eq!(announced, field("gap_samples"));
+}
+
+/// The `counter` signal: sample k reads k LSB on all seven fields. Decodes
+/// a row back to k, or `None` for a gap row; panics on a row whose fields
+/// disagree (a frame decoded from misaligned bytes).
+fn counter_index(row: &[f64]) -> Option<i64> {
+    if row[..7].iter().all(|v| v.is_nan()) {
+        return None;
+    }
+    let (a, g) = (9.80665 / 16384.0, std::f64::consts::PI / 180.0 / 131.0);
+    let k: Vec<f64> = (0..3)
+        .map(|i| row[i] / a)
+        .chain((3..6).map(|i| row[i] / g))
+        .chain(std::iter::once((row[6] - 21.0) * 333.87))
+        .collect();
+    let k0 = k[0].round();
+    assert!(k.iter().all(|v| (v - k0).abs() < 1e-3), "misaligned frame: {k:?}");
+    Some(k0 as i64)
+}
+
+#[test]
+fn a_recognisable_stream_stays_aligned_and_every_gap_is_sized_to_one_sample() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("counter.txt");
+    // A chip 1 % fast, a host that stalls for 0.5 s every 6 s (FIFO
+    // overflows) and a bus failing 1 % of transfers (part reads resync).
+    Command::cargo_bin("imutherm")
+        .unwrap()
+        .args([
+            "record",
+            "--device",
+            "sim:counter",
+            "--rate",
+            "200",
+            "--duration",
+            "14s",
+            "--sim-bus-errors",
+            "0.01",
+            "--sim-stall-every",
+            "6",
+            "--sim-clock-ppm",
+            "10000",
+            "--host-time",
+            "-o",
+        ])
+        .arg(&out)
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("temp[degC], host_time[s]\n"));
+    let r = rows(&out);
+    assert_eq!(r.len(), 2800);
+    let mut previous: Option<(usize, i64)> = None;
+    let (mut gaps, mut worst) = (0, 0i64);
+    for (pos, row) in r.iter().enumerate() {
+        let Some(k) = counter_index(row) else {
+            assert!(row[7].is_nan(), "a gap row has no host time");
+            continue;
+        };
+        // Rows between two samples must number the samples between them.
+        let (p, pk) = previous.unwrap_or((usize::MAX, -1));
+        let rows_between = pos.wrapping_sub(p.wrapping_add(0)) as i64 - 1;
+        let rows_between = if p == usize::MAX { pos as i64 } else { rows_between };
+        let missing = k - pk - 1;
+        if missing != 0 || rows_between != 0 {
+            gaps += 1;
+            worst = worst.max((missing - rows_between).abs());
+            assert!(
+                (missing - rows_between).abs() <= 1,
+                "row {pos}: {missing} samples missing, {rows_between} gap rows"
+            );
+        }
+        assert!(missing >= 0, "row {pos}: sample {k} after {pk}");
+        previous = Some((pos, k));
+    }
+    let trailer = text.lines().find(|l| l.starts_with("# trailer:")).unwrap();
+    let field = |key: &str| -> f64 {
+        trailer
+            .split_whitespace()
+            .find_map(|f| f.strip_prefix(&format!("{key}=")))
+            .and_then(|v| v.parse().ok())
+            .unwrap()
+    };
+    assert!(field("overflows") >= 2.0, "{trailer}");
+    assert!(
+        gaps as f64 >= field("gaps") - 1.0 && gaps >= 2,
+        "{gaps} gaps seen; {trailer}"
+    );
+    // The chip's clock is 1 % fast and the logger says so.
+    let measured = field("rate_measured_hz");
+    assert!((measured / 202.0 - 1.0).abs() < 2e-3, "{trailer}");
+    // Host times: increasing over the file, at the measured rate.
+    let host: Vec<f64> = r.iter().map(|row| row[7]).filter(|t| t.is_finite()).collect();
+    let span = host.last().unwrap() - host[0];
+    assert!((span * 202.0 / 2800.0 - 1.0).abs() < 0.01, "{span} s");
+    assert!(
+        host.windows(2).all(|w| w[1] > w[0] - 0.003),
+        "host time runs backwards"
+    );
+    eprintln!("{gaps} gaps, worst size error {worst} sample(s); {trailer}");
 }
 
 #[test]

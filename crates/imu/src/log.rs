@@ -48,12 +48,27 @@ pub struct LogWriter<W: Write> {
     out: W,
     line: Vec<u8>,
     rows: u64,
+    extra: usize,
+    full: Vec<f64>,
 }
 
 impl<W: Write> LogWriter<W> {
     /// Starts a log: metadata (imutherm format only) and the header.
     /// `rate_hz` goes into the metadata as `sample_rate_hz`.
-    pub fn new(mut out: W, format: LogFormat, meta: &Metadata, rate_hz: Option<f64>) -> io::Result<Self> {
+    pub fn new(out: W, format: LogFormat, meta: &Metadata, rate_hz: Option<f64>) -> io::Result<Self> {
+        Self::with_columns(out, format, meta, rate_hz, &[])
+    }
+
+    /// [`LogWriter::new`] with more columns after the seven of the thesis
+    /// (headers such as `host_time[s]`), written by
+    /// [`LogWriter::write_row_with`].
+    pub fn with_columns(
+        mut out: W,
+        format: LogFormat,
+        meta: &Metadata,
+        rate_hz: Option<f64>,
+        extra: &[&str],
+    ) -> io::Result<Self> {
         if format == LogFormat::Imutherm {
             writeln!(out, "# format: {IMUTHERM_FORMAT}")?;
             if let Some(r) = rate_hz {
@@ -72,20 +87,47 @@ impl<W: Write> LogWriter<W> {
                 }
             }
         }
-        writeln!(out, "{THESIS_HEADER}")?;
+        write!(out, "{THESIS_HEADER}")?;
+        for h in extra {
+            write!(out, ", {}", one_line(h).replace(',', "_"))?;
+        }
+        writeln!(out)?;
         Ok(LogWriter {
             out,
             line: Vec::with_capacity(192),
             rows: 0,
+            extra: extra.len(),
+            full: Vec::with_capacity(7 + extra.len()),
         })
     }
 
-    /// Writes one sample: `[ax, ay, az, gx, gy, gz, temp]` in SI.
+    /// Writes one sample: `[ax, ay, az, gx, gy, gz, temp]` in SI (and NaN
+    /// in any extra column).
     pub fn write_row(&mut self, row: &[f64; 7]) -> io::Result<()> {
+        self.write_row_with(row, &[])
+    }
+
+    /// Writes one sample and the values of the extra columns (missing ones
+    /// as NaN, surplus ones ignored).
+    pub fn write_row_with(&mut self, row: &[f64; 7], extra: &[f64]) -> io::Result<()> {
         self.line.clear();
-        format_row(row, &mut self.line);
+        if self.extra == 0 {
+            format_row(row, &mut self.line);
+        } else {
+            self.full.clear();
+            self.full.extend_from_slice(row);
+            self.full
+                .extend((0..self.extra).map(|i| extra.get(i).copied().unwrap_or(f64::NAN)));
+            format_row(&self.full, &mut self.line);
+        }
         self.rows += 1;
         self.out.write_all(&self.line)
+    }
+
+    /// Writes a `# key: value` comment line among the rows (a gap's cause,
+    /// say), which readers skip.
+    pub fn write_comment(&mut self, key: &str, value: &str) -> io::Result<()> {
+        self.write_trailer(key, value)
     }
 
     /// Writes rows formatted beforehand with [`format_row`] (so that long
@@ -342,9 +384,20 @@ pub fn read_recording(path: &Path, opts: &RecordingOptions) -> Result<Recording,
     read_recording_with_report(path, opts).map(|(rec, _)| rec)
 }
 
+/// A column that records when the host read each sample (`imutherm record
+/// --host-time`). It is never taken as the time axis unless named: it
+/// carries the host's scheduling jitter and the host's clock, not the
+/// sensor's, and placing samples on a grid by it would invent gaps and
+/// duplicates. The sample order and the NaN rows of lost stretches are the
+/// record's time axis.
+pub const HOST_TIME_COLUMN: &str = "host_time";
+
 fn is_time_header(kind: &ColumnKind, header: &str) -> bool {
     let (name, _) = split_name_unit(header);
     let n = name.to_ascii_lowercase();
+    if n == HOST_TIME_COLUMN {
+        return false;
+    }
     kind.quantity == Quantity::Time
         || ["time", "timestamp", "t", "time_s", "time_ns", "timestamp_ns"].contains(&n.as_str())
 }
@@ -638,6 +691,53 @@ mod tests {
         let text = std::fs::read_to_string(&p).unwrap();
         let body: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
         assert_eq!(body[0], THESIS_HEADER);
+    }
+
+    #[test]
+    fn a_host_time_column_is_kept_but_never_the_time_axis_unless_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("host.txt");
+        let mut w = LogWriter::with_columns(
+            Vec::new(),
+            LogFormat::Imutherm,
+            &Metadata::default(),
+            Some(100.0),
+            &["host_time[s]"],
+        )
+        .unwrap();
+        // Host times jitter by more than half a period; a gap of two rows.
+        let times = [0.0, 0.016, 0.019, f64::NAN, f64::NAN, 0.052];
+        for (i, t) in times.iter().enumerate() {
+            let v = if t.is_nan() { f64::NAN } else { i as f64 };
+            w.write_row_with(&[v; 7], &[*t]).unwrap();
+            if i == 2 {
+                w.write_comment("gap", "2 samples lost (FIFO overflow)").unwrap();
+            }
+        }
+        std::fs::write(&p, w.into_inner()).unwrap();
+        let text = std::fs::read_to_string(&p).unwrap();
+        assert!(text.contains("temp[degC], host_time[s]\n"), "{text}");
+        let (rec, report) = read_recording_with_report(&p, &RecordingOptions::default()).unwrap();
+        // Six rows, in file order: the host time did not move any.
+        assert_eq!(rec.len(), 6);
+        assert!(report.timing.is_none());
+        assert_eq!(rec.rate_hz, Some(100.0));
+        assert_eq!(rec.channel("gyro_x").unwrap().data[5], 5.0);
+        assert_eq!(rec.channel("host_time").unwrap().data[2], 0.019);
+        // The NaN run is named at its line (after the gap comment).
+        let gap = report
+            .problems
+            .iter()
+            .find(|p| p.kind == ProblemKind::NanRun)
+            .unwrap();
+        assert_eq!(gap.line, Some(8));
+        // Named, it is the time axis.
+        let opts = RecordingOptions {
+            time_column: Some("host_time".into()),
+            ..RecordingOptions::default()
+        };
+        let (_, report) = read_recording_with_report(&p, &opts).unwrap();
+        assert!(report.timing.is_some());
     }
 
     #[test]

@@ -7,31 +7,40 @@ use std::fs::File;
 use std::io::{BufWriter, IsTerminal};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use anyhow::{Context, Result, bail};
 
 use imu::{LogFormat, LogWriter, Metadata};
 use mpu9250::config::{AccelRange, Config, GyroRange};
 use mpu9250::driver::{Bus, Error as DriverError, FifoRead, I2cBus, Mpu9250};
-use mpu9250::sim::{ADDRESS, SimChip};
+use mpu9250::regs;
+use mpu9250::sim::{ADDRESS, SimChip, Source};
+use mpu9250::stream_clock::StreamClock;
 
 use crate::args::RecordArgs;
 use crate::commands::simulate::parse_duration;
 
-/// How often the FIFO is read: 36 frames fill it in 36 ms at 1 kHz, so
-/// 20 ms keeps a margin at every rate.
+/// The longest pause between FIFO reads. The FIFO holds 36 frames: 36 ms
+/// at 1 kHz, so reads come at least twice in that time at every rate.
 const POLL: Duration = Duration::from_millis(20);
-/// Tries per read before the stretch is counted as lost.
+/// Tries per read before waiting for the next poll.
 const RETRIES: u32 = 5;
+/// After this long without a single successful read, the bus is gone.
+const GIVE_UP: Duration = Duration::from_secs(30);
+/// Samples of the simulated signal computed at a time.
+const SIM_CHUNK: usize = 256;
 
 /// What the logger counted.
 #[derive(Debug, Default)]
 struct Counters {
     samples: u64,
     gap_samples: u64,
+    gaps: u64,
     overflows: u64,
+    resyncs: u64,
     bus_errors: u64,
+    reconfigurations: u64,
 }
 
 pub fn run(a: &RecordArgs) -> Result<()> {
@@ -48,28 +57,23 @@ pub fn run(a: &RecordArgs) -> Result<()> {
         .with_context(|| format!("--rate {}: the MPU-9250 makes 1000/(1 + n) Hz, n = 0…255", a.rate))?;
     let duration = a.duration.as_deref().map(parse_duration).transpose()?;
     let (kind, rest) = a.device.split_once(':').unwrap_or((a.device.as_str(), ""));
+    let is_sim = kind == "sim";
+    if !is_sim && (a.sim_bus_errors > 0.0 || a.sim_stall_every.is_some() || a.sim_clock_ppm != 0.0) {
+        bail!("--sim-bus-errors, --sim-stall-every and --sim-clock-ppm are for --device sim only");
+    }
     match kind {
         "sim" => {
             let preset = if rest.is_empty() { "mpu9250-thesis" } else { rest };
-            let mut cfg = imusim::presets::preset(preset)?;
-            cfg.rate_hz = rate;
-            // Up to ten minutes of signal, repeated if the recording runs
-            // longer (the chip's FIFO and timing are what is being run here;
-            // long simulated runs are `imutherm simulate`'s job).
-            cfg.duration_s = duration.map_or(600.0, |d| d + 5.0).min(600.0);
-            let rec = imusim::Simulator::new(cfg)?.recording(Some(preset))?;
-            let cols: Vec<Vec<f64>> = rec.channels.iter().map(|c| c.data.clone()).collect();
-            let n = cols[0].len().max(1);
-            let chip = SimChip::new(Box::new(move |k, _| {
-                let i = (k as usize) % n;
-                std::array::from_fn(|j| cols[j][i])
-            }));
-            let imu = Mpu9250::new(I2cBus::new(chip, ADDRESS)).map_err(|e| anyhow::anyhow!("{e}"))?;
-            // The simulated chip runs on the wall clock.
+            let source = sim_source(preset, rate, &config)?;
+            let imu = Mpu9250::new(I2cBus::new(SimChip::new(source), ADDRESS))
+                .map_err(|e| anyhow::anyhow!("{e}"))?;
+            // The simulated chip runs on the wall clock, its own clock off
+            // by --sim-clock-ppm as a real chip's oscillator is.
             let mut last = Instant::now();
             let mut last_stall = Instant::now();
             let stall_every = a.sim_stall_every;
             let error_rate = a.sim_bus_errors;
+            let speed = 1.0 + a.sim_clock_ppm * 1e-6;
             record(
                 imu,
                 config,
@@ -88,7 +92,9 @@ pub fn run(a: &RecordArgs) -> Result<()> {
                         last_stall = Instant::now();
                     }
                     let now = Instant::now();
-                    imu.bus_mut().inner_mut().advance((now - last).as_secs_f64());
+                    imu.bus_mut()
+                        .inner_mut()
+                        .advance((now - last).as_secs_f64() * speed);
                     last = now;
                 },
             )
@@ -134,6 +140,119 @@ pub fn run(a: &RecordArgs) -> Result<()> {
     }
 }
 
+/// The signal the simulated chip samples: a simulator preset streamed
+/// without end, or `counter`, a test pattern in which sample k reads k LSB
+/// on all seven fields (mod 2^15), so that a misaligned frame, a lost
+/// sample or a misplaced gap shows in the file.
+fn sim_source(preset: &str, rate: f64, config: &Config) -> Result<Source> {
+    if preset == "counter" {
+        let (a, g) = (config.accel_range.lsb_si(), config.gyro_range.lsb_rad());
+        return Ok(Box::new(move |k, _| {
+            let v = (k % 32_768) as f64;
+            [
+                v * a,
+                v * a,
+                v * a,
+                v * g,
+                v * g,
+                v * g,
+                v / regs::TEMP_LSB_PER_C + regs::TEMP_OFFSET_C,
+            ]
+        }));
+    }
+    let mut cfg = imusim::presets::preset(preset)
+        .with_context(|| format!("--device sim:{preset}: presets are mpu9250-thesis, white and counter"))?;
+    cfg.rate_hz = rate;
+    // The chip quantizes to its configured full scales, not the preset's.
+    cfg.sensor.quantize = false;
+    let mut generator = imusim::Simulator::new(cfg)?.generator();
+    let mut chunk = generator.next_chunk(SIM_CHUNK);
+    let mut i = 0;
+    Ok(Box::new(move |_, _| {
+        if i == SIM_CHUNK {
+            chunk = generator.next_chunk(SIM_CHUNK);
+            i = 0;
+        }
+        i += 1;
+        std::array::from_fn(|j| chunk.columns[j][i - 1])
+    }))
+}
+
+/// Why samples were lost, for the gap's comment line.
+#[derive(Debug, Clone, Copy)]
+enum Loss {
+    Overflow,
+    PartRead,
+    Stalled,
+}
+
+impl Loss {
+    fn describe(self) -> &'static str {
+        match self {
+            Loss::Overflow => "FIFO overflow: read too late",
+            Loss::PartRead => "a FIFO read broke off: FIFO reset to regain frame alignment",
+            Loss::Stalled => "the sensor stopped delivering: reconfigured",
+        }
+    }
+}
+
+/// The output file and what has gone into it.
+struct Output {
+    w: LogWriter<BufWriter<File>>,
+    host_time: bool,
+    /// Rows to write before stopping (samples and gap rows alike).
+    target: Option<u64>,
+    c: Counters,
+    last: [f64; 7],
+}
+
+impl Output {
+    fn rows(&self) -> u64 {
+        self.c.samples + self.c.gap_samples
+    }
+
+    fn room(&self, n: u64) -> u64 {
+        self.target.map_or(n, |t| n.min(t.saturating_sub(self.rows())))
+    }
+
+    fn full(&self) -> bool {
+        self.target.is_some_and(|t| self.rows() >= t)
+    }
+
+    /// A gap: a comment with its size and cause, then one row of NaN per
+    /// lost sample, so that the samples after it keep their place in time.
+    fn gap(&mut self, n: u64, cause: Loss, rate: f64) -> Result<()> {
+        let n = self.room(n);
+        if n == 0 {
+            return Ok(());
+        }
+        self.w.write_comment(
+            "gap",
+            &format!(
+                "{n} samples lost ({}); sized from host time at {rate:.3} Hz, ±1",
+                cause.describe()
+            ),
+        )?;
+        for _ in 0..n {
+            self.w.write_row_with(&[f64::NAN; 7], &[f64::NAN])?;
+        }
+        self.c.gap_samples += n;
+        self.c.gaps += 1;
+        Ok(())
+    }
+
+    fn sample(&mut self, row: [f64; 7], host_s: f64) -> Result<()> {
+        if self.host_time {
+            self.w.write_row_with(&row, &[host_s])?;
+        } else {
+            self.w.write_row(&row)?;
+        }
+        self.c.samples += 1;
+        self.last = row;
+        Ok(())
+    }
+}
+
 fn record<B: Bus>(
     mut imu: Mpu9250<B>,
     config: Config,
@@ -151,120 +270,243 @@ fn record<B: Bus>(
     }
     imu.configure(config)
         .map_err(|e| anyhow::anyhow!("configuring the sensor: {e}"))?;
+    // Host time: the wall clock at the start, then the monotonic clock, so
+    // that a clock adjustment during the run cannot bend the timestamps.
+    let started = Instant::now();
+    let unix_start = SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(f64::NAN, |d| d.as_secs_f64());
     let mut meta = Metadata {
         device: Some(format!("{} ({device})", imu.chip().name())),
-        start_time: Some(
-            std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map_or_else(|_| "unknown".into(), |d| format!("unix {:.3} s", d.as_secs_f64())),
-        ),
+        start_time: Some(format!("unix {unix_start:.3} s")),
         ..Metadata::default()
     };
     meta.set("gyro_full_scale_dps", a.gyro_range.to_string());
     meta.set("accel_full_scale_g", a.accel_range.to_string());
     meta.set("dlpf_cfg", config.dlpf_cfg().to_string());
+    meta.set("sample_rate_divider", config.divider().unwrap_or(0).to_string());
+    meta.set(
+        "gaps",
+        "rows of nan, each stretch after a '# gap:' line naming its size and cause",
+    );
+    if a.host_time {
+        meta.set(
+            "host_time",
+            "unix time of each sample as the host saw it: the read's time less the sample's age in the FIFO",
+        );
+    }
     meta.set("imutherm_version", env!("CARGO_PKG_VERSION"));
     let file = File::create(&a.output).with_context(|| format!("creating {}", a.output.display()))?;
-    let mut w = LogWriter::new(BufWriter::new(file), LogFormat::Imutherm, &meta, Some(rate))?;
-    let target = duration.map(|d| (d * rate).round() as u64);
-    let mut c = Counters::default();
-    let started = Instant::now();
-    let (mut last_flush, mut last_sync) = (Instant::now(), Instant::now());
-    let status = std::io::stderr().is_terminal();
+    let extra: &[&str] = if a.host_time { &["host_time[s]"] } else { &[] };
+    let w = LogWriter::with_columns(
+        BufWriter::new(file),
+        LogFormat::Imutherm,
+        &meta,
+        Some(rate),
+        extra,
+    )
+    .with_context(|| format!("writing {}", a.output.display()))?;
+    let mut out = Output {
+        w,
+        host_time: a.host_time,
+        target: duration.map(|d| (d * rate).round() as u64),
+        c: Counters::default(),
+        last: [f64::NAN; 7],
+    };
+    let result = record_loop(
+        &mut imu, config, rate, &mut out, &stop, &mut tick, started, unix_start,
+    );
+    // Whatever ended the run, the file gets its trailer and reaches the disk.
+    let (stopped_by, clock) = match &result {
+        Ok((s, clock)) => (*s, Some(clock)),
+        Err(_) => ("error", None),
+    };
+    let elapsed = started.elapsed().as_secs_f64();
+    let measured = clock
+        .and_then(|c| c.measured_hz())
+        .map_or_else(|| "unknown".to_string(), |r| format!("{r:.4}"));
+    let c = &out.c;
+    let trailer = format!(
+        "samples={} gap_samples={} gaps={} overflows={} resyncs={} bus_errors={} reconfigurations={} \
+         stopped_by={stopped_by} elapsed_s={elapsed:.3} rate_measured_hz={measured}",
+        c.samples, c.gap_samples, c.gaps, c.overflows, c.resyncs, c.bus_errors, c.reconfigurations,
+    );
+    out.w.write_trailer("trailer", &trailer)?;
+    out.w.flush()?;
+    out.w.get_mut().get_ref().sync_all()?;
+    if std::io::stderr().is_terminal() {
+        eprintln!();
+    }
+    result?;
+    let c = &out.c;
+    eprintln!(
+        "wrote {}: {} samples at {rate} Hz (measured {measured} Hz), {} lost in {} gaps \
+         ({} overflows, {} resyncs, {} reconfigurations), {} bus errors retried",
+        a.output.display(),
+        c.samples,
+        c.gap_samples,
+        c.gaps,
+        c.overflows,
+        c.resyncs,
+        c.reconfigurations,
+        c.bus_errors
+    );
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn record_loop<B: Bus>(
+    imu: &mut Mpu9250<B>,
+    config: Config,
+    rate: f64,
+    out: &mut Output,
+    stop: &AtomicBool,
+    tick: &mut impl FnMut(&mut Mpu9250<B>),
+    started: Instant,
+    unix_start: f64,
+) -> Result<(&'static str, StreamClock)> {
+    let now = || started.elapsed().as_secs_f64();
+    let mut clock = StreamClock::new(rate, now());
+    let poll = POLL.min(Duration::from_secs_f64(18.0 / rate));
+    // No frame for this long means the chip stopped (a brown-out resets
+    // its registers): configure it again.
+    let stall_limit = (40.0 / rate).max(1.0);
+    let mut cause = None;
+    let mut last_frame = now();
+    let mut last_success = Instant::now();
+    let (mut last_flush, mut last_sync, mut last_status) = (Instant::now(), Instant::now(), Instant::now());
+    let terminal = std::io::stderr().is_terminal();
     let mut frames = Vec::new();
-    let mut stopped_by = "duration";
     loop {
-        std::thread::sleep(POLL);
-        tick(&mut imu);
+        std::thread::sleep(poll);
+        tick(imu);
+        // Read after the flag: a stop asked for now still gets the samples
+        // the FIFO holds.
         let signalled = stop.load(Ordering::SeqCst);
         frames.clear();
         let mut read = None;
         for attempt in 0..RETRIES {
+            let t = now();
             match imu.read_fifo(&mut frames) {
                 Ok(r) => {
-                    read = Some(r);
+                    read = Some((t, r));
                     break;
                 }
                 Err(DriverError::Bus(_)) => {
-                    c.bus_errors += 1;
+                    out.c.bus_errors += 1;
                     std::thread::sleep(Duration::from_micros(200 << attempt));
                 }
                 Err(e) => bail!("reading the sensor: {e}"),
             }
         }
-        let expected = (started.elapsed().as_secs_f64() * rate) as u64;
         match read {
-            Some(FifoRead::Frames(_)) => {}
-            // The FIFO was reset or could not be read: the samples between
-            // the last one written and now are lost and written as a gap.
-            Some(FifoRead::Overflow) | None => {
-                if read.is_some() {
-                    c.overflows += 1;
+            Some((t, FifoRead::Frames(n))) => {
+                last_success = Instant::now();
+                let lost = clock.frames(t, n);
+                if lost > 0 {
+                    out.gap(lost, cause.take().unwrap_or(Loss::Overflow), clock.rate_hz())?;
                 }
-                let lost = expected.saturating_sub(c.samples + c.gap_samples);
-                let lost = target.map_or(lost, |t| lost.min(t.saturating_sub(c.samples + c.gap_samples)));
-                for _ in 0..lost {
-                    w.write_row(&[f64::NAN; 7])?;
+                if n > 0 {
+                    cause = None;
+                    last_frame = t;
                 }
-                c.gap_samples += lost;
+                for (i, f) in frames.iter().enumerate() {
+                    if out.full() {
+                        break;
+                    }
+                    out.sample(config.to_si(f), unix_start + clock.sample_time(t, i, n))?;
+                }
+                if n == 0 && t - last_frame > stall_limit {
+                    match imu.configure(config) {
+                        Ok(()) => {
+                            out.c.reconfigurations += 1;
+                            clock.lost();
+                            cause.get_or_insert(Loss::Stalled);
+                            last_frame = now();
+                        }
+                        // Tried again at the next poll.
+                        Err(DriverError::Bus(_)) => out.c.bus_errors += 1,
+                        Err(e) => bail!("configuring the sensor again: {e}"),
+                    }
+                }
             }
-        }
-        for f in &frames {
-            if target.is_some_and(|t| c.samples + c.gap_samples >= t) {
-                break;
+            Some((_, FifoRead::Overflow)) => {
+                last_success = Instant::now();
+                out.c.overflows += 1;
+                clock.lost();
+                cause.get_or_insert(Loss::Overflow);
             }
-            w.write_row(&config.to_si(f))?;
-            c.samples += 1;
+            Some((_, FifoRead::Resync)) => {
+                last_success = Instant::now();
+                out.c.resyncs += 1;
+                clock.lost();
+                cause.get_or_insert(Loss::PartRead);
+            }
+            None => {
+                if last_success.elapsed() > GIVE_UP {
+                    out.gap(
+                        clock.lost_until(now()),
+                        cause.unwrap_or(Loss::PartRead),
+                        clock.rate_hz(),
+                    )?;
+                    bail!(
+                        "no successful read of the sensor for {} s ({} bus errors): is it still connected?",
+                        GIVE_UP.as_secs(),
+                        out.c.bus_errors
+                    );
+                }
+            }
         }
         if last_flush.elapsed() >= Duration::from_secs(1) {
-            w.flush()?;
+            out.w.flush()?;
             last_flush = Instant::now();
-            if status {
-                eprint!(
-                    "\r{} samples, {:.1} Hz, {} lost, {} overflows, {} bus errors   ",
-                    c.samples,
-                    c.samples as f64 / started.elapsed().as_secs_f64(),
-                    c.gap_samples,
-                    c.overflows,
-                    c.bus_errors
-                );
-            }
         }
         if last_sync.elapsed() >= Duration::from_secs(5) {
-            w.get_mut().get_ref().sync_data()?;
+            out.w.get_mut().get_ref().sync_data()?;
             last_sync = Instant::now();
         }
-        if target.is_some_and(|t| c.samples + c.gap_samples >= t) {
-            break;
+        // On a terminal the status line is redrawn every second; in a log
+        // (nohup, systemd) one line a minute.
+        let every = if terminal { 1 } else { 60 };
+        if last_status.elapsed() >= Duration::from_secs(every) {
+            let line = status(out, &clock, imu.fifo_level());
+            if terminal {
+                eprint!("\r{line}   ");
+            } else {
+                eprintln!("{line}");
+            }
+            last_status = Instant::now();
+        }
+        if out.full() {
+            return Ok(("duration", clock));
         }
         if signalled {
-            stopped_by = "signal";
-            break;
+            // A loss still waiting for frames to size it ends the file.
+            out.gap(
+                clock.lost_until(now()),
+                cause.unwrap_or(Loss::Overflow),
+                clock.rate_hz(),
+            )?;
+            return Ok(("signal", clock));
         }
     }
-    w.write_trailer(
-        "trailer",
-        &format!(
-            "samples={} gap_samples={} overflows={} bus_errors={} stopped_by={stopped_by} elapsed_s={:.3}",
-            c.samples,
-            c.gap_samples,
-            c.overflows,
-            c.bus_errors,
-            started.elapsed().as_secs_f64()
-        ),
-    )?;
-    w.flush()?;
-    w.get_mut().get_ref().sync_all()?;
-    if status {
-        eprintln!();
-    }
-    eprintln!(
-        "wrote {}: {} samples at {rate} Hz, {} lost to {} overflows, {} bus errors retried",
-        a.output.display(),
+}
+
+/// The live status: samples, the rate achieved, temperature, FIFO level,
+/// and every kind of loss.
+fn status(out: &Output, clock: &StreamClock, fifo_bytes: usize) -> String {
+    let c = &out.c;
+    format!(
+        "{} samples, {}, {:.2} °C, FIFO {fifo_bytes}/{} B, {} lost in {} gaps, {} overflows, {} bus errors",
         c.samples,
+        clock
+            .measured_hz()
+            .map_or_else(|| "rate not yet measured".to_string(), |r| format!("{r:.3} Hz")),
+        out.last[6],
+        regs::FIFO_BYTES,
         c.gap_samples,
+        c.gaps,
         c.overflows,
-        c.bus_errors
-    );
-    Ok(())
+        c.bus_errors,
+    )
 }
