@@ -196,6 +196,25 @@ fn bus_errors_and_overflows_are_counted_and_marked_as_gaps() {
         .map(|l| l.split(' ').next().unwrap().parse::<u64>().unwrap())
         .sum();
     assert_eq!(announced, field("gap_samples"));
+    // `info` shows what the logger counted, and lists each gap once.
+    let info = Command::cargo_bin("imutherm")
+        .unwrap()
+        .args(["info", "--json"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let doc: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    let f = &doc["files"][0];
+    assert_eq!(f["logger"]["gap_samples"], field("gap_samples"));
+    assert_eq!(f["logger"]["bus_errors"], field("bus_errors"));
+    let runs: Vec<&serde_json::Value> = f["problems"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|p| p["kind"] == "nan")
+        .collect();
+    assert!(!runs.is_empty() && runs.len() as u64 <= field("gaps"), "{runs:?}");
+    assert!(runs.iter().all(|p| p["channel"].is_null()), "{runs:?}");
 }
 
 /// The `counter` signal: sample k reads k LSB on all seven fields. Decodes

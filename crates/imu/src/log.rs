@@ -384,6 +384,75 @@ pub fn read_recording(path: &Path, opts: &RecordingOptions) -> Result<Recording,
     read_recording_with_report(path, opts).map(|(rec, _)| rec)
 }
 
+/// Replaces the per-channel NaN runs that every channel shares (a logger's
+/// gap: whole rows of NaN) by one problem for the row range, so that a
+/// recording with gaps lists each gap once, not once per channel.
+fn merge_whole_row_gaps(problems: &mut Vec<Problem>, channels: usize) {
+    if channels < 2 {
+        return;
+    }
+    let mut runs: std::collections::HashMap<(Option<u64>, usize), usize> = std::collections::HashMap::new();
+    for p in problems.iter().filter(|p| p.kind == ProblemKind::NanRun) {
+        *runs.entry((p.line, p.count)).or_default() += 1;
+    }
+    let whole: Vec<(Option<u64>, usize)> = runs
+        .into_iter()
+        .filter(|&(_, n)| n == channels)
+        .map(|(k, _)| k)
+        .collect();
+    if whole.is_empty() {
+        return;
+    }
+    problems.retain(|p| !(p.kind == ProblemKind::NanRun && whole.contains(&(p.line, p.count))));
+    for (line, count) in whole {
+        problems.push(Problem {
+            kind: ProblemKind::NanRun,
+            line,
+            column: None,
+            channel: None,
+            count,
+            message: format!(
+                "{count} row{} of NaN in every channel from here (a gap)",
+                if count == 1 { "" } else { "s" }
+            ),
+        });
+    }
+}
+
+/// Metadata key under which readers keep the logger's `# trailer:` line.
+pub const TRAILER_KEY: &str = "trailer";
+
+/// How far from the end of a file the trailer is looked for.
+const TRAILER_WINDOW: u64 = 64 * 1024;
+
+/// The value of the last `# trailer:` line in the file's last 64 KiB (what
+/// `imutherm record` counted: samples, gaps, overflows, bus errors…), or
+/// `None` (no trailer, a gzip file, unreadable). Reads only that tail.
+pub fn read_trailer(path: &Path) -> Option<String> {
+    use std::io::{Read, Seek, SeekFrom};
+    let mut f = std::fs::File::open(path).ok()?;
+    let len = f.metadata().ok()?.len();
+    let mut magic = [0u8; 2];
+    if f.read_exact(&mut magic).is_ok() && magic == [0x1f, 0x8b] {
+        return None;
+    }
+    f.seek(SeekFrom::Start(len.saturating_sub(TRAILER_WINDOW))).ok()?;
+    let mut tail = Vec::new();
+    f.take(TRAILER_WINDOW).read_to_end(&mut tail).ok()?;
+    String::from_utf8_lossy(&tail)
+        .lines()
+        .rev()
+        .find_map(|l| l.trim().strip_prefix("# trailer:").map(|v| v.trim().to_string()))
+}
+
+/// The `key=value` fields of a trailer.
+pub fn trailer_fields(trailer: &str) -> Vec<(&str, &str)> {
+    trailer
+        .split_whitespace()
+        .filter_map(|f| f.split_once('='))
+        .collect()
+}
+
 /// A column that records when the host read each sample (`imutherm record
 /// --host-time`). It is never taken as the time axis unless named: it
 /// carries the host's scheduling jitter and the host's clock, not the
@@ -423,6 +492,9 @@ pub fn read_recording_with_report(
     let reader = TableReader::open(path)?;
     let mut meta = parse_metadata(reader.comments());
     meta.source = Some(path.to_path_buf());
+    if let Some(t) = read_trailer(path) {
+        meta.set(TRAILER_KEY, t);
+    }
     let file_rate = metadata_rate(&meta);
     let headers: Vec<String> = reader.names().to_vec();
     let kinds: Vec<ColumnKind> = headers
@@ -520,6 +592,7 @@ pub fn read_recording_with_report(
             data,
         });
     }
+    merge_whole_row_gaps(&mut report.problems, channels.len());
     let mut rate_hz = opts.rate_hz.or(file_rate);
     let mut timestamps = None;
     if let (Some(ti), Some(raw)) = (time_index, time) {
@@ -714,6 +787,7 @@ mod tests {
                 w.write_comment("gap", "2 samples lost (FIFO overflow)").unwrap();
             }
         }
+        w.write_trailer("trailer", "samples=4 gap_samples=2").unwrap();
         std::fs::write(&p, w.into_inner()).unwrap();
         let text = std::fs::read_to_string(&p).unwrap();
         assert!(text.contains("temp[degC], host_time[s]\n"), "{text}");

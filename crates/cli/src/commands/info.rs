@@ -72,6 +72,10 @@ struct FileInfo {
     problems: Vec<ProblemInfo>,
     problems_unlisted: usize,
     dropped_samples: usize,
+    /// What `imutherm record` counted (its `# trailer:` line), numbers as
+    /// numbers.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    logger: Option<serde_json::Map<String, serde_json::Value>>,
 }
 
 #[derive(Serialize)]
@@ -200,6 +204,23 @@ fn file_info(path: &Path, rec: &Recording, report: &ReadReport, opts: &Recording
             .collect(),
         problems_unlisted: report.unlisted,
         dropped_samples: report.dropped_samples,
+        logger: rec.meta.get(imu::log::TRAILER_KEY).map(|t| {
+            imu::log::trailer_fields(t)
+                .into_iter()
+                .map(|(k, v)| {
+                    let number = v
+                        .parse::<u64>()
+                        .ok()
+                        .map(serde_json::Number::from)
+                        .or_else(|| v.parse::<f64>().ok().and_then(serde_json::Number::from_f64));
+                    let value = number.map_or_else(
+                        || serde_json::Value::String(v.to_string()),
+                        serde_json::Value::Number,
+                    );
+                    (k.to_string(), value)
+                })
+                .collect()
+        }),
     }
 }
 
@@ -289,6 +310,28 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
             opt(c.min, 5),
             opt(c.max, 5),
             c.nan_samples
+        )?;
+    }
+    if let Some(l) = &f.logger {
+        let get = |k: &str| {
+            l.get(k)
+                .map_or_else(|| "?".to_string(), |v| v.to_string().replace('"', ""))
+        };
+        writeln!(
+            out,
+            "  logger       {} samples read, {} lost in {} gaps ({} overflows, {} resyncs), {} bus errors; \
+             stopped by {}; chip rate {}",
+            get("samples"),
+            get("gap_samples"),
+            get("gaps"),
+            get("overflows"),
+            get("resyncs"),
+            get("bus_errors"),
+            get("stopped_by"),
+            match l.get("rate_measured_hz").and_then(serde_json::Value::as_f64) {
+                Some(r) => format!("measured {r} Hz"),
+                None => "not measured (under 5 s without a loss)".to_string(),
+            },
         )?;
     }
     if f.problems.is_empty() {
