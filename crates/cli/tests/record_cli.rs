@@ -15,25 +15,35 @@ fn rows(path: &std::path::Path) -> Vec<Vec<f64>> {
         .collect()
 }
 
-#[test]
-fn ten_seconds_at_200_hz_are_2000_samples_with_the_configured_noise() {
+/// Runs `imutherm record ARGS -o FILE` to success in a fresh directory;
+/// returns the directory (kept alive) and the file.
+fn record(args: &[&str]) -> (tempfile::TempDir, std::path::PathBuf) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("rec.txt");
     Command::cargo_bin("imutherm")
         .unwrap()
-        .args([
-            "record",
-            "--device",
-            "sim:white",
-            "--rate",
-            "200",
-            "--duration",
-            "10s",
-            "-o",
-        ])
+        .arg("record")
+        .args(args)
+        .arg("-o")
         .arg(&out)
         .assert()
         .success();
+    (dir, out)
+}
+
+/// A number from the file's `# trailer:` line.
+fn trailer_field(text: &str, key: &str) -> f64 {
+    let trailer = text.lines().find(|l| l.starts_with("# trailer:")).unwrap();
+    trailer
+        .split_whitespace()
+        .find_map(|f| f.strip_prefix(&format!("{key}=")))
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no number {key} in {trailer}"))
+}
+
+#[test]
+fn ten_seconds_at_200_hz_are_2000_samples_with_the_configured_noise() {
+    let (_dir, out) = record(&["--device", "sim:white", "--rate", "200", "--duration", "10s"]);
     let r = rows(&out);
     assert!((1999..=2001).contains(&r.len()), "{} samples", r.len());
     // Gyro x: white noise of N = 1.5e-4 rad/√s (the preset), so the ADEV
@@ -78,27 +88,18 @@ fn ten_seconds_at_200_hz_are_2000_samples_with_the_configured_noise() {
 
 #[test]
 fn full_scale_sets_the_quantization_step() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("fs.txt");
-    Command::cargo_bin("imutherm")
-        .unwrap()
-        .args([
-            "record",
-            "--device",
-            "sim:white",
-            "--rate",
-            "100",
-            "--duration",
-            "1s",
-            "--gyro-range",
-            "2000",
-            "--accel-range",
-            "16",
-            "-o",
-        ])
-        .arg(&out)
-        .assert()
-        .success();
+    let (_dir, out) = record(&[
+        "--device",
+        "sim:white",
+        "--rate",
+        "100",
+        "--duration",
+        "1s",
+        "--gyro-range",
+        "2000",
+        "--accel-range",
+        "16",
+    ]);
     let (g, a) = (std::f64::consts::PI / 180.0 / 16.4, 9.80665 / 2048.0);
     for row in rows(&out) {
         let (kg, ka) = (row[3] / g, row[0] / a);
@@ -146,36 +147,21 @@ fn sigint_leaves_a_complete_file() {
 
 #[test]
 fn bus_errors_and_overflows_are_counted_and_marked_as_gaps() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("faults.txt");
-    Command::cargo_bin("imutherm")
-        .unwrap()
-        .args([
-            "record",
-            "--device",
-            "sim:white",
-            "--rate",
-            "200",
-            "--duration",
-            "4s",
-            "--sim-bus-errors",
-            "0.01",
-            "--sim-stall-every",
-            "1.5",
-            "-o",
-        ])
-        .arg(&out)
-        .assert()
-        .success();
+    let (_dir, out) = record(&[
+        "--device",
+        "sim:white",
+        "--rate",
+        "200",
+        "--duration",
+        "4s",
+        "--sim-bus-errors",
+        "0.01",
+        "--sim-stall-every",
+        "1.5",
+    ]);
     let text = std::fs::read_to_string(&out).unwrap();
     let trailer = text.lines().find(|l| l.starts_with("# trailer:")).unwrap();
-    let field = |k: &str| -> u64 {
-        trailer
-            .split_whitespace()
-            .find_map(|f| f.strip_prefix(&format!("{k}=")))
-            .and_then(|v| v.parse().ok())
-            .unwrap()
-    };
+    let field = |k: &str| trailer_field(&text, k) as u64;
     // Every row accounted for: samples read plus samples marked lost.
     let r = rows(&out);
     assert!((799..=801).contains(&r.len()), "{} rows", r.len());
@@ -237,47 +223,38 @@ fn counter_index(row: &[f64]) -> Option<i64> {
 
 #[test]
 fn a_recognisable_stream_stays_aligned_and_every_gap_is_sized_to_one_sample() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("counter.txt");
     // A chip 1 % fast, a host that stalls for 0.5 s every 6 s (FIFO
     // overflows) and a bus failing 1 % of transfers (part reads resync).
-    Command::cargo_bin("imutherm")
-        .unwrap()
-        .args([
-            "record",
-            "--device",
-            "sim:counter",
-            "--rate",
-            "200",
-            "--duration",
-            "14s",
-            "--sim-bus-errors",
-            "0.01",
-            "--sim-stall-every",
-            "6",
-            "--sim-clock-ppm",
-            "10000",
-            "--host-time",
-            "-o",
-        ])
-        .arg(&out)
-        .assert()
-        .success();
+    let (_dir, out) = record(&[
+        "--device",
+        "sim:counter",
+        "--rate",
+        "200",
+        "--duration",
+        "14s",
+        "--sim-bus-errors",
+        "0.01",
+        "--sim-stall-every",
+        "6",
+        "--sim-clock-ppm",
+        "10000",
+        "--host-time",
+    ]);
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(text.contains("temp[degC], host_time[s]\n"));
     let r = rows(&out);
     assert_eq!(r.len(), 2800);
-    let mut previous: Option<(usize, i64)> = None;
+    let mut previous: Option<(i64, i64)> = None;
     let (mut gaps, mut worst) = (0, 0i64);
     for (pos, row) in r.iter().enumerate() {
         let Some(k) = counter_index(row) else {
             assert!(row[7].is_nan(), "a gap row has no host time");
             continue;
         };
-        // Rows between two samples must number the samples between them.
-        let (p, pk) = previous.unwrap_or((usize::MAX, -1));
-        let rows_between = pos.wrapping_sub(p.wrapping_add(0)) as i64 - 1;
-        let rows_between = if p == usize::MAX { pos as i64 } else { rows_between };
+        // Rows between two samples must number the samples between them
+        // (before the first: sample −1 at row −1).
+        let (p, pk) = previous.unwrap_or((-1, -1));
+        let rows_between = pos as i64 - p - 1;
         let missing = k - pk - 1;
         if missing != 0 || rows_between != 0 {
             gaps += 1;
@@ -288,16 +265,10 @@ fn a_recognisable_stream_stays_aligned_and_every_gap_is_sized_to_one_sample() {
             );
         }
         assert!(missing >= 0, "row {pos}: sample {k} after {pk}");
-        previous = Some((pos, k));
+        previous = Some((pos as i64, k));
     }
     let trailer = text.lines().find(|l| l.starts_with("# trailer:")).unwrap();
-    let field = |key: &str| -> f64 {
-        trailer
-            .split_whitespace()
-            .find_map(|f| f.strip_prefix(&format!("{key}=")))
-            .and_then(|v| v.parse().ok())
-            .unwrap()
-    };
+    let field = |key: &str| trailer_field(&text, key);
     assert!(field("overflows") >= 2.0, "{trailer}");
     assert!(
         gaps as f64 >= field("gaps") - 1.0 && gaps >= 2,
