@@ -31,6 +31,17 @@ fn record(args: &[&str]) -> (tempfile::TempDir, std::path::PathBuf) {
     (dir, out)
 }
 
+/// `imutherm info --json FILE`.
+fn info_json(file: &std::path::Path) -> serde_json::Value {
+    let info = Command::cargo_bin("imutherm")
+        .unwrap()
+        .args(["info", "--json"])
+        .arg(file)
+        .output()
+        .unwrap();
+    serde_json::from_slice(&info.stdout).unwrap()
+}
+
 /// A number from the file's `# trailer:` line.
 fn trailer_field(text: &str, key: &str) -> f64 {
     let trailer = text.lines().find(|l| l.starts_with("# trailer:")).unwrap();
@@ -134,13 +145,7 @@ fn sigint_leaves_a_complete_file() {
     let n = rows(&out).len();
     assert!(n > 100, "{n} samples");
     // The readers find nothing wrong with it.
-    let info = Command::cargo_bin("imutherm")
-        .unwrap()
-        .args(["info", "--json"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    let doc: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    let doc = info_json(&out);
     assert_eq!(doc["files"][0]["samples"], n);
     assert!(doc["files"][0]["problems"].as_array().unwrap().is_empty());
 }
@@ -183,13 +188,7 @@ fn bus_errors_and_overflows_are_counted_and_marked_as_gaps() {
         .sum();
     assert_eq!(announced, field("gap_samples"));
     // `info` shows what the logger counted, and lists each gap once.
-    let info = Command::cargo_bin("imutherm")
-        .unwrap()
-        .args(["info", "--json"])
-        .arg(&out)
-        .output()
-        .unwrap();
-    let doc: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    let doc = info_json(&out);
     let f = &doc["files"][0];
     assert_eq!(f["logger"]["gap_samples"], field("gap_samples"));
     assert_eq!(f["logger"]["bus_errors"], field("bus_errors"));
