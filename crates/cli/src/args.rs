@@ -110,6 +110,11 @@ pub struct RecordArgs {
     #[arg(long, short = 'o', value_name = "FILE")]
     pub output: PathBuf,
 
+    /// Replace FILE if it exists (by default an existing file is an error:
+    /// a recording is hours of work).
+    #[arg(long)]
+    pub overwrite: bool,
+
     /// Add a column host_time[s]: the Unix time at which the host read each
     /// sample, less its age in the FIFO (readers keep it as a channel and
     /// never use it as the time axis unless named with --time-column).

@@ -288,6 +288,34 @@ fn a_recognisable_stream_stays_aligned_and_every_gap_is_sized_to_one_sample() {
 }
 
 #[test]
+fn an_existing_recording_is_never_overwritten_unasked() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("precious.txt");
+    std::fs::write(&out, "ten hours of data\n").unwrap();
+    let args = ["record", "--device", "sim", "--duration", "0.1s", "-o"];
+    Command::cargo_bin("imutherm")
+        .unwrap()
+        .args(args)
+        .arg(&out)
+        .assert()
+        .code(1)
+        .stderr(predicates::str::contains("already exists (18 bytes)"));
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "ten hours of data\n");
+    Command::cargo_bin("imutherm")
+        .unwrap()
+        .args(args)
+        .arg(&out)
+        .arg("--overwrite")
+        .assert()
+        .success();
+    assert!(
+        std::fs::read_to_string(&out)
+            .unwrap()
+            .contains("# trailer: samples=20 ")
+    );
+}
+
+#[test]
 fn a_missing_bus_is_a_clear_error() {
     let dir = tempfile::tempdir().unwrap();
     for (device, says) in [

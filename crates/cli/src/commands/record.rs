@@ -262,6 +262,7 @@ fn record<B: Bus>(
     a: &RecordArgs,
     mut tick: impl FnMut(&mut Mpu9250<B>),
 ) -> Result<()> {
+    let file = create_output(&a.output, a.overwrite)?;
     let stop = Arc::new(AtomicBool::new(false));
     {
         let stop = stop.clone();
@@ -296,7 +297,6 @@ fn record<B: Bus>(
         );
     }
     meta.set("imutherm_version", env!("CARGO_PKG_VERSION"));
-    let file = File::create(&a.output).with_context(|| format!("creating {}", a.output.display()))?;
     let extra: &[&str] = if a.host_time { &["host_time[s]"] } else { &[] };
     let w = LogWriter::with_columns(
         BufWriter::new(file),
@@ -337,7 +337,7 @@ fn record<B: Bus>(
     if std::io::stderr().is_terminal() {
         eprintln!();
     }
-    result?;
+    result.with_context(|| format!("recording to {}", a.output.display()))?;
     let c = &out.c;
     eprintln!(
         "wrote {}: {} samples at {rate} Hz (measured {measured} Hz), {} lost in {} gaps \
@@ -352,6 +352,30 @@ fn record<B: Bus>(
         c.bus_errors
     );
     Ok(())
+}
+
+/// The output file, created before the sensor is touched. A recording is
+/// hours of work: an existing file is only replaced with `--overwrite`.
+fn create_output(path: &std::path::Path, overwrite: bool) -> Result<File> {
+    let opened = if overwrite {
+        File::create(path)
+    } else {
+        std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(path)
+    };
+    opened.map_err(|e| {
+        if e.kind() == std::io::ErrorKind::AlreadyExists {
+            let size = std::fs::metadata(path).map_or(0, |m| m.len());
+            anyhow::anyhow!(
+                "{} already exists ({size} bytes): choose another name, or pass --overwrite to replace it",
+                path.display()
+            )
+        } else {
+            anyhow::Error::new(e).context(format!("creating {}", path.display()))
+        }
+    })
 }
 
 #[allow(clippy::too_many_arguments)]
