@@ -403,13 +403,16 @@ fn record_loop<B: Bus>(
     let mut frames = Vec::new();
     loop {
         std::thread::sleep(poll);
-        tick(imu);
         // Read after the flag: a stop asked for now still gets the samples
         // the FIFO holds.
         let signalled = stop.load(Ordering::SeqCst);
         frames.clear();
         let mut read = None;
         for attempt in 0..RETRIES {
+            // The read's time is taken just before it: the newest frame in
+            // the FIFO was sampled within one period before (a simulated
+            // chip is brought up to this moment first, retries included).
+            tick(imu);
             let t = now();
             match imu.read_fifo(&mut frames) {
                 Ok(r) => {
