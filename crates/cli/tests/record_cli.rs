@@ -316,6 +316,33 @@ fn an_existing_recording_is_never_overwritten_unasked() {
 }
 
 #[test]
+fn a_rate_the_chip_cannot_make_is_named_and_the_real_one_recorded() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r.txt");
+    Command::cargo_bin("imutherm")
+        .unwrap()
+        .args([
+            "record",
+            "--device",
+            "sim",
+            "--rate",
+            "300",
+            "--duration",
+            "0.3s",
+            "-o",
+        ])
+        .arg(&out)
+        .assert()
+        .success()
+        .stderr(predicates::str::contains(
+            "recording at 333.333 Hz (SMPLRT_DIV 2)",
+        ));
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("# sample_rate_hz: 333.3333333333333\n"), "{text}");
+    assert_eq!(rows(&out).len(), 100);
+}
+
+#[test]
 fn a_missing_bus_is_a_clear_error() {
     let dir = tempfile::tempdir().unwrap();
     for (device, says) in [
@@ -328,6 +355,11 @@ fn a_missing_bus_is_a_clear_error() {
             "opening /dev/spidev-imutherm-none",
         ),
         ("usb:0", "expected sim[:PRESET], i2c:"),
+        (
+            "i2c:/dev/i2c-1@0x70",
+            "answers at 0x68 (AD0 low) or 0x69 (AD0 high), not 0x70",
+        ),
+        ("i2c:/dev/i2c-1@68h", "'68h' is not an address like 0x68"),
     ] {
         Command::cargo_bin("imutherm")
             .unwrap()

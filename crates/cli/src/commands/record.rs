@@ -55,6 +55,14 @@ pub fn run(a: &RecordArgs) -> Result<()> {
     let rate = config
         .actual_rate_hz()
         .with_context(|| format!("--rate {}: the MPU-9250 makes 1000/(1 + n) Hz, n = 0…255", a.rate))?;
+    if (rate - a.rate).abs() > 1e-9 * rate {
+        eprintln!(
+            "note: --rate {}: the MPU-9250 makes 1000/(1 + n) Hz; recording at {} Hz (SMPLRT_DIV {})",
+            a.rate,
+            hz(rate),
+            config.divider().unwrap_or(0)
+        );
+    }
     let duration = a.duration.as_deref().map(parse_duration).transpose()?;
     let (kind, rest) = a.device.split_once(':').unwrap_or((a.device.as_str(), ""));
     let is_sim = kind == "sim";
@@ -101,16 +109,24 @@ pub fn run(a: &RecordArgs) -> Result<()> {
         }
         #[cfg(target_os = "linux")]
         "i2c" => {
-            // i2c:/dev/i2c-1[@0x68]
+            // i2c:/dev/i2c-1[@0x68]; `i2c` alone is the Pi's header bus.
             let (path, address) = match rest.split_once('@') {
                 Some((p, addr)) => {
-                    let a = u8::from_str_radix(addr.trim_start_matches("0x"), 16).with_context(|| {
-                        format!("--device {}: '{addr}' is not an address like 0x68", a.device)
-                    })?;
-                    (p, a)
+                    let address =
+                        u8::from_str_radix(addr.trim_start_matches("0x"), 16).with_context(|| {
+                            format!("--device {}: '{addr}' is not an address like 0x68", a.device)
+                        })?;
+                    if !matches!(address, 0x68 | 0x69) {
+                        bail!(
+                            "--device {}: the MPU-9250 answers at 0x68 (AD0 low) or 0x69 (AD0 high), not 0x{address:02x}",
+                            a.device
+                        );
+                    }
+                    (p, address)
                 }
                 None => (rest, 0x68),
             };
+            let path = if path.is_empty() { "/dev/i2c-1" } else { path };
             let dev = linux_embedded_hal::I2cdev::new(path)
                 .with_context(|| format!("opening {path} (is I2C enabled, and may this user use it?)"))?;
             let imu = Mpu9250::new(I2cBus::new(dev, address))
@@ -120,9 +136,13 @@ pub fn run(a: &RecordArgs) -> Result<()> {
         #[cfg(target_os = "linux")]
         "spi" => {
             use linux_embedded_hal::spidev::{SpiModeFlags, SpidevOptions};
-            // spi:/dev/spidev0.0; every register at ≤ 1 MHz (PS-MPU-9250A-01 §7.5).
-            let mut dev = linux_embedded_hal::SpidevDevice::open(rest)
-                .with_context(|| format!("opening {rest} (is SPI enabled, and may this user use it?)"))?;
+            // spi:/dev/spidev0.0 (`spi` alone: CE0 of the Pi's header);
+            // every register at ≤ 1 MHz (PS-MPU-9250A-01 §7.5).
+            let rest = if rest.is_empty() { "/dev/spidev0.0" } else { rest };
+            // The error's message already holds its cause: print it once.
+            let mut dev = linux_embedded_hal::SpidevDevice::open(rest).map_err(|e| {
+                anyhow::anyhow!("opening {rest} (is SPI enabled, and may this user use it?): {e}")
+            })?;
             let options = SpidevOptions::new()
                 .bits_per_word(8)
                 .max_speed_hz(1_000_000)
@@ -313,17 +333,15 @@ fn record<B: Bus>(
         c: Counters::default(),
         last: [f64::NAN; 7],
     };
+    let mut clock = StreamClock::new(rate, started.elapsed().as_secs_f64());
     let result = record_loop(
-        &mut imu, config, rate, &mut out, &stop, &mut tick, started, unix_start,
+        &mut imu, config, rate, &mut out, &stop, &mut tick, started, unix_start, &mut clock,
     );
     // Whatever ended the run, the file gets its trailer and reaches the disk.
-    let (stopped_by, clock) = match &result {
-        Ok((s, clock)) => (*s, Some(clock)),
-        Err(_) => ("error", None),
-    };
+    let stopped_by = *result.as_ref().unwrap_or(&"error");
     let elapsed = started.elapsed().as_secs_f64();
     let measured = clock
-        .and_then(|c| c.measured_hz())
+        .measured_hz()
         .map_or_else(|| "unknown".to_string(), |r| format!("{r:.4}"));
     let c = &out.c;
     let trailer = format!(
@@ -340,16 +358,21 @@ fn record<B: Bus>(
     result.with_context(|| format!("recording to {}", a.output.display()))?;
     let c = &out.c;
     eprintln!(
-        "wrote {}: {} samples at {rate} Hz (measured {measured} Hz), {} lost in {} gaps \
-         ({} overflows, {} resyncs, {} reconfigurations), {} bus errors retried",
+        "wrote {}: {} samples at {} Hz, {} lost in {} gaps ({} overflows, {} resyncs, \
+         {} reconfigurations), {} bus errors retried; chip rate {}",
         a.output.display(),
         c.samples,
+        hz(rate),
         c.gap_samples,
         c.gaps,
         c.overflows,
         c.resyncs,
         c.reconfigurations,
-        c.bus_errors
+        c.bus_errors,
+        clock.measured_hz().map_or_else(
+            || "not measured (under 5 s without a loss)".to_string(),
+            |r| format!("measured {r:.4} Hz")
+        ),
     );
     Ok(())
 }
@@ -388,9 +411,9 @@ fn record_loop<B: Bus>(
     tick: &mut impl FnMut(&mut Mpu9250<B>),
     started: Instant,
     unix_start: f64,
-) -> Result<(&'static str, StreamClock)> {
+    clock: &mut StreamClock,
+) -> Result<&'static str> {
     let now = || started.elapsed().as_secs_f64();
-    let mut clock = StreamClock::new(rate, now());
     let poll = POLL.min(Duration::from_secs_f64(18.0 / rate));
     // No frame for this long means the chip stopped (a brown-out resets
     // its registers): configure it again.
@@ -496,7 +519,7 @@ fn record_loop<B: Bus>(
         // (nohup, systemd) one line a minute.
         let every = if terminal { 1 } else { 60 };
         if last_status.elapsed() >= Duration::from_secs(every) {
-            let line = status(out, &clock, imu.fifo_level());
+            let line = status(out, clock, imu.fifo_level());
             if terminal {
                 eprint!("\r{line}   ");
             } else {
@@ -505,7 +528,7 @@ fn record_loop<B: Bus>(
             last_status = Instant::now();
         }
         if out.full() {
-            return Ok(("duration", clock));
+            return Ok("duration");
         }
         if signalled {
             // A loss still waiting for frames to size it ends the file.
@@ -514,8 +537,17 @@ fn record_loop<B: Bus>(
                 cause.unwrap_or(Loss::Overflow),
                 clock.rate_hz(),
             )?;
-            return Ok(("signal", clock));
+            return Ok("signal");
         }
+    }
+}
+
+/// A rate for people: 200, 333.333.
+fn hz(rate: f64) -> String {
+    if rate.fract() == 0.0 {
+        format!("{rate}")
+    } else {
+        format!("{rate:.3}")
     }
 }
 
