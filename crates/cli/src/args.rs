@@ -69,9 +69,10 @@ Examples:
   imutherm record --device sim --rate 200 --duration 10s -o test.txt
   imutherm record --device sim:white --rate 100 --duration 1h -o long.txt
 
-Devices: i2c:/dev/i2c-1[@0x68] (≤ 400 kHz: below 500 Hz only on a Pi 3), spi:/dev/spidev0.0
-(1 MHz, mode 0), or sim[:PRESET] (a register-level simulated chip fed by the simulator;
+Devices: i2c:/dev/i2c-1[@0x68|@0x69] (≤ 400 kHz: below 500 Hz only on a Pi 3; `i2c` alone is
+/dev/i2c-1 at 0x68), spi:/dev/spidev0.0 (1 MHz, mode 0; `spi` alone is /dev/spidev0.0), or sim[:PRESET] (a register-level simulated chip fed by the simulator;
 presets mpu9250-thesis, white, and counter: sample k reads k LSB on every field).
+--rate is rounded to what the chip makes, 1000/(1 + n) Hz, and the recorded rate is said.
 --duration counts samples: 10s at 200 Hz is 2000 rows, gaps included.
 Ctrl-C or SIGTERM stops cleanly: every sample read is written, the file ends with a
 complete line and a trailer (# trailer: samples=… gap_samples=… overflows=… bus_errors=…
@@ -131,8 +132,9 @@ pub struct RecordArgs {
     pub sim_stall_every: Option<f64>,
 
     /// Simulated device only: the chip's clock error, ppm (a real
-    /// MPU-9250's oscillator is off by up to a few percent), which the
-    /// logger measures and reports as rate_measured_hz.
+    /// MPU-9250 clocked from its gyro varies by ±1 % over temperature,
+    /// PS-MPU-9250A-01 §4.15), which the logger measures and reports as
+    /// rate_measured_hz.
     #[arg(long, default_value_t = 0.0, value_name = "PPM", allow_hyphen_values = true)]
     pub sim_clock_ppm: f64,
 }
