@@ -384,39 +384,29 @@ pub fn read_recording(path: &Path, opts: &RecordingOptions) -> Result<Recording,
     read_recording_with_report(path, opts).map(|(rec, _)| rec)
 }
 
-/// Replaces the per-channel NaN runs that every channel shares (a logger's
-/// gap: whole rows of NaN) by one problem for the row range, so that a
-/// recording with gaps lists each gap once, not once per channel.
-fn merge_whole_row_gaps(problems: &mut Vec<Problem>, channels: usize) {
-    if channels < 2 {
-        return;
+/// Runs of rows that are NaN in every column (a logger's gaps), as
+/// (first row, rows). Reported once for the row range rather than once per
+/// channel. Empty with fewer than two columns, or when a column has no NaN.
+fn whole_row_gaps(columns: &[(usize, Vec<f64>)]) -> Vec<(usize, usize)> {
+    if columns.len() < 2 || columns.iter().any(|(_, c)| !c.iter().any(|v| v.is_nan())) {
+        return Vec::new();
     }
-    let mut runs: std::collections::HashMap<(Option<u64>, usize), usize> = std::collections::HashMap::new();
-    for p in problems.iter().filter(|p| p.kind == ProblemKind::NanRun) {
-        *runs.entry((p.line, p.count)).or_default() += 1;
+    let rows = columns.iter().map(|(_, c)| c.len()).min().unwrap_or(0);
+    let all_nan = |r: usize| columns.iter().all(|(_, c)| c[r].is_nan());
+    let mut runs = Vec::new();
+    let mut r = 0;
+    while r < rows {
+        if all_nan(r) {
+            let start = r;
+            while r < rows && all_nan(r) {
+                r += 1;
+            }
+            runs.push((start, r - start));
+        } else {
+            r += 1;
+        }
     }
-    let whole: Vec<(Option<u64>, usize)> = runs
-        .into_iter()
-        .filter(|&(_, n)| n == channels)
-        .map(|(k, _)| k)
-        .collect();
-    if whole.is_empty() {
-        return;
-    }
-    problems.retain(|p| !(p.kind == ProblemKind::NanRun && whole.contains(&(p.line, p.count))));
-    for (line, count) in whole {
-        problems.push(Problem {
-            kind: ProblemKind::NanRun,
-            line,
-            column: None,
-            channel: None,
-            count,
-            message: format!(
-                "{count} row{} of NaN in every channel from here (a gap)",
-                if count == 1 { "" } else { "s" }
-            ),
-        });
-    }
+    runs
 }
 
 /// Metadata key under which readers keep the logger's `# trailer:` line.
@@ -536,6 +526,25 @@ pub fn read_recording_with_report(
             columns.push((i, data));
         }
     }
+    let whole_rows = whole_row_gaps(&columns);
+    let is_whole_row = |start: usize, count: usize| whole_rows.binary_search(&(start, count)).is_ok();
+    for &(start, count) in &whole_rows {
+        // A row skipped as bad is reported as that already.
+        if table.problems.iter().any(|p| p.line == Some(line_of(start))) {
+            continue;
+        }
+        report.push(Problem {
+            kind: ProblemKind::NanRun,
+            line: Some(line_of(start)),
+            column: None,
+            channel: None,
+            count,
+            message: format!(
+                "{count} row{} of NaN in every channel from here (a gap)",
+                if count == 1 { "" } else { "s" }
+            ),
+        });
+    }
     let mut channels = Vec::with_capacity(columns.len());
     for (i, mut data) in columns {
         let kind = &kinds[i];
@@ -558,7 +567,7 @@ pub fn read_recording_with_report(
             }
             let count = row - start;
             let skipped_line = table.problems.iter().any(|p| p.line == Some(line_of(start)));
-            if skipped_line {
+            if skipped_line || (!infinite && is_whole_row(start, count)) {
                 continue;
             }
             report.push(Problem {
@@ -592,7 +601,6 @@ pub fn read_recording_with_report(
             data,
         });
     }
-    merge_whole_row_gaps(&mut report.problems, channels.len());
     let mut rate_hz = opts.rate_hz.or(file_rate);
     let mut timestamps = None;
     if let (Some(ti), Some(raw)) = (time_index, time) {
@@ -812,6 +820,28 @@ mod tests {
         };
         let (_, report) = read_recording_with_report(&p, &opts).unwrap();
         assert!(report.timing.is_some());
+    }
+
+    #[test]
+    fn many_logger_gaps_are_each_listed_once() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("gaps.txt");
+        let mut w =
+            LogWriter::new(Vec::new(), LogFormat::Imutherm, &Metadata::default(), Some(100.0)).unwrap();
+        for i in 0..600 {
+            let v = if i % 3 == 1 { f64::NAN } else { 1.0 };
+            w.write_row(&[v; 7]).unwrap();
+        }
+        std::fs::write(&p, w.into_inner()).unwrap();
+        let (_, report) = read_recording_with_report(&p, &RecordingOptions::default()).unwrap();
+        assert_eq!(report.count(ProblemKind::NanRun), 200);
+        assert_eq!(report.unlisted, 0);
+        assert!(
+            report
+                .problems
+                .iter()
+                .all(|p| p.channel.is_none() && p.count == 1)
+        );
     }
 
     #[test]
