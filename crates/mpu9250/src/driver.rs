@@ -162,6 +162,10 @@ pub enum FifoRead {
     Resync,
 }
 
+/// Further tries of the status read that vouches for a burst, when the bus
+/// proves it never reached the chip.
+const POST_CHECK_RETRIES: u32 = 3;
+
 /// Why the FIFO must be reset before it can be read again.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Pending {
@@ -277,32 +281,38 @@ impl<B: Bus> Mpu9250<B> {
     /// register order (ACCEL_X..Z, TEMP, GYRO_X..Z). Never splits a frame:
     /// a partial frame stays in the FIFO for the next read.
     ///
+    /// Three transfers: FIFO_COUNT (512 means an overflow: the FIFO is
+    /// reset), the burst of whole frames, and INT_STATUS, whose overflow
+    /// flag says whether a frame arriving during the burst pushed out bytes
+    /// it was reading (then the frames are dropped and the FIFO reset).
+    ///
     /// A bus error is returned as it is, and the call can simply be retried:
     /// if the error may have taken bytes out of the FIFO (anything but an
-    /// address NACK), or came after the overflow flag was read (reading
-    /// clears it), the next call resets the FIFO and says why
-    /// ([`FifoRead::Resync`], [`FifoRead::Overflow`]) instead of decoding
-    /// misaligned bytes.
+    /// address NACK) or left the burst unverified, the next call resets the
+    /// FIFO and says why ([`FifoRead::Resync`]) instead of decoding bytes it
+    /// cannot vouch for.
     pub fn read_fifo(&mut self, out: &mut Vec<[i16; 7]>) -> Result<FifoRead, Error<B::Error>> {
         if let Some(cause) = self.pending {
             return self.resync(cause);
         }
-        let mut status = [0u8];
-        self.bus
-            .read_regs(regs::INT_STATUS, &mut status)
-            .map_err(Error::Bus)?;
-        if status[0] & regs::FIFO_OFLOW_INT != 0 {
-            return self.resync(Pending::Overflow);
-        }
+        // The count alone says whether the FIFO overflowed since the last
+        // read: it stays at 512 (no whole number of frames) until read. So
+        // no status read is needed before it, and none can be lost.
         let mut count = [0u8; 2];
         self.bus
             .read_regs(regs::FIFO_COUNTH, &mut count)
             .map_err(Error::Bus)?;
         let bytes = (usize::from(count[0]) << 8 | usize::from(count[1])) & 0x1FFF;
         self.fifo_level = bytes;
-        if bytes > regs::FIFO_BYTES {
-            // A corrupt count: nothing read under it could be trusted.
-            return self.resync(Pending::Resync);
+        if bytes >= regs::FIFO_BYTES {
+            // 512 is no whole number of frames: the FIFO overflowed since
+            // the status was read. More is a corrupt count.
+            let cause = if bytes == regs::FIFO_BYTES {
+                Pending::Overflow
+            } else {
+                Pending::Resync
+            };
+            return self.resync(cause);
         }
         let frames = bytes / regs::FRAME_BYTES;
         if frames == 0 {
@@ -315,12 +325,43 @@ impl<B: Bus> Mpu9250<B> {
             }
             return Err(Error::Bus(e));
         }
+        // A frame that arrived into a full FIFO between the count and the
+        // end of the burst pushed out bytes the burst was reading: only a
+        // status read after it says the frames are whole.
+        let mut check = self.overflowed();
+        for _ in 0..POST_CHECK_RETRIES {
+            match &check {
+                // An address NACK left the flag as it was: ask again.
+                Err(Error::Bus(e)) if B::nothing_transferred(e) => check = self.overflowed(),
+                _ => break,
+            }
+        }
+        match check {
+            Ok(false) => {}
+            Ok(true) => return self.resync(Pending::Overflow),
+            Err(e) => {
+                // The flag may be gone with the failed read: the frames
+                // cannot be vouched for. They are dropped, and their loss
+                // is recorded by the reset the next call makes.
+                self.pending = Some(Pending::Resync);
+                return Err(e);
+            }
+        }
         for f in self.scratch.chunks_exact(regs::FRAME_BYTES) {
             out.push(std::array::from_fn(|k| {
                 i16::from_be_bytes([f[2 * k], f[2 * k + 1]])
             }));
         }
         Ok(FifoRead::Frames(frames))
+    }
+
+    /// Reads (and so clears) FIFO_OFLOW_INT.
+    fn overflowed(&mut self) -> Result<bool, Error<B::Error>> {
+        let mut status = [0u8];
+        self.bus
+            .read_regs(regs::INT_STATUS, &mut status)
+            .map_err(Error::Bus)?;
+        Ok(status[0] & regs::FIFO_OFLOW_INT != 0)
     }
 
     /// Resets the FIFO, remembering the cause until the reset is through.

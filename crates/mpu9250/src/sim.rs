@@ -61,6 +61,9 @@ pub struct SimStats {
     pub injected_errors: u64,
     /// Of those, FIFO reads broken off part-way (bytes lost).
     pub short_reads: u64,
+    /// Of those, INT_STATUS reads that failed after the chip sent (and so
+    /// cleared) the status.
+    pub lost_status_reads: u64,
 }
 
 /// The simulated chip.
@@ -72,7 +75,8 @@ pub struct SimChip {
     next_time_s: f64,
     source: Source,
     error_rate: f64,
-    next_fifo_fault: Option<SimError>,
+    planned: Option<(u8, SimError)>,
+    bus_hz: Option<f64>,
     rng: u64,
     stats: SimStats,
     who_am_i: u8,
@@ -102,7 +106,8 @@ impl SimChip {
             next_time_s: 0.0,
             source,
             error_rate: 0.0,
-            next_fifo_fault: None,
+            planned: None,
+            bus_hz: None,
             rng: 0x2545_F491_4F6C_DD1D,
             stats: SimStats::default(),
             who_am_i: regs::ID_MPU9250,
@@ -129,7 +134,28 @@ impl SimChip {
     /// [`SimError::Nack`] reads nothing, a [`SimError::ShortRead`] of n
     /// bytes takes n bytes out of the FIFO first.
     pub fn fail_next_fifo_read(&mut self, fault: SimError) {
-        self.next_fifo_fault = Some(fault);
+        self.fail_next_read(regs::FIFO_R_W, fault);
+    }
+
+    /// Makes the next read starting at register `reg` fail with `fault`. A
+    /// [`SimError::ShortRead`] of n bytes has the chip send n bytes first,
+    /// with their side effects: INT_STATUS is cleared, FIFO bytes are gone.
+    pub fn fail_next_read(&mut self, reg: u8, fault: SimError) {
+        self.planned = Some((reg, fault));
+    }
+
+    /// Lets every transfer take its time on a bus of `hz` (9 clocks a byte
+    /// on I2C with the address byte, 8 on SPI): samples keep arriving while
+    /// the driver reads, as on a real bus.
+    pub fn with_bus_clock(mut self, hz: f64) -> SimChip {
+        self.bus_hz = (hz.is_finite() && hz > 0.0).then_some(hz);
+        self
+    }
+
+    fn transfer_time(&mut self, bytes: usize, clocks_per_byte: f64) {
+        if let Some(hz) = self.bus_hz {
+            self.advance(bytes as f64 * clocks_per_byte / hz);
+        }
     }
 
     /// Answers WHO_AM_I with `id` (0x73 an MPU-9255, 0x70 an MPU-6500…).
@@ -241,33 +267,52 @@ impl SimChip {
         fail
     }
 
-    /// The planned failure of a FIFO data read, if one is planned.
+    /// The planned failure of a read starting at `reg`, if one is planned.
     fn planned_fault(&mut self, reg: u8, len: usize) -> Option<SimError> {
-        if reg != regs::FIFO_R_W {
-            return None;
+        match self.planned {
+            Some((r, fault)) if r == reg => {
+                self.planned = None;
+                self.stats.injected_errors += 1;
+                if let SimError::ShortRead(n) = fault {
+                    self.send_then_fail(reg, n.min(len));
+                }
+                Some(fault)
+            }
+            _ => None,
         }
-        let fault = self.next_fifo_fault.take()?;
-        self.stats.injected_errors += 1;
-        if let SimError::ShortRead(n) = fault {
-            let mut lost = vec![0u8; n.min(len)];
-            self.read_regs(reg, &mut lost);
-            self.stats.short_reads += 1;
+    }
+
+    /// The chip sends `n` bytes from `reg` (with their side effects) before
+    /// the transfer breaks off.
+    fn send_then_fail(&mut self, reg: u8, n: usize) {
+        let mut lost = vec![0u8; n];
+        self.read_regs(reg, &mut lost);
+        match reg {
+            regs::FIFO_R_W => self.stats.short_reads += 1,
+            regs::INT_STATUS => self.stats.lost_status_reads += 1,
+            _ => {}
         }
-        Some(fault)
     }
 
     /// An injected failure of a transfer that reads `len` bytes from `reg`:
-    /// an address NACK, or, half the time for a FIFO read, a read that
-    /// breaks off after 1…len−1 bytes have left the FIFO.
+    /// an address NACK, or, half the time for a FIFO or status read, a
+    /// transfer that breaks off after the chip sent bytes: 1…len−1 bytes
+    /// gone from the FIFO, or INT_STATUS read (and so cleared).
     fn fail_read(&mut self, reg: u8, len: usize) -> SimError {
-        if reg == regs::FIFO_R_W && len > 1 && self.uniform() < 0.5 {
-            let sent = 1 + ((self.uniform() * (len - 1) as f64) as usize).min(len - 2);
-            let mut lost = vec![0u8; sent];
-            self.read_regs(reg, &mut lost);
-            self.stats.short_reads += 1;
-            return SimError::ShortRead(sent);
+        let partial = match reg {
+            regs::FIFO_R_W if len > 1 => {
+                Some(1 + ((self.uniform() * (len - 1) as f64) as usize).min(len - 2))
+            }
+            regs::INT_STATUS => Some(len),
+            _ => None,
+        };
+        match partial {
+            Some(sent) if self.uniform() < 0.5 => {
+                self.send_then_fail(reg, sent);
+                SimError::ShortRead(sent)
+            }
+            _ => SimError::Nack,
         }
-        SimError::Nack
     }
 
     fn write_reg(&mut self, reg: u8, value: u8) {
@@ -336,6 +381,15 @@ impl I2c for SimChip {
         if address != ADDRESS {
             return Err(SimError::Nack);
         }
+        // One address byte per operation (a repeated start re-sends it).
+        let bytes: usize = operations
+            .iter()
+            .map(|op| match op {
+                Operation::Write(b) => b.len() + 1,
+                Operation::Read(b) => b.len() + 1,
+            })
+            .sum();
+        self.transfer_time(bytes, 9.0);
         if let [Operation::Write(w), Operation::Read(r)] = operations
             && w.len() == 1
             && let Some(fault) = self.planned_fault(w[0], r.len())
@@ -376,6 +430,17 @@ impl embedded_hal::spi::SpiDevice for SimChip {
         operations: &mut [embedded_hal::spi::Operation<'_, u8>],
     ) -> Result<(), SimError> {
         use embedded_hal::spi::Operation as Op;
+        let bytes: usize = operations
+            .iter()
+            .map(|op| match op {
+                Op::Write(b) => b.len(),
+                Op::Read(b) => b.len(),
+                Op::Transfer(r, w) => r.len().max(w.len()),
+                Op::TransferInPlace(b) => b.len(),
+                Op::DelayNs(_) => 0,
+            })
+            .sum();
+        self.transfer_time(bytes, 8.0);
         if let [Op::Write(w), Op::Read(r)] = operations
             && w.len() == 1
             && w[0] & regs::SPI_READ != 0
