@@ -73,7 +73,8 @@ Devices: i2c:/dev/i2c-1[@0x68|@0x69] (≤ 400 kHz: below 500 Hz only on a Pi 3; 
 /dev/i2c-1 at 0x68), spi:/dev/spidev0.0 (1 MHz, mode 0; `spi` alone is /dev/spidev0.0), or sim[:PRESET] (a register-level simulated chip fed by the simulator;
 presets mpu9250-thesis, white, and counter: sample k reads k LSB on every field).
 --rate is rounded to what the chip makes, 1000/(1 + n) Hz, and the recorded rate is said.
---duration counts samples: 10s at 200 Hz is 2000 rows, gaps included.
+--duration counts samples: 10s at 200 Hz is 2000 rows, gaps included (a run also ends at
+1.05 × the duration + 2 s of host time, stopped_by=time_limit, should the chip fall silent).
 Ctrl-C or SIGTERM stops cleanly: every sample read is written, the file ends with a
 complete line and a trailer (# trailer: samples=… gap_samples=… overflows=… bus_errors=…
 rate_measured_hz=…). A lost stretch (FIFO overflow, a read broken off, a stalled sensor)
@@ -130,6 +131,12 @@ pub struct RecordArgs {
     /// seconds, as a slow host would, so that the FIFO overflows.
     #[arg(long, value_name = "S")]
     pub sim_stall_every: Option<f64>,
+
+    /// Simulated device only: a brown-out this many seconds into the run
+    /// (the chip's registers return to power-on values and it stops
+    /// delivering until configured again).
+    #[arg(long, value_name = "S")]
+    pub sim_brownout_at: Option<f64>,
 
     /// Simulated device only: the chip's clock error, ppm (a real
     /// MPU-9250 clocked from its gyro varies by ±1 % over temperature,

@@ -316,6 +316,58 @@ fn an_existing_recording_is_never_overwritten_unasked() {
 }
 
 #[test]
+fn a_brown_out_is_reconfigured_and_its_silence_is_a_gap() {
+    // The chip loses its registers 2 s in: nothing comes until the logger
+    // notices (1 s without a frame) and configures it again.
+    let (_dir, out) = record(&[
+        "--device",
+        "sim:counter",
+        "--rate",
+        "200",
+        "--duration",
+        "5s",
+        "--sim-brownout-at",
+        "2",
+    ]);
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(trailer_field(&text, "reconfigurations"), 1.0, "{text}");
+    assert_eq!(trailer_field(&text, "gaps"), 1.0);
+    assert!(text.contains("the sensor stopped delivering: reconfigured"));
+    let r = rows(&out);
+    assert_eq!(r.len(), 1000);
+    let gap = r.iter().filter(|row| row[0].is_nan()).count();
+    // About a second of silence and the poll that notices it.
+    assert!((195..=240).contains(&gap), "{gap} gap rows");
+    // The chip made no sample while it was down: the stream jumps once, by
+    // the few frames its FIFO held when it lost them (one poll's worth).
+    let ks: Vec<i64> = r.iter().filter_map(|row| counter_index(row)).collect();
+    let jumps: Vec<i64> = ks.windows(2).map(|w| w[1] - w[0]).filter(|&d| d != 1).collect();
+    assert!(
+        jumps.len() <= 1 && jumps.iter().all(|&d| (2..=12).contains(&d)),
+        "{jumps:?}"
+    );
+}
+
+#[test]
+fn a_silent_chip_ends_the_run_at_the_duration_in_host_time() {
+    // A chip whose clock has stopped never delivers: the run still ends,
+    // at 1.05 × the duration + 2 s, the silence written as a gap.
+    let (_dir, out) = record(&[
+        "--device",
+        "sim:counter",
+        "--rate",
+        "100",
+        "--duration",
+        "1s",
+        "--sim-clock-ppm=-1000000",
+    ]);
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("stopped_by=time_limit"), "{text}");
+    assert_eq!(trailer_field(&text, "samples"), 0.0);
+    assert_eq!(rows(&out).len(), 100, "the whole second is a gap");
+}
+
+#[test]
 fn a_rate_the_chip_cannot_make_is_named_and_the_real_one_recorded() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("r.txt");

@@ -170,6 +170,12 @@ impl SimChip {
         self.stats
     }
 
+    /// A brown-out: the registers return to their power-on values and the
+    /// FIFO empties, so the chip delivers nothing until configured again.
+    pub fn power_cycle(&mut self) {
+        self.reset();
+    }
+
     /// Bytes in the FIFO.
     pub fn fifo_len(&self) -> usize {
         self.fifo.len()

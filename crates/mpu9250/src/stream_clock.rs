@@ -32,7 +32,7 @@ const MEASURED_AFTER_S: f64 = 5.0;
 #[derive(Debug, Clone)]
 pub struct StreamClock {
     nominal_hz: f64,
-    /// Host time of the last read that succeeded with the FIFO intact.
+    /// Host time of the last read that found frames with the FIFO intact.
     last_ok_s: f64,
     /// A FIFO reset happened since `last_ok_s`.
     pending: bool,
@@ -58,10 +58,13 @@ impl StreamClock {
     /// last good read). After a reset, a read that finds no frame yet
     /// settles nothing and returns 0; the next one with frames does.
     pub fn frames(&mut self, t_s: f64, n: usize) -> u64 {
+        // A read with no frame says nothing of when the newest sample was
+        // taken (the chip may have stopped): the last read with frames
+        // stays the anchor.
+        if n == 0 {
+            return 0;
+        }
         if self.pending {
-            if n == 0 {
-                return 0;
-            }
             let span = (t_s - self.last_ok_s).max(0.0) * self.rate_hz();
             self.pending = false;
             self.last_ok_s = t_s;
@@ -181,6 +184,23 @@ mod tests {
         assert_eq!(clock.frames(2.0, 10), 90);
         assert!(!clock.pending());
         assert_eq!(clock.lost_until(3.0), 0);
+    }
+
+    #[test]
+    fn a_silent_chip_is_a_gap_and_does_not_bend_the_rate() {
+        let mut clock = StreamClock::new(200.0, 0.0);
+        // 10 s of frames, then 1 s of empty reads, then a reset.
+        for k in 1..=500 {
+            clock.frames(k as f64 * 0.02, 4);
+        }
+        for k in 1..=50 {
+            assert_eq!(clock.frames(10.0 + k as f64 * 0.02, 0), 0);
+        }
+        assert!((clock.measured_hz().unwrap() - 200.0).abs() < 1e-9);
+        clock.lost();
+        // The first frames after the reset, 0.1 s after it: 220 samples of
+        // time since the last frames, 20 of them read.
+        assert_eq!(clock.frames(11.1, 20), 200);
     }
 
     #[test]

@@ -26,7 +26,7 @@ use crate::commands::simulate::parse_duration;
 const POLL: Duration = Duration::from_millis(20);
 /// Tries per read before waiting for the next poll.
 const RETRIES: u32 = 5;
-/// After this long without a single successful read, the bus is gone.
+/// After this long without a single frame, the sensor is gone.
 const GIVE_UP: Duration = Duration::from_secs(30);
 /// Samples of the simulated signal computed at a time.
 const SIM_CHUNK: usize = 256;
@@ -56,18 +56,42 @@ pub fn run(a: &RecordArgs) -> Result<()> {
         .actual_rate_hz()
         .with_context(|| format!("--rate {}: the MPU-9250 makes 1000/(1 + n) Hz, n = 0…255", a.rate))?;
     if (rate - a.rate).abs() > 1e-9 * rate {
-        eprintln!(
-            "note: --rate {}: the MPU-9250 makes 1000/(1 + n) Hz; recording at {} Hz (SMPLRT_DIV {})",
+        say(format_args!(
+            "note: --rate {}: the MPU-9250 makes 1000/(1 + n) Hz; recording at {} Hz (SMPLRT_DIV {})\n",
             a.rate,
             hz(rate),
             config.divider().unwrap_or(0)
-        );
+        ));
     }
     let duration = a.duration.as_deref().map(parse_duration).transpose()?;
+    if let (Some(d), Some(text)) = (duration, &a.duration)
+        && (d * rate).round() < 1.0
+    {
+        bail!("--duration {text}: less than one sample at {} Hz", hz(rate));
+    }
     let (kind, rest) = a.device.split_once(':').unwrap_or((a.device.as_str(), ""));
     let is_sim = kind == "sim";
-    if !is_sim && (a.sim_bus_errors > 0.0 || a.sim_stall_every.is_some() || a.sim_clock_ppm != 0.0) {
-        bail!("--sim-bus-errors, --sim-stall-every and --sim-clock-ppm are for --device sim only");
+    if !is_sim
+        && (a.sim_bus_errors > 0.0
+            || a.sim_stall_every.is_some()
+            || a.sim_clock_ppm != 0.0
+            || a.sim_brownout_at.is_some())
+    {
+        bail!(
+            "--sim-bus-errors, --sim-stall-every, --sim-clock-ppm and --sim-brownout-at are for \
+             --device sim only"
+        );
+    }
+    if !(a.sim_clock_ppm >= -1e6) {
+        bail!(
+            "--sim-clock-ppm {}: a clock cannot run backwards (−1000000 stops it)",
+            a.sim_clock_ppm
+        );
+    }
+    // Refused before the sensor is touched; created once it is configured,
+    // so that a sensor that fails leaves no empty file behind.
+    if !a.overwrite && a.output.exists() {
+        return Err(exists_error(&a.output));
     }
     match kind {
         "sim" => {
@@ -80,6 +104,9 @@ pub fn run(a: &RecordArgs) -> Result<()> {
             let mut last = Instant::now();
             let mut last_stall = Instant::now();
             let stall_every = a.sim_stall_every;
+            let mut brownout = a
+                .sim_brownout_at
+                .map(|s| Instant::now() + Duration::from_secs_f64(s.max(0.0)));
             let error_rate = a.sim_bus_errors;
             let speed = 1.0 + a.sim_clock_ppm * 1e-6;
             record(
@@ -104,6 +131,10 @@ pub fn run(a: &RecordArgs) -> Result<()> {
                         .inner_mut()
                         .advance((now - last).as_secs_f64() * speed);
                     last = now;
+                    if brownout.is_some_and(|at| now >= at) {
+                        imu.bus_mut().inner_mut().power_cycle();
+                        brownout = None;
+                    }
                 },
             )
         }
@@ -282,7 +313,6 @@ fn record<B: Bus>(
     a: &RecordArgs,
     mut tick: impl FnMut(&mut Mpu9250<B>),
 ) -> Result<()> {
-    let file = create_output(&a.output, a.overwrite)?;
     let stop = Arc::new(AtomicBool::new(false));
     {
         let stop = stop.clone();
@@ -291,6 +321,7 @@ fn record<B: Bus>(
     }
     imu.configure(config)
         .map_err(|e| anyhow::anyhow!("configuring the sensor: {e}"))?;
+    let file = create_output(&a.output, a.overwrite)?;
     // Host time: the wall clock at the start, then the monotonic clock, so
     // that a clock adjustment during the run cannot bend the timestamps.
     let started = Instant::now();
@@ -349,17 +380,22 @@ fn record<B: Bus>(
          stopped_by={stopped_by} elapsed_s={elapsed:.3} rate_measured_hz={measured}",
         c.samples, c.gap_samples, c.gaps, c.overflows, c.resyncs, c.bus_errors, c.reconfigurations,
     );
-    out.w.write_trailer("trailer", &trailer)?;
-    out.w.flush()?;
-    out.w.get_mut().get_ref().sync_all()?;
+    let closed = out
+        .w
+        .write_trailer("trailer", &trailer)
+        .and_then(|()| out.w.flush())
+        .and_then(|()| out.w.get_mut().get_ref().sync_all());
     if std::io::stderr().is_terminal() {
-        eprintln!();
+        say(format_args!("\n"));
     }
+    // The run's own error comes first; closing the file may have failed
+    // for the same reason (a full disk).
     result.with_context(|| format!("recording to {}", a.output.display()))?;
+    closed.with_context(|| format!("closing {}", a.output.display()))?;
     let c = &out.c;
-    eprintln!(
+    say(format_args!(
         "wrote {}: {} samples at {} Hz, {} lost in {} gaps ({} overflows, {} resyncs, \
-         {} reconfigurations), {} bus errors retried; chip rate {}",
+         {} reconfigurations), {} bus errors retried; chip rate {}\n",
         a.output.display(),
         c.samples,
         hz(rate),
@@ -373,12 +409,20 @@ fn record<B: Bus>(
             || "not measured (under 5 s without a loss)".to_string(),
             |r| format!("measured {r:.4} Hz")
         ),
-    );
+    ));
     Ok(())
 }
 
-/// The output file, created before the sensor is touched. A recording is
-/// hours of work: an existing file is only replaced with `--overwrite`.
+/// Writes to stderr, ignoring failure: a closed stderr (a pipe whose reader
+/// left, a restarted journal) must not stop a recording.
+fn say(args: std::fmt::Arguments<'_>) {
+    use std::io::Write;
+    let _ = std::io::stderr().write_fmt(args);
+}
+
+/// The output file, created once the sensor is configured (its existence
+/// was checked before the sensor was touched). A recording is hours of
+/// work: an existing file is only replaced with `--overwrite`.
 fn create_output(path: &std::path::Path, overwrite: bool) -> Result<File> {
     let opened = if overwrite {
         File::create(path)
@@ -390,15 +434,19 @@ fn create_output(path: &std::path::Path, overwrite: bool) -> Result<File> {
     };
     opened.map_err(|e| {
         if e.kind() == std::io::ErrorKind::AlreadyExists {
-            let size = std::fs::metadata(path).map_or(0, |m| m.len());
-            anyhow::anyhow!(
-                "{} already exists ({size} bytes): choose another name, or pass --overwrite to replace it",
-                path.display()
-            )
+            exists_error(path)
         } else {
             anyhow::Error::new(e).context(format!("creating {}", path.display()))
         }
     })
+}
+
+fn exists_error(path: &std::path::Path) -> anyhow::Error {
+    let size = std::fs::metadata(path).map_or(0, |m| m.len());
+    anyhow::anyhow!(
+        "{} already exists ({size} bytes): choose another name, or pass --overwrite to replace it",
+        path.display()
+    )
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -418,9 +466,14 @@ fn record_loop<B: Bus>(
     // No frame for this long means the chip stopped (a brown-out resets
     // its registers): configure it again.
     let stall_limit = (40.0 / rate).max(1.0);
+    // With --duration, a chip far slower than its nominal rate (or silent)
+    // must not keep the run going for ever: host time bounds it too.
+    let deadline = out.target.map(|t| t as f64 / rate * 1.05 + 2.0);
     let mut cause = None;
+    // The last read that delivered frames, and the last sign of life
+    // (frames, or a reconfiguration) that spaces reconfigurations.
+    let mut last_delivery = now();
     let mut last_frame = now();
-    let mut last_success = Instant::now();
     let (mut last_flush, mut last_sync, mut last_status) = (Instant::now(), Instant::now(), Instant::now());
     let terminal = std::io::stderr().is_terminal();
     let mut frames = Vec::new();
@@ -451,7 +504,6 @@ fn record_loop<B: Bus>(
         }
         match read {
             Some((t, FifoRead::Frames(n))) => {
-                last_success = Instant::now();
                 let lost = clock.frames(t, n);
                 if lost > 0 {
                     out.gap(lost, cause.take().unwrap_or(Loss::Overflow), clock.rate_hz())?;
@@ -459,6 +511,7 @@ fn record_loop<B: Bus>(
                 if n > 0 {
                     cause = None;
                     last_frame = t;
+                    last_delivery = t;
                 }
                 for (i, f) in frames.iter().enumerate() {
                     if out.full() {
@@ -481,31 +534,34 @@ fn record_loop<B: Bus>(
                 }
             }
             Some((_, FifoRead::Overflow)) => {
-                last_success = Instant::now();
                 out.c.overflows += 1;
                 clock.lost();
                 cause.get_or_insert(Loss::Overflow);
             }
             Some((_, FifoRead::Resync)) => {
-                last_success = Instant::now();
                 out.c.resyncs += 1;
                 clock.lost();
                 cause.get_or_insert(Loss::PartRead);
             }
-            None => {
-                if last_success.elapsed() > GIVE_UP {
-                    out.gap(
-                        clock.lost_until(now()),
-                        cause.unwrap_or(Loss::PartRead),
-                        clock.rate_hz(),
-                    )?;
-                    bail!(
-                        "no successful read of the sensor for {} s ({} bus errors): is it still connected?",
-                        GIVE_UP.as_secs(),
-                        out.c.bus_errors
-                    );
-                }
-            }
+            // Every try failed: the next poll tries again.
+            None => {}
+        }
+        if now() - last_delivery > GIVE_UP.as_secs_f64() {
+            // The silence up to now is a gap, then the run ends.
+            clock.lost();
+            out.gap(
+                clock.lost_until(now()),
+                cause.unwrap_or(Loss::Stalled),
+                clock.rate_hz(),
+            )?;
+            out.w.flush()?;
+            bail!(
+                "no sample from the sensor for {} s ({} bus errors, {} reconfigurations): is it still \
+                 connected and powered?",
+                GIVE_UP.as_secs(),
+                out.c.bus_errors,
+                out.c.reconfigurations
+            );
         }
         if last_flush.elapsed() >= Duration::from_secs(1) {
             out.w.flush()?;
@@ -521,14 +577,26 @@ fn record_loop<B: Bus>(
         if last_status.elapsed() >= Duration::from_secs(every) {
             let line = status(out, clock, imu.fifo_level());
             if terminal {
-                eprint!("\r{line}   ");
+                say(format_args!("\r{line}   "));
             } else {
-                eprintln!("{line}");
+                say(format_args!("{line}\n"));
             }
             last_status = Instant::now();
         }
         if out.full() {
             return Ok("duration");
+        }
+        if deadline.is_some_and(|d| now() > d) {
+            // Far past the duration in host time: what is missing is lost.
+            if now() - last_delivery > 2.0 / rate {
+                clock.lost();
+            }
+            out.gap(
+                clock.lost_until(now()),
+                cause.unwrap_or(Loss::Stalled),
+                clock.rate_hz(),
+            )?;
+            return Ok("time_limit");
         }
         if signalled {
             // A loss still waiting for frames to size it ends the file.
@@ -556,7 +624,8 @@ fn hz(rate: f64) -> String {
 fn status(out: &Output, clock: &StreamClock, fifo_bytes: usize) -> String {
     let c = &out.c;
     format!(
-        "{} samples, {}, {:.2} °C, FIFO {fifo_bytes}/{} B, {} lost in {} gaps, {} overflows, {} bus errors",
+        "{} samples, {}, {:.2} °C, FIFO {fifo_bytes}/{} B, {} lost in {} gaps, {} overflows, {} resyncs, \
+         {} reconfigurations, {} bus errors",
         c.samples,
         clock
             .measured_hz()
@@ -566,6 +635,8 @@ fn status(out: &Output, clock: &StreamClock, fifo_bytes: usize) -> String {
         c.gap_samples,
         c.gaps,
         c.overflows,
+        c.resyncs,
+        c.reconfigurations,
         c.bus_errors,
     )
 }
