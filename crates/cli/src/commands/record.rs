@@ -82,7 +82,7 @@ pub fn run(a: &RecordArgs) -> Result<()> {
              --device sim only"
         );
     }
-    if !(a.sim_clock_ppm >= -1e6) {
+    if a.sim_clock_ppm.is_nan() || a.sim_clock_ppm < -1e6 {
         bail!(
             "--sim-clock-ppm {}: a clock cannot run backwards (−1000000 stops it)",
             a.sim_clock_ppm
