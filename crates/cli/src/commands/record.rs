@@ -43,6 +43,16 @@ struct Counters {
     reconfigurations: u64,
 }
 
+impl Counters {
+    /// Every kind of loss, for the status line and the closing message.
+    fn losses(&self) -> String {
+        format!(
+            "{} lost in {} gaps ({} overflows, {} resyncs, {} reconfigurations), {} bus errors retried",
+            self.gap_samples, self.gaps, self.overflows, self.resyncs, self.reconfigurations, self.bus_errors
+        )
+    }
+}
+
 pub fn run(a: &RecordArgs) -> Result<()> {
     let config = Config {
         gyro_range: GyroRange::from_dps(a.gyro_range)
@@ -394,17 +404,11 @@ fn record<B: Bus>(
     closed.with_context(|| format!("closing {}", a.output.display()))?;
     let c = &out.c;
     say(format_args!(
-        "wrote {}: {} samples at {} Hz, {} lost in {} gaps ({} overflows, {} resyncs, \
-         {} reconfigurations), {} bus errors retried; chip rate {}\n",
+        "wrote {}: {} samples at {} Hz, {}; chip rate {}\n",
         a.output.display(),
         c.samples,
         hz(rate),
-        c.gap_samples,
-        c.gaps,
-        c.overflows,
-        c.resyncs,
-        c.reconfigurations,
-        c.bus_errors,
+        c.losses(),
         clock.measured_hz().map_or_else(
             || "not measured (under 5 s without a loss)".to_string(),
             |r| format!("measured {r:.4} Hz")
@@ -624,19 +628,13 @@ fn hz(rate: f64) -> String {
 fn status(out: &Output, clock: &StreamClock, fifo_bytes: usize) -> String {
     let c = &out.c;
     format!(
-        "{} samples, {}, {:.2} °C, FIFO {fifo_bytes}/{} B, {} lost in {} gaps, {} overflows, {} resyncs, \
-         {} reconfigurations, {} bus errors",
+        "{} samples, {}, {:.2} °C, FIFO {fifo_bytes}/{} B, {}",
         c.samples,
         clock
             .measured_hz()
             .map_or_else(|| "rate not yet measured".to_string(), |r| format!("{r:.3} Hz")),
         out.last[6],
         regs::FIFO_BYTES,
-        c.gap_samples,
-        c.gaps,
-        c.overflows,
-        c.resyncs,
-        c.reconfigurations,
-        c.bus_errors,
+        c.losses(),
     )
 }
