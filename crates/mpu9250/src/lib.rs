@@ -3,14 +3,19 @@
 //! A driver for the InvenSense MPU-9250 (and MPU-9255, MPU-6500) over
 //! embedded-hal 1.0, on I2C ([`driver::I2cBus`]) or SPI
 //! ([`driver::SpiBus`]): probe, reset, clock, full scales, low-pass filters,
-//! sample rate, and reading the FIFO in whole 14-byte frames, with overflow
-//! detection and a FIFO reset to regain frame alignment. Conversion to SI is
-//! in [`config::Config::to_si`]. The register map is [`regs`].
+//! sample rate, and reading the FIFO in whole 14-byte frames: overflow is
+//! judged by the count and by INT_STATUS after each burst, and a FIFO reset
+//! regains frame alignment after an overflow or a read broken off, so no
+//! frame is ever decoded from misaligned bytes. Conversion to SI is in
+//! [`config::Config::to_si`]. The register map is [`regs`].
+//! [`stream_clock::StreamClock`] sizes lost stretches from host time, to
+//! ±1 sample whatever the chip's clock error.
 //!
 //! [`sim::SimChip`] implements the same bus traits at the register level:
 //! register file, WHO_AM_I, a FIFO that fills in simulated time at the
-//! configured rate and overflows at 512 bytes, and fault injection. The
-//! driver's tests run against it.
+//! configured rate and overflows at 512 bytes, bus time per transfer, and
+//! fault injection (address NACKs, transfers broken off after bytes were
+//! sent, brown-outs). The driver's tests run against it.
 //!
 //! **What it is not:** no magnetometer (AK8963), no DMP, no interrupts.
 //!
