@@ -526,13 +526,20 @@ pub fn read_recording_with_report(
             columns.push((i, data));
         }
     }
+    // Rows skipped as bad are reported as that already: a NaN run is
+    // reported from its first row that is not one of them.
+    let bad_lines: std::collections::HashSet<u64> = table.problems.iter().filter_map(|p| p.line).collect();
+    let beyond_bad = |start: usize, count: usize| -> Option<(usize, usize)> {
+        let first =
+            (start..start + count).find(|&r| bad_lines.is_empty() || !bad_lines.contains(&line_of(r)))?;
+        Some((first, count - (first - start)))
+    };
     let whole_rows = whole_row_gaps(&columns);
     let is_whole_row = |start: usize, count: usize| whole_rows.binary_search(&(start, count)).is_ok();
     for &(start, count) in &whole_rows {
-        // A row skipped as bad is reported as that already.
-        if table.problems.iter().any(|p| p.line == Some(line_of(start))) {
+        let Some((start, count)) = beyond_bad(start, count) else {
             continue;
-        }
+        };
         report.push(Problem {
             kind: ProblemKind::NanRun,
             line: Some(line_of(start)),
@@ -566,10 +573,12 @@ pub fn read_recording_with_report(
                 row += 1;
             }
             let count = row - start;
-            let skipped_line = table.problems.iter().any(|p| p.line == Some(line_of(start)));
-            if skipped_line || (!infinite && is_whole_row(start, count)) {
+            if !infinite && is_whole_row(start, count) {
                 continue;
             }
+            let Some((start, count)) = beyond_bad(start, count) else {
+                continue;
+            };
             report.push(Problem {
                 kind: if infinite {
                     ProblemKind::Infinite
@@ -820,6 +829,46 @@ mod tests {
         };
         let (_, report) = read_recording_with_report(&p, &opts).unwrap();
         assert!(report.timing.is_some());
+    }
+
+    #[test]
+    fn a_gap_after_a_bad_line_is_still_reported() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("bad_then_gap.txt");
+        let mut w =
+            LogWriter::new(Vec::new(), LogFormat::Imutherm, &Metadata::default(), Some(100.0)).unwrap();
+        for _ in 0..3 {
+            w.write_row(&[1.0; 7]).unwrap();
+        }
+        let mut text = w.into_inner();
+        text.extend_from_slice(b"1, 2, garbled\n");
+        let mut w = LogWriter::new(Vec::new(), LogFormat::Thesis, &Metadata::default(), None).unwrap();
+        w.write_comment("gap", "5 samples lost").unwrap();
+        for _ in 0..5 {
+            w.write_row(&[f64::NAN; 7]).unwrap();
+        }
+        w.write_row(&[2.0; 7]).unwrap();
+        let tail = w.into_inner();
+        // Without the second writer's header line.
+        let tail = &tail[tail.iter().position(|&b| b == b'\n').unwrap() + 1..];
+        text.extend_from_slice(tail);
+        std::fs::write(&p, &text).unwrap();
+        let opts = RecordingOptions {
+            skip_bad_lines: true,
+            ..RecordingOptions::default()
+        };
+        let (rec, report) = read_recording_with_report(&p, &opts).unwrap();
+        assert_eq!(rec.len(), 10);
+        assert_eq!(report.count(ProblemKind::BadLine), 1);
+        let gaps: Vec<_> = report
+            .problems
+            .iter()
+            .filter(|p| p.kind == ProblemKind::NanRun)
+            .collect();
+        // Lines: 2 metadata, header, 3 rows (4-6), the bad line 7, the
+        // comment 8, the gap from line 9.
+        assert_eq!(gaps.len(), 1, "{:?}", report.problems);
+        assert_eq!((gaps[0].line, gaps[0].count), (Some(9), 5));
     }
 
     #[test]

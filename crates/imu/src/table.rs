@@ -132,15 +132,21 @@ pub struct Table {
 impl Table {
     /// The 1-based line of row `row` (0-based): where to look in the file.
     pub fn line_of_row(&self, row: usize) -> u64 {
-        let mut line = self.body_start_line + row as u64;
-        for &s in &self.skipped_lines {
-            if s <= line {
-                line += 1;
+        // Skipped line i (ascending) lies before the row's line when
+        // s_i ≤ base + row + i, that is s_i − i ≤ base + row; s_i − i never
+        // decreases (the lines are distinct), so a binary search counts them
+        // in O(log n), which matters for files with many gap comments.
+        let target = self.body_start_line + row as u64;
+        let (mut lo, mut hi) = (0, self.skipped_lines.len());
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            if self.skipped_lines[mid].saturating_sub(mid as u64) <= target {
+                lo = mid + 1;
             } else {
-                break;
+                hi = mid;
             }
         }
-        line
+        target + lo as u64
     }
 }
 
@@ -784,6 +790,29 @@ mod tests {
             ),
             "{e}"
         );
+    }
+
+    #[test]
+    fn line_of_row_counts_the_skipped_lines_before_it() {
+        // Rows and comment lines interleaved in a known pattern: line L is a
+        // comment when L % 3 == 0 or L % 7 == 0 (from line 3 on).
+        let body_start_line = 2;
+        let skipped: Vec<u64> = (3..400).filter(|l| l % 3 == 0 || l % 7 == 0).collect();
+        let row_lines: Vec<u64> = (2..400).filter(|l| !skipped.contains(l)).collect();
+        let t = Table {
+            path: PathBuf::new(),
+            has_header: true,
+            comments: Vec::new(),
+            names: Vec::new(),
+            columns: Vec::new(),
+            lines: 400,
+            problems: Vec::new(),
+            body_start_line,
+            skipped_lines: skipped,
+        };
+        for (row, &line) in row_lines.iter().enumerate() {
+            assert_eq!(t.line_of_row(row), line, "row {row}");
+        }
     }
 
     #[test]
