@@ -156,6 +156,10 @@ pub enum FifoRead {
     /// (512 is not a multiple of 14, so frame alignment was lost) and the
     /// FIFO reset; the samples in between are lost.
     Overflow,
+    /// At a FIFO reset the chip was found with its configuration gone (a
+    /// brown-out resets its registers): it was configured again, and the
+    /// samples since the last read are lost.
+    Reconfigured,
     /// An earlier FIFO read failed part-way (or the count made no sense), so
     /// frame alignment was unknown: the FIFO was reset, and the samples since
     /// the last whole read are lost.
@@ -185,6 +189,8 @@ pub struct Mpu9250<B> {
     /// failed part-way leaves the FIFO misaligned.
     pending: Option<Pending>,
     fifo_level: usize,
+    /// `configure` has run: the registers can be checked against `config`.
+    configured: bool,
 }
 
 impl<B: Bus> Mpu9250<B> {
@@ -205,6 +211,7 @@ impl<B: Bus> Mpu9250<B> {
             scratch: Vec::with_capacity(regs::FIFO_BYTES),
             pending: None,
             fifo_level: 0,
+            configured: false,
         })
     }
 
@@ -253,7 +260,9 @@ impl<B: Bus> Mpu9250<B> {
         w(&mut self.bus, regs::GYRO_CONFIG, config.gyro_range.bits())?;
         w(&mut self.bus, regs::ACCEL_CONFIG, config.accel_range.bits())?;
         w(&mut self.bus, regs::ACCEL_CONFIG2, config.dlpf_cfg())?;
+        w(&mut self.bus, regs::INT_ENABLE, regs::FIFO_OFLOW_EN)?;
         self.config = config;
+        self.configured = true;
         self.start_fifo()
     }
 
@@ -355,6 +364,23 @@ impl<B: Bus> Mpu9250<B> {
         Ok(FifoRead::Frames(frames))
     }
 
+    /// Whether SMPLRT_DIV, CONFIG, GYRO_CONFIG and ACCEL_CONFIG still hold
+    /// what `configure` wrote.
+    fn configuration_intact(&mut self) -> Result<bool, Error<B::Error>> {
+        let mut got = [0u8; 4];
+        self.bus
+            .read_regs(regs::SMPLRT_DIV, &mut got)
+            .map_err(Error::Bus)?;
+        let c = &self.config;
+        let want = [
+            c.divider().unwrap_or(0),
+            c.dlpf_cfg(),
+            c.gyro_range.bits(),
+            c.accel_range.bits(),
+        ];
+        Ok(got == want)
+    }
+
     /// Reads (and so clears) FIFO_OFLOW_INT.
     fn overflowed(&mut self) -> Result<bool, Error<B::Error>> {
         let mut status = [0u8];
@@ -365,8 +391,18 @@ impl<B: Bus> Mpu9250<B> {
     }
 
     /// Resets the FIFO, remembering the cause until the reset is through.
+    /// A failure that forced the reset may have come with a brown-out, which
+    /// leaves the chip at its power-on defaults (1 kHz, ±250 °/s, ±2 g) still
+    /// filling a FIFO once restarted: the configuration is checked first and
+    /// written again if it is gone.
     fn resync(&mut self, cause: Pending) -> Result<FifoRead, Error<B::Error>> {
         self.pending = Some(cause);
+        if self.configured && !self.configuration_intact()? {
+            self.configure(self.config)?;
+            self.pending = None;
+            self.fifo_level = 0;
+            return Ok(FifoRead::Reconfigured);
+        }
         self.start_fifo()?;
         self.pending = None;
         self.fifo_level = 0;

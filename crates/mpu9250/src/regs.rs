@@ -12,6 +12,8 @@ pub const ACCEL_CONFIG: u8 = 0x1C;
 pub const ACCEL_CONFIG2: u8 = 0x1D;
 /// Which sensors feed the FIFO.
 pub const FIFO_EN: u8 = 0x23;
+/// Interrupt enable; bit 4 FIFO_OFLOW_EN.
+pub const INT_ENABLE: u8 = 0x38;
 /// Interrupt status; bit 4 FIFO_OFLOW_INT, cleared on read.
 pub const INT_STATUS: u8 = 0x3A;
 /// First data register: ACCEL_XOUT_H … GYRO_ZOUT_L follow (14 bytes).
@@ -53,6 +55,9 @@ pub const FIFO_RST: u8 = 0x04;
 pub const FIFO_ALL: u8 = 0xF8;
 /// INT_STATUS: FIFO overflow.
 pub const FIFO_OFLOW_INT: u8 = 0x10;
+/// INT_ENABLE: FIFO overflow interrupt enable (so that the status bit is
+/// certain to be raised, whatever a part does with disabled sources).
+pub const FIFO_OFLOW_EN: u8 = 0x10;
 /// CONFIG: when set, a full FIFO keeps its data and drops new samples;
 /// clear (as imutherm uses it), new data replace the oldest bytes.
 pub const FIFO_MODE: u8 = 0x40;

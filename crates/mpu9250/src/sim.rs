@@ -80,7 +80,10 @@ pub struct SimChip {
     rng: u64,
     stats: SimStats,
     who_am_i: u8,
-    /// When the FIFO last started, and frames sampled since.
+    /// The sample grid, which runs whether or not the FIFO takes its
+    /// samples (as the chip's sample clock does): its origin (set at reset
+    /// and when SMPLRT_DIV is written) and the index of the last grid time
+    /// sampled into the FIFO.
     start_s: f64,
     since_start: u64,
 }
@@ -187,6 +190,8 @@ impl SimChip {
         self.regs[usize::from(regs::PWR_MGMT_1)] = 0x01;
         self.regs[usize::from(regs::WHO_AM_I)] = self.who_am_i;
         self.fifo.clear();
+        self.start_s = self.time_s;
+        self.since_start = 0;
     }
 
     fn rate_hz(&self) -> f64 {
@@ -324,11 +329,17 @@ impl SimChip {
     fn write_reg(&mut self, reg: u8, value: u8) {
         let was_running = self.fifo_running();
         self.store(reg, value);
-        if self.fifo_running() && !was_running {
-            // The first frame is sampled one period after the FIFO starts.
+        if reg == regs::SMPLRT_DIV {
             self.start_s = self.time_s;
             self.since_start = 0;
-            self.next_time_s = self.time_s + 1.0 / self.rate_hz();
+        }
+        if self.fifo_running() && !was_running {
+            // The first frame is the grid's next sample after now: a FIFO
+            // reset does not restart the chip's sample clock.
+            let period = 1.0 / self.rate_hz();
+            let passed = ((self.time_s - self.start_s) / period + 1e-9).floor().max(0.0) as u64;
+            self.since_start = passed;
+            self.next_time_s = self.start_s + (passed + 1) as f64 * period;
         }
     }
 

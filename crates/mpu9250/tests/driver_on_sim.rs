@@ -132,6 +132,7 @@ fn read_through_faults<B: mpu9250::driver::Bus>(
                     jumps_allowed_at.push(frames.len());
                 }
                 Ok(FifoRead::Overflow) => panic!("no overflow at 40 reads a second"),
+                Ok(FifoRead::Reconfigured) => panic!("no brown-out here"),
                 Err(Error::Bus(_)) => errors += 1,
                 Err(e) => panic!("{e}"),
             }
@@ -254,9 +255,10 @@ impl mpu9250::driver::Bus for FailNth {
 
 #[test]
 fn an_overflow_is_never_forgotten_whichever_transfer_fails() {
-    // The count read finds 512 bytes; the reset that follows takes five
-    // more transfers. Fail each of the six in turn.
-    for n in 1..=6 {
+    // The count read finds 512 bytes; the reset that follows checks the
+    // configuration and takes five more transfers. Fail each of the seven
+    // in turn.
+    for n in 1..=7 {
         let cfg = Config::default();
         let bus = FailNth {
             bus: I2cBus::new(counting(cfg), ADDRESS),
@@ -298,10 +300,11 @@ fn a_frame_arriving_during_the_burst_into_a_full_fifo_is_caught() {
     let mut imu = Mpu9250::new(I2cBus::new(counting(cfg).with_bus_clock(400e3), ADDRESS)).unwrap();
     imu.configure(cfg).unwrap();
     let chip = |imu: &mut Mpu9250<I2cBus<SimChip>>| -> SimStats { imu.bus_mut().inner_mut().stats() };
-    // 36 frames in, the 37th due 0.2 ms after the count is read.
-    let now = chip(&mut imu).samples;
-    imu.bus_mut().inner_mut().advance(0.0368 - now as f64 * 1e-3);
-    assert_eq!(imu.bus_mut().inner_mut().fifo_len(), 504);
+    // Just after the 36th frame: the 37th is due in about 1 ms, after the
+    // 0.1 ms count read and early in the 11 ms burst.
+    while imu.bus_mut().inner_mut().fifo_len() < 504 {
+        imu.bus_mut().inner_mut().advance(50e-6);
+    }
     let mut frames = Vec::new();
     let r = imu.read_fifo(&mut frames).unwrap();
     assert_eq!(r, FifoRead::Overflow, "{} frames read", frames.len());
@@ -330,6 +333,35 @@ fn a_lost_reply_to_the_status_read_drops_the_unvouched_burst() {
     imu.bus_mut().inner_mut().advance(0.05);
     assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(10));
     assert_eq!(frames[0], [20; 7], "samples 0..20 went with the reset");
+}
+
+#[test]
+fn a_brown_out_during_a_failed_read_is_configured_again_not_read_at_defaults() {
+    let cfg = Config {
+        gyro_range: GyroRange::Dps2000,
+        accel_range: AccelRange::G16,
+        ..Config::default()
+    };
+    let mut imu = Mpu9250::new(I2cBus::new(counting(cfg), ADDRESS)).unwrap();
+    imu.configure(cfg).unwrap();
+    let mut frames = Vec::new();
+    imu.bus_mut().inner_mut().advance(0.1);
+    // A supply dip breaks off a burst and resets the chip.
+    imu.bus_mut()
+        .inner_mut()
+        .fail_next_fifo_read(SimError::ShortRead(20));
+    assert!(imu.read_fifo(&mut frames).is_err());
+    imu.bus_mut().inner_mut().power_cycle();
+    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Reconfigured);
+    // The chip runs at 200 Hz and ±2000 °/s, ±16 g again: 10 frames in 50 ms,
+    // each whole, at the configured scale (sample k reads k LSB).
+    imu.bus_mut().inner_mut().advance(0.05);
+    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(10));
+    let si = imu.config().to_si(&frames[0]);
+    let k = f64::from(frames[0][0]);
+    assert!((si[3] - k * GyroRange::Dps2000.lsb_rad()).abs() < 1e-12, "{si:?}");
+    assert!((si[0] - k * AccelRange::G16.lsb_si()).abs() < 1e-12, "{si:?}");
+    assert!(frames.iter().all(|f| f.iter().all(|&v| v == f[0])));
 }
 
 #[test]

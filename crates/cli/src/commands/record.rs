@@ -92,6 +92,11 @@ pub fn run(a: &RecordArgs) -> Result<()> {
              --device sim only"
         );
     }
+    if let Some(at) = a.sim_brownout_at
+        && !(0.0..1e9).contains(&at)
+    {
+        bail!("--sim-brownout-at {at}: expected seconds from 0 to 1e9");
+    }
     if a.sim_clock_ppm.is_nan() || a.sim_clock_ppm < -1e6 {
         bail!(
             "--sim-clock-ppm {}: a clock cannot run backwards (−1000000 stops it)",
@@ -245,6 +250,7 @@ enum Loss {
     Overflow,
     PartRead,
     Stalled,
+    Reset,
 }
 
 impl Loss {
@@ -253,6 +259,7 @@ impl Loss {
             Loss::Overflow => "FIFO overflow: read too late",
             Loss::PartRead => "a FIFO read broke off: FIFO reset to regain frame alignment",
             Loss::Stalled => "the sensor stopped delivering: reconfigured",
+            Loss::Reset => "the sensor had lost its configuration (a brown-out?): configured again",
         }
     }
 }
@@ -546,6 +553,12 @@ fn record_loop<B: Bus>(
                 out.c.resyncs += 1;
                 clock.lost();
                 cause.get_or_insert(Loss::PartRead);
+            }
+            Some((t, FifoRead::Reconfigured)) => {
+                out.c.reconfigurations += 1;
+                clock.lost();
+                cause.get_or_insert(Loss::Reset);
+                last_frame = t;
             }
             // Every try failed: the next poll tries again.
             None => {}
