@@ -309,6 +309,11 @@ impl Output {
         Ok(())
     }
 
+    /// At the end of a run: the samples a pending loss took up to `t_s`.
+    fn final_gap(&mut self, clock: &StreamClock, t_s: f64, cause: Loss) -> Result<()> {
+        self.gap(clock.lost_until(t_s), cause, clock.rate_hz())
+    }
+
     fn sample(&mut self, row: [f64; 7], host_s: f64) -> Result<()> {
         if self.host_time {
             self.w.write_row_with(&row, &[host_s])?;
@@ -566,11 +571,7 @@ fn record_loop<B: Bus>(
         if now() - last_delivery > GIVE_UP.as_secs_f64() {
             // The silence up to now is a gap, then the run ends.
             clock.lost();
-            out.gap(
-                clock.lost_until(now()),
-                cause.unwrap_or(Loss::Stalled),
-                clock.rate_hz(),
-            )?;
+            out.final_gap(clock, now(), cause.unwrap_or(Loss::Stalled))?;
             out.w.flush()?;
             bail!(
                 "no sample from the sensor for {} s ({} bus errors, {} reconfigurations): is it still \
@@ -608,20 +609,12 @@ fn record_loop<B: Bus>(
             if now() - last_delivery > 2.0 / rate {
                 clock.lost();
             }
-            out.gap(
-                clock.lost_until(now()),
-                cause.unwrap_or(Loss::Stalled),
-                clock.rate_hz(),
-            )?;
+            out.final_gap(clock, now(), cause.unwrap_or(Loss::Stalled))?;
             return Ok("time_limit");
         }
         if signalled {
             // A loss still waiting for frames to size it ends the file.
-            out.gap(
-                clock.lost_until(now()),
-                cause.unwrap_or(Loss::Overflow),
-                clock.rate_hz(),
-            )?;
+            out.final_gap(clock, now(), cause.unwrap_or(Loss::Overflow))?;
             return Ok("signal");
         }
     }
