@@ -341,8 +341,17 @@ fn record<B: Bus>(
         ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst))
             .context("installing the Ctrl-C handler")?;
     }
-    imu.configure(config)
-        .map_err(|e| anyhow::anyhow!("configuring the sensor: {e}"))?;
+    // A glitch on the bus at the start is retried like one during the run.
+    let mut attempt = 0;
+    while let Err(e) = imu.configure(config) {
+        attempt += 1;
+        match e {
+            DriverError::Bus(_) if attempt < RETRIES => {
+                std::thread::sleep(Duration::from_millis(10 << attempt))
+            }
+            e => bail!("configuring the sensor: {e}"),
+        }
+    }
     let file = create_output(&a.output, a.overwrite)?;
     // Host time: the wall clock at the start, then the monotonic clock, so
     // that a clock adjustment during the run cannot bend the timestamps.
