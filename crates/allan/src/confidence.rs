@@ -284,9 +284,7 @@ fn stirling_remainder(a: f64) -> f64 {
 mod tests {
     use super::*;
 
-    fn rel(a: f64, b: f64) -> f64 {
-        ((a - b) / b).abs()
-    }
+    use crate::stats::mtotdev::tests::rel;
 
     /// SciPy 1.17.1 `scipy.stats.chi2.ppf(p, k)` as (p, k, quantile), printed
     /// with repr(); generator: crates/allan/tests/fixtures/edf_ci_noise_id_reference.py,

@@ -420,9 +420,7 @@ mod tests {
     use super::*;
     use crate::confidence::ONE_SIGMA;
 
-    fn rel(a: f64, b: f64) -> f64 {
-        ((a - b) / b).abs()
-    }
+    use crate::stats::mtotdev::tests::rel;
 
     /// AllanTools 2024.6 `ci.edf_greenhall(alpha, d, m, N, overlapping, modified)`:
     /// (alpha, d, m, N, overlapping, modified, edf). Generator:

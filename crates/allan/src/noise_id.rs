@@ -393,6 +393,7 @@ fn modified_to_allan_ratio(x: &[f64], m: usize) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::stats::mtotdev::tests::{integrate, nbs14_1000_freq};
     use proptest::prelude::*;
 
     #[test]
@@ -425,37 +426,11 @@ mod tests {
         );
     }
 
-    /// The NBS14 1000-point rate set: LCG n0 = 1234567890,
-    /// n' = 16807·n mod (2³¹ − 1), y = n/(2³¹ − 1) (NIST SP 1065 test data).
-    fn lcg_rate() -> Vec<f64> {
-        let mut v: u64 = 1_234_567_890;
-        (0..1000)
-            .map(|_| {
-                let y = v as f64 / 2_147_483_647.0;
-                v = 16_807 * v % 2_147_483_647;
-                y
-            })
-            .collect()
-    }
-
-    /// [0, cumsum(y − mean y)]: rate integrated to phase.
-    fn integrate(y: &[f64]) -> Vec<f64> {
-        let mean = y.iter().sum::<f64>() / y.len() as f64;
-        let mut x = Vec::with_capacity(y.len() + 1);
-        let mut acc = 0.0;
-        x.push(acc);
-        for v in y {
-            acc += v - mean;
-            x.push(acc);
-        }
-        x
-    }
-
     /// Deterministic series for the AllanTools comparison, built as the
     /// generator builds them: "wpm" the LCG values used as phase, "wfm"
     /// PHASE.DAT (integrated LCG), "rwfm" PHASE.DAT integrated once more.
     fn lcg_series(name: &str) -> Vec<f64> {
-        let y = lcg_rate();
+        let y = nbs14_1000_freq();
         let wfm = integrate(&y);
         match name {
             "wpm" => y,
