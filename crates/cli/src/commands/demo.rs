@@ -23,6 +23,7 @@ use crate::commands::experiment::{
     Analysed, PngDir, adev_figures, analyse_run, deg, noise_tables, time_figures,
 };
 use crate::commands::selection::read_channels;
+use crate::commands::tcal::{BinMean, bin_means, spread};
 
 /// The thesis's constant-temperature runs, °C.
 const TEMPERATURES: [f64; 4] = [34.0, 43.0, 62.0, 82.0];
@@ -155,8 +156,8 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     for c in &heat.channels {
         let mut comp = c.data.clone();
         model.apply(&c.name, &mut comp, &heat_temp, heat.rate_hz)?;
-        let before = bin_means(&c.data, &heat_temp);
-        let after = bin_means(&comp, &heat_temp);
+        // Every 1 °C bin, a single sample's too.
+        let (before, after) = (bin_means(&c.data, &heat_temp, 1), bin_means(&comp, &heat_temp, 1));
         // The ADEV over temperature before and after: its minimum per
         // 10 °C bin, where a drifting bias shows as a rise at long τ.
         let minima = |x: &[f64]| -> Result<Vec<(f64, f64)>> {
@@ -224,6 +225,8 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     page.heading("Temperature compensation (fitted on cooling, evaluated on heating)");
     let mut comp_rows = Vec::new();
     for (name, unit, _, before, after) in &compensation {
+        let points = |bins: &[BinMean]| -> Vec<(f64, f64)> { bins.iter().map(|b| (b.t, b.mean)).collect() };
+        let (raw, compensated) = (points(before), points(after));
         let cm = model.channel(name).context("model channel")?;
         // The same unit: its raw bias is p(T) itself.
         let curve = |t: f64| cm.bias(&model, t.clamp(model.t_min_c, model.t_max_c));
@@ -231,8 +234,8 @@ pub fn run(a: &DemoArgs) -> Result<()> {
             &bias_plot(
                 &format!("{name}: bias against temperature"),
                 unit,
-                before,
-                after,
+                &raw,
+                &compensated,
                 &curve,
             )?,
             &format!("{name}: 1 °C bin means of the heating run, raw and compensated, and the fitted p(T)"),
@@ -242,12 +245,12 @@ pub fn run(a: &DemoArgs) -> Result<()> {
                 &p,
                 &format!("{name}: bias against temperature"),
                 unit,
-                before,
-                after,
+                &raw,
+                &compensated,
                 &curve,
             )?;
         }
-        let (rb, ra) = (spread(before), spread(after));
+        let (rb, ra) = (spread(before).0, spread(after).0);
         comp_rows.push(vec![
             name.clone(),
             format!("{}", cm.order),
@@ -303,8 +306,8 @@ pub fn run(a: &DemoArgs) -> Result<()> {
             r.channel.name,
             n(r),
             hot,
-            spread(b),
-            spread(af)
+            spread(b).0,
+            spread(af).0
         );
     }
     println!(
@@ -312,24 +315,4 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     );
     eprintln!("done in {:.1} s", started.elapsed().as_secs_f64());
     Ok(())
-}
-
-fn bin_means(x: &[f64], t: &[f64]) -> Vec<(f64, f64)> {
-    let mut bins: std::collections::BTreeMap<i64, (f64, f64, usize)> = Default::default();
-    for (&v, &tt) in x.iter().zip(t) {
-        if v.is_finite() && tt.is_finite() {
-            let e = bins.entry(tt.floor() as i64).or_default();
-            e.0 += tt;
-            e.1 += v;
-            e.2 += 1;
-        }
-    }
-    bins.values()
-        .map(|&(t, v, n)| (t / n as f64, v / n as f64))
-        .collect()
-}
-
-fn spread(bins: &[(f64, f64)]) -> f64 {
-    let mean = bins.iter().map(|b| b.1).sum::<f64>() / bins.len().max(1) as f64;
-    (bins.iter().map(|b| (b.1 - mean).powi(2)).sum::<f64>() / bins.len().max(1) as f64).sqrt()
 }

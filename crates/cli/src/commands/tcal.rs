@@ -146,15 +146,16 @@ pub fn apply(a: &TcalApplyArgs) -> Result<()> {
 
 /// One 1 °C bin: mean temperature, mean value, standard error of the mean.
 #[derive(Clone, Copy)]
-struct BinMean {
-    t: f64,
-    mean: f64,
-    se: f64,
+pub(crate) struct BinMean {
+    pub(crate) t: f64,
+    pub(crate) mean: f64,
+    pub(crate) se: f64,
 }
 
-/// Bin means of `x` over 1 °C bins. The standard error is that of white
-/// samples; correlated noise makes it a lower bound.
-fn bin_means(x: &[f64], t: &[f64]) -> Vec<BinMean> {
+/// Bin means of `x` over 1 °C bins holding at least `min_samples` samples.
+/// The standard error is that of white samples (0 for a single sample);
+/// correlated noise makes it a lower bound.
+pub(crate) fn bin_means(x: &[f64], t: &[f64], min_samples: usize) -> Vec<BinMean> {
     let mut bins: std::collections::BTreeMap<i64, (f64, f64, f64, usize)> = Default::default();
     for (&v, &tt) in x.iter().zip(t) {
         if v.is_finite() && tt.is_finite() {
@@ -166,7 +167,7 @@ fn bin_means(x: &[f64], t: &[f64]) -> Vec<BinMean> {
         }
     }
     bins.values()
-        .filter(|b| b.3 > 1)
+        .filter(|b| b.3 >= min_samples.max(1))
         .map(|&(t, s, s2, n)| {
             let nf = n as f64;
             let mean = s / nf;
@@ -182,7 +183,7 @@ fn bin_means(x: &[f64], t: &[f64]) -> Vec<BinMean> {
 
 /// RMS and largest deviation of the bin means from their mean: the bias
 /// left over temperature.
-fn spread(bins: &[BinMean]) -> (f64, f64) {
+pub(crate) fn spread(bins: &[BinMean]) -> (f64, f64) {
     let mean = bins.iter().map(|b| b.mean).sum::<f64>() / bins.len().max(1) as f64;
     let rms = (bins.iter().map(|b| (b.mean - mean).powi(2)).sum::<f64>() / bins.len().max(1) as f64).sqrt();
     let max = bins.iter().fold(0.0f64, |m, b| m.max((b.mean - mean).abs()));
@@ -232,8 +233,8 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
             rows.push(EvalRow {
                 file: shown.clone(),
                 held_out,
-                before: bin_means(&ch.data, &temp),
-                after: bin_means(&comp, &temp),
+                before: bin_means(&ch.data, &temp, 2),
+                after: bin_means(&comp, &temp, 2),
                 adev_before: surface_minima(&ch.data, &temp, sel.rate_hz),
                 adev_after: surface_minima(&comp, &temp, sel.rate_hz),
                 channel: ch.name,
