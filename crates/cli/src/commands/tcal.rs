@@ -9,7 +9,7 @@ use serde_json::json;
 
 use imu::{LogFormat, RecordingOptions, read_recording, write_recording};
 use thermal::surface::{Slicing, surface};
-use thermal::tcal::{FitOptions, Model, Order, Run, fit as fit_model};
+use thermal::tcal::{ChannelModel, FitOptions, Model, Order, Run, fit as fit_model};
 
 use crate::args::{TcalApplyArgs, TcalEvalArgs, TcalFitArgs};
 use crate::commands::info::recording_options;
@@ -323,6 +323,16 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
 /// The coefficients in the shape flight stacks load them. These follow the
 /// stacks' conventions (a cubic in T − T_ref); parameter names follow them
 /// closely but are to be checked against the firmware version in use.
+/// A channel's compensation as the four coefficients of a cubic in
+/// (T − T_ref), for firmware that takes no more; a higher order is refused.
+fn cubic(model: &Model, c: &ChannelModel, firmware: &str, limit: &str) -> Result<[f64; 4]> {
+    if c.order > 3 {
+        bail!("--export {firmware}: {} has order {}; {limit}", c.name, c.order);
+    }
+    let p = c.power_coefficients(model);
+    Ok(std::array::from_fn(|k| p.get(k).copied().unwrap_or(0.0)))
+}
+
 fn export(model: &Model, kind: &str) -> Result<String> {
     let mut s = String::new();
     let axis = |name: &str| match name.chars().last() {
@@ -341,21 +351,9 @@ fn export(model: &Model, kind: &str) -> Result<String> {
                 let _ = writeln!(s, "{prefix}_TMIN {:.4}", model.t_min_c);
                 let _ = writeln!(s, "{prefix}_TMAX {:.4}", model.t_max_c);
                 for c in model.channels.iter().filter(|c| c.name.starts_with(stem)) {
-                    if c.order > 3 {
-                        bail!(
-                            "--export px4: {} has order {}; PX4 takes a cubic at most (fit with --order 3)",
-                            c.name,
-                            c.order
-                        );
-                    }
-                    let p = c.power_coefficients(model);
-                    for k in 0..4 {
-                        let _ = writeln!(
-                            s,
-                            "{prefix}_X{k}_{} {:.9e}",
-                            axis(&c.name),
-                            p.get(k).copied().unwrap_or(0.0)
-                        );
+                    let p = cubic(model, c, "px4", "PX4 takes a cubic at most (fit with --order 3)")?;
+                    for (k, pk) in p.iter().enumerate() {
+                        let _ = writeln!(s, "{prefix}_X{k}_{} {pk:.9e}", axis(&c.name));
                     }
                 }
             }
@@ -375,21 +373,10 @@ fn export(model: &Model, kind: &str) -> Result<String> {
             );
             for (stem, key) in [("accel", "ACC"), ("gyro", "GYR")] {
                 for c in model.channels.iter().filter(|c| c.name.starts_with(stem)) {
-                    if c.order > 3 {
-                        bail!(
-                            "--export ardupilot: {} has order {}; ArduPilot takes a cubic at most",
-                            c.name,
-                            c.order
-                        );
-                    }
-                    let p = c.power_coefficients(model);
+                    let p = cubic(model, c, "ardupilot", "ArduPilot takes a cubic at most")?;
                     let xyz = ["X", "Y", "Z"][axis(&c.name)];
-                    for k in 1..4 {
-                        let _ = writeln!(
-                            s,
-                            "INS_TCAL1_{key}{k}_{xyz} {:.9e}",
-                            p.get(k).copied().unwrap_or(0.0)
-                        );
+                    for (k, pk) in p.iter().enumerate().skip(1) {
+                        let _ = writeln!(s, "INS_TCAL1_{key}{k}_{xyz} {pk:.9e}");
                     }
                 }
             }
