@@ -1,7 +1,7 @@
 //! Noise-term identification against curves and series with known terms.
 
-use allan::noise_terms::{Term, TermEstimate, fit_model, identify, slope_method};
-use allan::{NoiseIdMethod, Options, Point, Stat, TauSpec, analyze};
+use allan::noise_terms::{Term, TermEstimate, analyze_terms, fit_model, slope_method};
+use allan::{NoiseIdMethod, Options, Point, analyze};
 
 mod common;
 use common::Gauss;
@@ -96,23 +96,7 @@ fn fit_intervals_cover_the_truth() {
                 n_true * rate.sqrt() * g.normal() + walk
             })
             .collect();
-        let opts = Options {
-            stat: Stat::Oadev,
-            rate_hz: rate,
-            taus: TauSpec::Octave,
-            ..Options::default()
-        };
-        let sparse = analyze(&y, &opts).unwrap().points;
-        let dense = analyze(
-            &y,
-            &Options {
-                taus: TauSpec::Many,
-                ..opts
-            },
-        )
-        .unwrap()
-        .points;
-        let terms = identify(&dense, &sparse, 0.95);
+        let (_, terms) = analyze_terms(&y, rate, 0.95).unwrap();
         let inside = |t: Term, truth: f64| {
             terms
                 .fit

@@ -2,8 +2,7 @@
 //! whose terms are known: N, B and K each inside the fit's 95 % interval in
 //! at least 90 % of 50 seeds, on 2 h series at 100 Hz.
 
-use allan::noise_terms::{Term, identify};
-use allan::{Options, TauSpec, analyze};
+use allan::noise_terms::{Term, analyze_terms};
 use imusim::terms::NoiseTerms;
 use imusim::{Simulator, presets};
 
@@ -34,23 +33,7 @@ fn n_b_k_are_covered_by_their_intervals() {
             Ok(())
         })
         .unwrap();
-        let opts = Options {
-            rate_hz: 100.0,
-            taus: TauSpec::Octave,
-            confidence: 0.95,
-            ..Options::default()
-        };
-        let sparse = analyze(&y, &opts).unwrap().points;
-        let dense = analyze(
-            &y,
-            &Options {
-                taus: TauSpec::Many,
-                ..opts
-            },
-        )
-        .unwrap()
-        .points;
-        let terms = identify(&dense, &sparse, 0.95);
+        let (_, terms) = analyze_terms(&y, 100.0, 0.95).unwrap();
         for (i, (term, value)) in [
             (Term::WhiteNoise, truth.n),
             (Term::BiasInstability, truth.b),

@@ -24,7 +24,8 @@ mod slope;
 pub use fit::{FitResult, fit_model};
 pub use slope::{SlopeResult, slope_method};
 
-use crate::Point;
+use crate::analysis::analyze_series;
+use crate::{AllanError, DataType, Options, PhaseSeries, Point, TauSpec};
 
 /// √(2 ln 2 / π) = 0.664…: the Allan deviation floor of flicker noise of
 /// bias instability B is 0.664·B (IEEE 952 Annex C).
@@ -149,6 +150,34 @@ pub struct NoiseTerms {
     pub fit: FitResult,
     /// Terms both identified whose intervals do not overlap, with a sentence.
     pub disagreements: Vec<(Term, String)>,
+}
+
+/// The overlapping ADEV of rate samples `y` at octave taus, and the noise
+/// terms read from it by [`identify`] (the slope method on the `many` grid,
+/// the fit on the octave points, intervals at `confidence`). The samples
+/// are turned into phase once for both grids.
+pub fn analyze_terms(
+    y: &[f64],
+    rate_hz: f64,
+    confidence: f64,
+) -> Result<(Vec<Point>, NoiseTerms), AllanError> {
+    let series = PhaseSeries::new(y, DataType::Freq, rate_hz)?;
+    let opts = Options {
+        rate_hz,
+        taus: TauSpec::Octave,
+        confidence,
+        ..Options::default()
+    };
+    let sparse = analyze_series(&series, &opts)?;
+    let dense = analyze_series(
+        &series,
+        &Options {
+            taus: TauSpec::Many,
+            ..opts
+        },
+    )?;
+    let terms = identify(&dense, &sparse, confidence);
+    Ok((sparse, terms))
 }
 
 /// Identifies the noise terms from an overlapping ADEV curve of rate data:

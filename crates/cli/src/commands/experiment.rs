@@ -7,8 +7,8 @@ use std::path::Path;
 use anyhow::Result;
 use rayon::prelude::*;
 
-use allan::noise_terms::{NoiseTerms, Term, TermEstimate, identify};
-use allan::{Options, Point, TauSpec};
+use allan::Point;
+use allan::noise_terms::{NoiseTerms, Term, TermEstimate, analyze_terms};
 use imu::{Quantity, RecordingOptions};
 use report::html::Page;
 use report::plots::{Asymptote, Curve, adev_plot, temperature_colour};
@@ -34,24 +34,10 @@ pub fn analyse_run(path: &Path, read: &RecordingOptions) -> Result<(Vec<Analysed
         .channels
         .into_par_iter()
         .map(|channel| {
-            let opts = Options {
-                rate_hz: rate,
-                taus: TauSpec::Octave,
-                confidence: 0.95,
-                ..Options::default()
-            };
-            let sparse = allan::analyze(&channel.data, &opts)?;
-            let dense = allan::analyze(
-                &channel.data,
-                &Options {
-                    taus: TauSpec::Many,
-                    ..opts
-                },
-            )?;
-            let terms = identify(&dense.points, &sparse.points, 0.95);
+            let (points, terms) = analyze_terms(&channel.data, rate, 0.95)?;
             Ok(Analysed {
                 channel,
-                points: sparse.points,
+                points,
                 terms,
             })
         })

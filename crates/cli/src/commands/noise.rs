@@ -10,8 +10,7 @@ use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use allan::noise_terms::{NoiseTerms, Term, TermEstimate, TermValue, identify};
-use allan::{Options, Stat, TauSpec};
+use allan::noise_terms::{NoiseTerms, Term, TermEstimate, TermValue, analyze_terms};
 use imu::Quantity;
 use imu::units::STANDARD_GRAVITY;
 
@@ -137,24 +136,8 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
     let analysed: Vec<Analysed> = work
         .into_par_iter()
         .map(|(file_index, channel)| {
-            let opts = Options {
-                stat: Stat::Oadev,
-                data_type: allan::DataType::Freq,
-                rate_hz: channel.rate_hz,
-                taus: TauSpec::Octave,
-                confidence,
-            };
-            let ctx = || format!("{}: {}", channel.file.display(), channel.name);
-            let sparse = allan::analyze(&channel.data, &opts).with_context(ctx)?;
-            let dense = allan::analyze(
-                &channel.data,
-                &Options {
-                    taus: TauSpec::Many,
-                    ..opts
-                },
-            )
-            .with_context(ctx)?;
-            let terms = identify(&dense.points, &sparse.points, confidence);
+            let (_, terms) = analyze_terms(&channel.data, channel.rate_hz, confidence)
+                .with_context(|| format!("{}: {}", channel.file.display(), channel.name))?;
             Ok(Analysed {
                 file_index,
                 channel,
