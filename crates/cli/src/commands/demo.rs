@@ -20,7 +20,7 @@ use thermal::tcal::{FitOptions, Run, fit};
 
 use crate::args::DemoArgs;
 use crate::commands::experiment::{
-    Analysed, PngDir, adev_figures, analyse_run, deg, noise_tables, time_figures,
+    Analysed, PngDir, adev_figures, analyse_run, command_section, deg, noise_tables, time_figures,
 };
 use crate::commands::selection::read_channels;
 use crate::commands::tcal::{BinMean, bin_means, spread};
@@ -184,12 +184,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
          compensation never saw.",
         constant_s, rate, cooling_s
     ));
-    page.heading("Command");
-    page.code(&format!(
-        "{} (imutherm {})",
-        std::env::args().collect::<Vec<_>>().join(" "),
-        env!("CARGO_PKG_VERSION")
-    ));
+    command_section(&mut page);
     page.heading("Inputs");
     let inputs: Vec<Vec<String>> = runs
         .iter()

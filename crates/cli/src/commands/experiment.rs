@@ -45,6 +45,17 @@ pub fn analyse_run(path: &Path, read: &RecordingOptions) -> Result<(Vec<Analysed
     Ok((out, temp))
 }
 
+/// The page's "Command" section: the command line that made it and the
+/// version, so that a report can be made again.
+pub fn command_section(page: &mut Page) {
+    page.heading("Command");
+    page.code(&format!(
+        "{} (imutherm {})",
+        std::env::args().collect::<Vec<_>>().join(" "),
+        env!("CARGO_PKG_VERSION")
+    ));
+}
+
 /// Where PNG copies of the figures go, when asked for.
 pub struct PngDir(pub Option<std::path::PathBuf>);
 

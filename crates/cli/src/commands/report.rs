@@ -8,7 +8,9 @@ use report::plots::adev_heatmap;
 use thermal::surface::{Slicing, surface};
 
 use crate::args::ReportArgs;
-use crate::commands::experiment::{PngDir, adev_figures, analyse_run, noise_tables, time_figures};
+use crate::commands::experiment::{
+    PngDir, adev_figures, analyse_run, command_section, noise_tables, time_figures,
+};
 use crate::commands::info::recording_options;
 
 /// Temperature span from which a run gets its ADEV-over-temperature maps, °C.
@@ -19,12 +21,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let png = PngDir::new(&a.format, &a.out)?;
     let mut page = Page::new("imutherm report");
-    page.heading("Command");
-    page.code(&format!(
-        "{} (imutherm {})",
-        std::env::args().collect::<Vec<_>>().join(" "),
-        env!("CARGO_PKG_VERSION")
-    ));
+    command_section(&mut page);
 
     page.heading("Inputs");
     let mut rows = Vec::new();
