@@ -62,16 +62,21 @@ fn bin_means(x: &[f64], t: &[f64]) -> Vec<(f64, f64, f64)> {
         .collect()
 }
 
+/// The compensation of one channel, gyro_x in rad/s, fitted on one run.
+fn fit_gyro_x(x: &[f64], t: &[f64], rate_hz: f64) -> Result<thermal::tcal::Model, ThermalError> {
+    let channels = vec![("gyro_x".to_string(), "rad/s".to_string(), x)];
+    let run = Run {
+        channels: &channels,
+        temp: t,
+        rate_hz,
+    };
+    fit(&[run], &FitOptions::default())
+}
+
 #[test]
 fn a_cubic_bias_is_recovered_and_order_3_chosen() {
     let (g, t, cfg) = cubic_run(cooling(), 1);
-    let channels = vec![("gyro_x".to_string(), "rad/s".to_string(), g.as_slice())];
-    let run = Run {
-        channels: &channels,
-        temp: &t,
-        rate_hz: cfg.rate_hz,
-    };
-    let model = fit(&[run], &FitOptions::default()).unwrap();
+    let model = fit_gyro_x(&g, &t, cfg.rate_hz).unwrap();
     let c = model.channel("gyro_x").unwrap();
     assert_eq!(c.order, 3, "cross-validation: {:?}", c.cross_validation);
     // The fitted curve against the true polynomial, over the bins: within
@@ -96,13 +101,7 @@ fn noise_alone_does_not_buy_a_high_order() {
         .zip(&t)
         .map(|(&x, &tt)| x - cfg.gyro.bias_at(0, tt, cfg.t_ref_c))
         .collect();
-    let channels = vec![("gyro_x".to_string(), "rad/s".to_string(), flat.as_slice())];
-    let run = Run {
-        channels: &channels,
-        temp: &t,
-        rate_hz: cfg.rate_hz,
-    };
-    let model = fit(&[run], &FitOptions::default()).unwrap();
+    let model = fit_gyro_x(&flat, &t, cfg.rate_hz).unwrap();
     let order = model.channel("gyro_x").unwrap().order;
     assert!(order <= 1, "noise picked order {order}");
 }
@@ -110,13 +109,7 @@ fn noise_alone_does_not_buy_a_high_order() {
 #[test]
 fn fitted_on_cooling_it_corrects_a_heating_run() {
     let (g, t, cfg) = cubic_run(cooling(), 3);
-    let channels = vec![("gyro_x".to_string(), "rad/s".to_string(), g.as_slice())];
-    let run = Run {
-        channels: &channels,
-        temp: &t,
-        rate_hz: cfg.rate_hz,
-    };
-    let model = fit(&[run], &FitOptions::default()).unwrap();
+    let model = fit_gyro_x(&g, &t, cfg.rate_hz).unwrap();
     let heating = Profile::Ramp {
         from_c: 25.0,
         to_c: 95.0,
@@ -187,17 +180,12 @@ fn the_3d_adev_shows_noise_growing_with_temperature() {
 fn degenerate_inputs_are_clear_errors() {
     let t = vec![34.0; 1000];
     let x = vec![0.0; 1000];
-    let channels = vec![("gyro_x".to_string(), "rad/s".to_string(), x.as_slice())];
-    let run = Run {
-        channels: &channels,
-        temp: &t,
-        rate_hz: 10.0,
-    };
-    let e = fit(&[run], &FitOptions::default()).unwrap_err();
+    let e = fit_gyro_x(&x, &t, 10.0).unwrap_err();
     assert!(matches!(e, ThermalError::NoSpread { .. }), "{e}");
     assert!(e.to_string().contains("nothing to fit"));
 
     let t: Vec<f64> = (0..1000).map(|i| 30.0 + i as f64 * 0.003).collect();
+    let channels = vec![("gyro_x".to_string(), "rad/s".to_string(), x.as_slice())];
     let run = Run {
         channels: &channels,
         temp: &t,
