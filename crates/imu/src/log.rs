@@ -388,7 +388,7 @@ pub fn read_recording(path: &Path, opts: &RecordingOptions) -> Result<Recording,
 /// (first row, rows). Reported once for the row range rather than once per
 /// channel. Empty with fewer than two columns, or when a column has no NaN.
 fn whole_row_gaps(columns: &[(usize, Vec<f64>)]) -> Vec<(usize, usize)> {
-    if columns.len() < 2 || columns.iter().any(|(_, c)| !c.iter().any(|v| v.is_nan())) {
+    if columns.len() < 2 || columns.iter().any(|(_, c)| !c.par_iter().any(|v| v.is_nan())) {
         return Vec::new();
     }
     let rows = columns.iter().map(|(_, c)| c.len()).min().unwrap_or(0);
