@@ -37,6 +37,21 @@ pub enum ThermalError {
     /// A model applied to a recording without the channel it was fitted for.
     #[error("the model has channel '{0}', which the recording does not have")]
     MissingChannel(String),
+    /// A reference temperature outside the fitted range, or not a number.
+    #[error(
+        "the reference temperature {t_ref_c} °C is outside the fitted range {t_min_c:.2} to {t_max_c:.2} °C: the compensation would extrapolate"
+    )]
+    TrefOutsideRange {
+        /// Requested reference, °C.
+        t_ref_c: f64,
+        /// Fitted range, °C.
+        t_min_c: f64,
+        /// Fitted range, °C.
+        t_max_c: f64,
+    },
+    /// A model that is not a usable compensation.
+    #[error(transparent)]
+    Model(#[from] crate::model_check::ModelError),
     /// A parameter out of range.
     #[error("{0}")]
     Invalid(String),

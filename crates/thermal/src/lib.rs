@@ -25,8 +25,10 @@
 //! ```
 
 mod error;
+mod model_check;
 
 pub mod surface;
 pub mod tcal;
 
 pub use error::ThermalError;
+pub use model_check::ModelError;

@@ -21,7 +21,8 @@ use crate::ThermalError;
 
 /// The schema name of a saved model.
 pub const SCHEMA: &str = "imutherm.tcal/1";
-/// Highest order `Order::Auto` tries.
+/// Highest order `Order::Auto` tries (unless capped by
+/// [`FitOptions::max_auto_order`]).
 pub const MAX_AUTO_ORDER: usize = 5;
 /// Smallest temperature span a fit accepts, °C.
 pub const MIN_SPAN_C: f64 = 1.0;
@@ -49,6 +50,9 @@ pub struct FitOptions {
     pub bin_width_c: f64,
     /// Fit a term in dT/dt too.
     pub rate_term: bool,
+    /// Highest order `Order::Auto` may choose: a flight stack that takes a
+    /// cubic at most needs 3.
+    pub max_auto_order: usize,
 }
 
 impl Default for FitOptions {
@@ -58,6 +62,7 @@ impl Default for FitOptions {
             t_ref_c: None,
             bin_width_c: 1.0,
             rate_term: false,
+            max_auto_order: MAX_AUTO_ORDER,
         }
     }
 }
@@ -115,6 +120,20 @@ pub struct Model {
     /// them), so that an evaluation can tell held-out runs apart.
     #[serde(default)]
     pub fitted_on: Vec<String>,
+    /// A fingerprint of each fitted run's bytes, in the order of
+    /// `fitted_on`, so that a run is recognised under any name.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub fitted_on_digests: Vec<String>,
+    /// The dT/dt range (°C/s, lowest and highest bin mean) the rate term
+    /// was fitted over; present exactly when a channel has a rate term.
+    /// Applying the model clamps dT/dt to it, as T is clamped to the
+    /// fitted temperature range.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dtdt_range_c_per_s: Option<[f64; 2]>,
+    /// The sensor's device id, when the recordings carry one (firmware maps
+    /// a calibration to a sensor by it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub device_id: Option<u32>,
     /// Per channel.
     pub channels: Vec<ChannelModel>,
 }
@@ -269,6 +288,15 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
     let centre = 0.5 * (t_min_c + t_max_c);
     let scale = 0.5 * (t_max_c - t_min_c);
     let t_ref_c = opts.t_ref_c.unwrap_or(centre);
+    // Outside the data the polynomial is an extrapolation: every sample
+    // would be shifted by p(T_ref) − p(T) with p(T_ref) a guess.
+    if !(t_ref_c >= t_min_c && t_ref_c <= t_max_c) {
+        return Err(ThermalError::TrefOutsideRange {
+            t_ref_c,
+            t_min_c,
+            t_max_c,
+        });
+    }
     let all: Vec<&Bin> = bins.iter().collect();
     let needed = |order: usize| order + 1 + usize::from(opts.rate_term);
 
@@ -286,7 +314,15 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
                 }
                 (o, Vec::new())
             }
-            Order::Auto => choose_order(&bins, k, runs.len(), opts.rate_term, centre, scale)?,
+            Order::Auto => choose_order(
+                &bins,
+                k,
+                runs.len(),
+                opts.rate_term,
+                opts.max_auto_order,
+                centre,
+                scale,
+            )?,
         };
         let Some((coefficients, rate_coefficient)) = solve(&all, k, order, opts.rate_term, centre, scale)
         else {
@@ -318,7 +354,13 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
             cross_validation,
         });
     }
-    Ok(Model {
+    let dtdt_range_c_per_s = opts.rate_term.then(|| {
+        bins.iter()
+            .fold([f64::INFINITY, f64::NEG_INFINITY], |[lo, hi], b| {
+                [lo.min(b.dtdt), hi.max(b.dtdt)]
+            })
+    });
+    let model = Model {
         schema: SCHEMA.to_string(),
         t_ref_c,
         t_min_c,
@@ -327,8 +369,15 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
         scale_c: scale,
         bin_width_c: opts.bin_width_c,
         fitted_on: Vec::new(),
+        fitted_on_digests: Vec::new(),
+        dtdt_range_c_per_s,
+        device_id: None,
         channels,
-    })
+    };
+    // A fit never hands out a model its own loader would refuse (a channel
+    // that is not an inertial axis, a coefficient that overflowed).
+    model.validate()?;
+    Ok(model)
 }
 
 /// Cross-validated order: held-out RMS per order, the smallest order within
@@ -338,6 +387,7 @@ fn choose_order(
     k: usize,
     runs: usize,
     rate: bool,
+    max_order: usize,
     centre: f64,
     scale: f64,
 ) -> Result<(usize, Vec<(usize, f64)>), ThermalError> {
@@ -357,7 +407,7 @@ fn choose_order(
         (0..5).map(|f| (f * n / 5..(f + 1) * n / 5).collect()).collect()
     };
     let mut scores = Vec::new();
-    for order in 0..=MAX_AUTO_ORDER {
+    for order in 0..=max_order {
         let mut sq = 0.0;
         let mut count = 0usize;
         let mut ok = true;
@@ -406,9 +456,16 @@ impl ChannelModel {
     /// stacks load (PX4's `TC_*_X0..3` around `TC_*_TREF`, ArduPilot's
     /// `INS_TCALn_*_ECOEF` around 35 °C when t_ref is 35).
     pub fn power_coefficients(&self, model: &Model) -> Vec<f64> {
-        // Expand p((T − t_ref + t_ref − centre)/scale) in (T − t_ref).
+        self.power_coefficients_about(model, model.t_ref_c)
+    }
+
+    /// The coefficients in powers of (T − t0), ascending, for any t0: the
+    /// same polynomial re-expanded exactly (ArduPilot evaluates about a
+    /// fixed 35 °C, whatever the model's reference).
+    pub fn power_coefficients_about(&self, model: &Model, t0: f64) -> Vec<f64> {
+        // Expand p((T − t0 + t0 − centre)/scale) in (T − t0).
         let n = self.coefficients.len();
-        let d = (model.t_ref_c - model.centre_c) / model.scale_c;
+        let d = (t0 - model.centre_c) / model.scale_c;
         let mut out = vec![0.0; n];
         for (j, &c) in self.coefficients.iter().enumerate() {
             // c·(v/scale + d)^j with v = T − t_ref.
@@ -445,6 +502,9 @@ impl Model {
         temp: &[f64],
         rate_hz: f64,
     ) -> Result<ApplyReport, ThermalError> {
+        // A model built in code has not been through the loader; a reversed
+        // range or a zero scale must be an error here, not a panic.
+        self.validate()?;
         let ch = self
             .channel(name)
             .ok_or_else(|| ThermalError::MissingChannel(name.to_string()))?;
@@ -467,12 +527,150 @@ impl Model {
                 report.out_of_range += 1;
             }
             let tc = t.clamp(self.t_min_c, self.t_max_c);
-            let lag = match (&rates, ch.rate_coefficient) {
-                (Some(r), Some(k)) => k * r[i],
+            // dT/dt is clamped to the range the rate term was fitted on: one
+            // spike in the temperature would otherwise throw the channel by
+            // k times a rate no fit ever saw.
+            let lag = match (&rates, ch.rate_coefficient, self.dtdt_range_c_per_s) {
+                (Some(r), Some(k), Some([lo, hi])) => k * r[i].clamp(lo, hi),
                 _ => 0.0,
             };
             *x -= ch.bias(self, tc) - at_ref + lag;
         }
         Ok(report)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ModelError;
+
+    /// A 20 → 60 °C ramp at 1 Hz whose gyro_x bias is a cubic in T.
+    fn ramp() -> (Vec<f64>, Vec<f64>) {
+        let temp: Vec<f64> = (0..4000).map(|i| 20.0 + i as f64 * 0.01).collect();
+        let x = temp
+            .iter()
+            .map(|t| 1e-3 + 2e-5 * (t - 40.0) - 3e-7 * (t - 40.0).powi(3))
+            .collect();
+        (temp, x)
+    }
+
+    fn fit_ramp(opts: &FitOptions) -> Result<Model, ThermalError> {
+        let (temp, x) = ramp();
+        let channels = vec![("gyro_x".to_string(), "rad/s".to_string(), x.as_slice())];
+        fit(
+            &[Run {
+                channels: &channels,
+                temp: &temp,
+                rate_hz: 1.0,
+            }],
+            opts,
+        )
+    }
+
+    #[test]
+    fn a_reference_outside_the_fitted_range_is_refused() {
+        for t_ref in [500.0, 19.0, f64::NAN, f64::INFINITY] {
+            let e = fit_ramp(&FitOptions {
+                t_ref_c: Some(t_ref),
+                ..FitOptions::default()
+            })
+            .unwrap_err();
+            assert!(matches!(e, ThermalError::TrefOutsideRange { .. }), "{t_ref}: {e}");
+        }
+        let m = fit_ramp(&FitOptions {
+            t_ref_c: Some(25.0),
+            ..FitOptions::default()
+        })
+        .unwrap();
+        assert_eq!(m.t_ref_c, 25.0);
+    }
+
+    #[test]
+    fn auto_order_respects_its_cap() {
+        let m = fit_ramp(&FitOptions {
+            max_auto_order: 1,
+            ..FitOptions::default()
+        })
+        .unwrap();
+        assert_eq!(m.channels[0].order, 1);
+        assert!(m.channels[0].cross_validation.iter().all(|(o, _)| *o <= 1));
+        let m = fit_ramp(&FitOptions::default()).unwrap();
+        assert_eq!(m.channels[0].order, 3, "the data are a cubic");
+    }
+
+    #[test]
+    fn re_expansion_about_any_point_is_the_same_polynomial() {
+        let m = fit_ramp(&FitOptions {
+            order: Order::Fixed(3),
+            ..FitOptions::default()
+        })
+        .unwrap();
+        let c = &m.channels[0];
+        for t0 in [35.0, 20.0, 61.0] {
+            let p = c.power_coefficients_about(&m, t0);
+            for t in [20.0, 33.3, 47.0, 60.0] {
+                let d: f64 = t - t0;
+                let v: f64 = p.iter().enumerate().map(|(k, pk)| pk * d.powi(k as i32)).sum();
+                assert!(
+                    (v - c.bias(&m, t)).abs() < 1e-12,
+                    "t0 {t0}, T {t}: {v} vs {}",
+                    c.bias(&m, t)
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_reversed_range_is_an_error_not_a_panic() {
+        let mut m = fit_ramp(&FitOptions::default()).unwrap();
+        std::mem::swap(&mut m.t_min_c, &mut m.t_max_c);
+        let mut x = vec![0.0; 3];
+        let e = m.apply("gyro_x", &mut x, &[30.0, 40.0, 50.0], 1.0).unwrap_err();
+        assert!(
+            matches!(e, ThermalError::Model(ModelError::EmptyRange { .. })),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn the_rate_term_is_clamped_to_the_fitted_dtdt_range() {
+        // Heating and cooling passes with a lag term: x = k·dT/dt.
+        let n = 8000;
+        let temp: Vec<f64> = (0..n)
+            .map(|i| {
+                let ph = i as f64 / n as f64 * 2.0 * std::f64::consts::PI;
+                40.0 - 20.0 * ph.cos()
+            })
+            .collect();
+        let rates = dtdt(&temp, 1.0);
+        let x: Vec<f64> = temp.iter().zip(&rates).map(|(t, r)| 1e-4 * t + 0.5 * r).collect();
+        let channels = vec![("accel_x".to_string(), "m/s^2".to_string(), x.as_slice())];
+        let m = fit(
+            &[Run {
+                channels: &channels,
+                temp: &temp,
+                rate_hz: 1.0,
+            }],
+            &FitOptions {
+                order: Order::Fixed(1),
+                rate_term: true,
+                ..FitOptions::default()
+            },
+        )
+        .unwrap();
+        let [lo, hi] = m.dtdt_range_c_per_s.unwrap();
+        assert!(lo < 0.0 && hi > 0.0, "{lo} {hi}");
+        let k = m.channels[0].rate_coefficient.unwrap();
+        assert!((k - 0.5).abs() < 0.05, "{k}");
+        // One sample of a steady 40 °C run reads 500 °C.
+        let mut t = vec![40.0; 200];
+        t[100] = 500.0;
+        let mut data = vec![9.8; 200];
+        m.apply("accel_x", &mut data, &t, 1.0).unwrap();
+        let worst = data.iter().map(|v| (v - 9.8).abs()).fold(0.0, f64::max);
+        let bound = k.abs() * lo.abs().max(hi) + 1e-4 * 40.0;
+        assert!(worst <= bound, "{worst} > {bound}");
+        assert!(worst < 0.1, "{worst} m/s²");
     }
 }

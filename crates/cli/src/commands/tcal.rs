@@ -65,6 +65,7 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
         t_ref_c: a.tref,
         bin_width_c: a.bin_width,
         rate_term: a.rate_term,
+        max_auto_order: thermal::tcal::MAX_AUTO_ORDER,
     };
     let names: Vec<String> = a.files.iter().map(|f| f.display().to_string()).collect();
     let mut model = fit_model(&fit_runs, &opts).with_context(|| names.join(", "))?;
@@ -87,19 +88,10 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
     Ok(())
 }
 
+/// Reads and validates a model; every error names the file and the field.
 fn load(path: &Path) -> Result<Model> {
     let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let model: Model = serde_json::from_str(&text)
-        .with_context(|| format!("{}: not an imutherm compensation model", path.display()))?;
-    if model.schema != thermal::tcal::SCHEMA {
-        bail!(
-            "{}: schema '{}', expected '{}'",
-            path.display(),
-            model.schema,
-            thermal::tcal::SCHEMA
-        );
-    }
-    Ok(model)
+    Model::from_json(&text).with_context(|| path.display().to_string())
 }
 
 pub fn apply(a: &TcalApplyArgs) -> Result<()> {
