@@ -27,6 +27,7 @@
 mod error;
 mod model_check;
 
+pub mod firmware;
 pub mod surface;
 pub mod tcal;
 
