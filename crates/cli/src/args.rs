@@ -237,10 +237,79 @@ pub enum TcalCommand {
     /// Apply a model: x_comp = x − (p(T) − p(T_ref)), writing a recording.
     #[command(after_help = "Example:\n  imutherm tcal apply model.json run82.txt -o run82_comp.txt")]
     Apply(TcalApplyArgs),
-    /// Residual bias over temperature before and after, on any runs; the
-    /// coefficients as PX4-style and ArduPilot-style parameters.
-    #[command(after_help = "Example:\n  imutherm tcal eval model.json heating.txt --export px4")]
+    /// Residual bias over temperature before and after, on any runs; with
+    /// --export, also after the firmware's own correction from the exported
+    /// parameters, and the parameter file itself.
+    #[command(
+        after_help = "Example:\n  imutherm tcal eval model.json heating.txt --export px4 > heating_check.params"
+    )]
     Eval(TcalEvalArgs),
+    /// Write the model as a flight stack's temperature calibration: PX4's
+    /// TC_* parameters in QGroundControl's .params format, or ArduPilot's
+    /// INS_TCALn_* as a NAME VALUE .parm file.
+    #[command(after_help = TCAL_EXPORT_EXAMPLES)]
+    Export(TcalExportArgs),
+}
+
+const TCAL_EXPORT_EXAMPLES: &str = "\
+Examples:
+  imutherm tcal export model.json --firmware px4 --device-id 2293768 -o imu.params
+  imutherm tcal export model.json --firmware ardupilot --instance 1 -o imu.parm
+
+Both firmwares take a cubic without a dT/dt term: fit with `tcal fit --for px4|ardupilot`.
+PX4 maps the calibration to a sensor by its device id (`listener sensor_gyro`, or the
+parameter CAL_GYRO0_ID); without --device-id, and when the model does not carry one,
+TC_G0_ID/TC_A0_ID are written as a commented placeholder. Check the file on a run before
+flashing with `tcal eval MODEL.json RUN --export px4|ardupilot`.";
+
+/// A flight stack imutherm writes temperature calibrations for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FirmwareArg {
+    /// PX4: TC_* parameters, QGroundControl .params file.
+    #[value(name = "px4")]
+    Px4,
+    /// ArduPilot: INS_TCALn_* parameters, NAME VALUE .parm file.
+    #[value(name = "ardupilot")]
+    ArduPilot,
+}
+
+/// A device id: decimal (as PX4 shows it) or 0x-prefixed hexadecimal.
+fn device_id(text: &str) -> Result<u32, String> {
+    let t = text.trim();
+    let parsed = match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
+        Some(hex) => u32::from_str_radix(hex, 16),
+        None => t.parse::<u32>(),
+    };
+    parsed.map_err(|_| format!("'{text}' is not a device id (a number from 0 to 4294967295, or 0x…)"))
+}
+
+#[derive(Debug, Args)]
+pub struct TcalExportArgs {
+    /// The model from `tcal fit`.
+    #[arg(value_name = "MODEL.json")]
+    pub model: PathBuf,
+
+    /// The flight stack to write for.
+    #[arg(long, value_enum, value_name = "px4|ardupilot")]
+    pub firmware: FirmwareArg,
+
+    /// Where to write the parameter file (default: standard output).
+    #[arg(long, short = 'o', value_name = "FILE")]
+    pub output: Option<PathBuf>,
+
+    /// Replace FILE if it exists.
+    #[arg(long, requires = "output")]
+    pub overwrite: bool,
+
+    /// The firmware's calibration slot: PX4 0 to 3 (default 0), ArduPilot's
+    /// IMU 1 to 3 (default 1).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(0..=3))]
+    pub instance: Option<u8>,
+
+    /// The sensor's device id (PX4: `listener sensor_gyro`, or CAL_GYRO0_ID),
+    /// decimal or 0x-hex; default: the one the recording carried.
+    #[arg(long, value_name = "ID", value_parser = device_id)]
+    pub device_id: Option<u32>,
 }
 
 const TCAL_FIT_EXAMPLES: &str = "\
@@ -271,6 +340,16 @@ pub struct TcalFitArgs {
     /// Also fit a term in dT/dt (thermal lag: heating against cooling).
     #[arg(long)]
     pub rate_term: bool,
+
+    /// Fit what this flight stack can load: --order auto stops at a cubic,
+    /// a higher --order and --rate-term are refused.
+    #[arg(
+        long = "for",
+        value_enum,
+        value_name = "px4|ardupilot",
+        conflicts_with = "rate_term"
+    )]
+    pub for_firmware: Option<FirmwareArg>,
 
     /// Width of the averaging bins, °C.
     #[arg(long, default_value_t = 1.0, value_name = "C")]
@@ -319,9 +398,10 @@ pub struct TcalEvalArgs {
     #[command(flatten)]
     pub read: ReadArgs,
 
-    /// Also print the coefficients as parameters: px4 or ardupilot.
-    #[arg(long, value_name = "px4|ardupilot")]
-    pub export: Option<String>,
+    /// Also apply the exported parameters as the firmware does and show the
+    /// bias left; print the parameter file, with the table as comments.
+    #[arg(long, value_enum, value_name = "px4|ardupilot")]
+    pub export: Option<FirmwareArg>,
 
     /// Print one JSON document (schema imutherm.tcal-eval/1).
     #[arg(long)]

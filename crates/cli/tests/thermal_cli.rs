@@ -79,7 +79,10 @@ fn fit_apply_eval_and_the_surface() {
         .arg(&heating)
         .assert()
         .success()
-        .stdout(predicate::str::contains("TC_G0_X3_2").and(predicate::str::contains("TC_A0_TREF 35.0000")));
+        .stdout(
+            predicate::str::contains("\tTC_G0_X3_2\t")
+                .and(predicate::str::contains("1\t1\tTC_A0_TREF\t35\t9")),
+        );
 
     let comp = dir.path().join("heat_comp.txt");
     imutherm()

@@ -1,6 +1,6 @@
-//! `imutherm tcal fit | apply | eval`: temperature compensation of the bias.
+//! `imutherm tcal fit | apply | eval`: temperature compensation of the bias
+//! (`tcal export` is in `tcal_export`).
 
-use std::fmt::Write as _;
 use std::io::Write;
 use std::path::Path;
 
@@ -8,12 +8,15 @@ use anyhow::{Context, Result, bail};
 use serde_json::json;
 
 use imu::{LogFormat, RecordingOptions, read_recording, write_recording};
+use thermal::firmware::{self, Calibration, Firmware, Target, sensor_axis};
 use thermal::surface::{Slicing, surface};
-use thermal::tcal::{ChannelModel, FitOptions, Model, Order, Run, fit as fit_model};
+use thermal::tcal::{FitOptions, Model, Order, Run, fit as fit_model};
 
 use crate::args::{TcalApplyArgs, TcalEvalArgs, TcalFitArgs};
 use crate::commands::info::recording_options;
+use crate::commands::run_identity::{digest, file_id};
 use crate::commands::selection::{Selection, read_channels};
+use crate::commands::tcal_export::usage_error;
 
 /// Reads channels and the temperature of one run.
 fn run_data(file: &Path, channels: &[String], read: &RecordingOptions) -> Result<(Selection, Vec<f64>)> {
@@ -36,12 +39,36 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
                 .with_context(|| format!("--order {n}: expected auto or an order from 0 to 9"))?,
         ),
     };
+    let firmware = a.for_firmware.map(Firmware::from);
+    if let (Some(fw), Order::Fixed(n)) = (firmware, order)
+        && n > Firmware::MAX_ORDER
+    {
+        usage_error(format!(
+            "--order {n} --for {}: {} evaluates a cubic at most (--order 3 or auto)",
+            fw.key(),
+            fw.name()
+        ));
+    }
     let read = recording_options(&a.read)?;
     let runs: Vec<(Selection, Vec<f64>)> = a
         .files
         .iter()
         .map(|f| run_data(f, &a.channels, &read))
         .collect::<Result<_>>()?;
+    // One run given twice (by two names, or as a copy) would count twice.
+    let digests: Vec<String> = a.files.iter().map(|f| digest(f)).collect::<Result<_>>()?;
+    for (i, f) in a.files.iter().enumerate() {
+        if let Some(j) = (0..i).find(|&j| {
+            digests[j] == digests[i]
+                || matches!((file_id(&a.files[j]), file_id(f)), (Some(x), Some(y)) if x == y)
+        }) {
+            usage_error(format!(
+                "{} and {} are the same recording: give each run once",
+                a.files[j].display(),
+                f.display()
+            ));
+        }
+    }
     let columns: Vec<Vec<(String, String, &[f64])>> = runs
         .iter()
         .map(|(sel, _)| {
@@ -65,11 +92,31 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
         t_ref_c: a.tref,
         bin_width_c: a.bin_width,
         rate_term: a.rate_term,
-        max_auto_order: thermal::tcal::MAX_AUTO_ORDER,
+        max_auto_order: match firmware {
+            Some(_) => Firmware::MAX_ORDER,
+            None => thermal::tcal::MAX_AUTO_ORDER,
+        },
     };
     let names: Vec<String> = a.files.iter().map(|f| f.display().to_string()).collect();
     let mut model = fit_model(&fit_runs, &opts).with_context(|| names.join(", "))?;
     model.fitted_on = names;
+    model.fitted_on_digests = digests;
+    model.device_id = recorded_device_id(&a.files);
+    // A model fitted for a firmware is checked against its export before it
+    // is written; its warnings (documented range, missing axes) come now,
+    // not at the vehicle.
+    let export_warnings = match firmware {
+        Some(fw) => {
+            firmware::export(&model, fw, Target::default())
+                .with_context(|| format!("the fit cannot be written for {}", fw.name()))?
+                .warnings
+        }
+        None => Vec::new(),
+    };
+    let export_warnings: Vec<String> = export_warnings
+        .into_iter()
+        .filter(|w| !w.contains("placeholder"))
+        .collect();
     let text = serde_json::to_string_pretty(&model)?;
     std::fs::write(&a.output, text + "\n").with_context(|| format!("writing {}", a.output.display()))?;
     eprintln!(
@@ -85,11 +132,34 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
             c.name, c.order, c.residual_rms, c.unit, c.residual_max
         );
     }
+    for w in &export_warnings {
+        eprintln!("warning: {w}");
+    }
     Ok(())
 }
 
+/// The `# device_id:` the recordings carry, when they all carry the same.
+fn recorded_device_id(files: &[std::path::PathBuf]) -> Option<u32> {
+    let ids: Vec<Option<u32>> = files
+        .iter()
+        .map(|f| {
+            let reader = imu::table::TableReader::open(f).ok()?;
+            let meta = imu::log::parse_metadata(reader.comments());
+            let v = meta.get("device_id")?.trim().to_string();
+            match v.strip_prefix("0x") {
+                Some(hex) => u32::from_str_radix(hex, 16).ok(),
+                None => v.parse().ok(),
+            }
+        })
+        .collect();
+    match ids.first() {
+        Some(Some(id)) if ids.iter().all(|i| *i == Some(*id)) => Some(*id),
+        _ => None,
+    }
+}
+
 /// Reads and validates a model; every error names the file and the field.
-fn load(path: &Path) -> Result<Model> {
+pub(crate) fn load(path: &Path) -> Result<Model> {
     let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
     Model::from_json(&text).with_context(|| path.display().to_string())
 }
@@ -205,34 +275,97 @@ struct EvalRow {
     unit: String,
     before: Vec<BinMean>,
     after: Vec<BinMean>,
+    /// After the firmware's own correction from the exported parameters.
+    as_loaded: Option<Vec<BinMean>>,
     adev_before: Vec<(f64, f64, f64)>,
     adev_after: Vec<(f64, f64, f64)>,
     out_of_range: usize,
 }
 
+/// Whether `file` is one the model was fitted on: the same bytes (the
+/// model keeps a digest of each fitted run), whatever its name. A model
+/// from before digests were kept falls back to the file itself (device and
+/// inode) or, failing that, its name.
+fn was_fitted_on(model: &Model, file: &Path) -> Result<bool> {
+    if !model.fitted_on_digests.is_empty() {
+        let d = digest(file)?;
+        return Ok(model.fitted_on_digests.contains(&d));
+    }
+    let id = file_id(file);
+    Ok(model
+        .fitted_on
+        .iter()
+        .any(|f| Path::new(f) == file || (id.is_some() && file_id(Path::new(f)) == id)))
+}
+
+/// The exported parameter file and the firmware's view of it.
+struct AsLoaded {
+    firmware: Firmware,
+    text: String,
+    warnings: Vec<String>,
+    calibration: Calibration,
+    /// ArduPilot's INS_ACCn_CALTEMP / INS_GYRn_CALTEMP for the evaluation.
+    cal_temp_c: f64,
+}
+
+fn as_loaded(model: &Model, firmware: Firmware) -> Result<AsLoaded> {
+    let exported = firmware::export(model, firmware, Target::default())
+        .with_context(|| format!("--export {}: the model cannot be written for it", firmware.key()))?;
+    // Read back as the ground station loads it, so what is evaluated is the
+    // file, float32 rounding included, not the model.
+    let calibration = firmware::load(firmware, &exported.text, None)
+        .with_context(|| format!("--export {}: the written file does not load", firmware.key()))?;
+    Ok(AsLoaded {
+        firmware,
+        text: exported.text,
+        warnings: exported.warnings,
+        calibration,
+        cal_temp_c: model.t_ref_c,
+    })
+}
+
 pub fn eval(a: &TcalEvalArgs) -> Result<()> {
     let model = load(&a.model)?;
     let read = recording_options(&a.read)?;
+    let loaded = a.export.map(|f| as_loaded(&model, f.into())).transpose()?;
     let names: Vec<String> = model.channels.iter().map(|c| c.name.clone()).collect();
     let mut rows = Vec::new();
     for file in &a.files {
         let (sel, temp) = run_data(file, &names, &read)?;
         let shown = file.display().to_string();
-        let held_out = !model.fitted_on.iter().any(|f| Path::new(f) == file.as_path());
+        let held_out = !was_fitted_on(&model, file)?;
         for ch in sel.channels {
             let mut comp = ch.data.clone();
             let report = model.apply(&ch.name, &mut comp, &temp, sel.rate_hz)?;
+            let as_loaded = match (&loaded, sensor_axis(&ch.name)) {
+                (Some(l), Some((sensor, axis))) => {
+                    let corrected: Vec<f64> = ch
+                        .data
+                        .iter()
+                        .zip(&temp)
+                        .map(|(&x, &t)| l.calibration.correct(sensor, axis, x, t, l.cal_temp_c))
+                        .collect();
+                    Some(bin_means(&corrected, &temp, 2))
+                }
+                _ => None,
+            };
             rows.push(EvalRow {
                 file: shown.clone(),
                 held_out,
                 before: bin_means(&ch.data, &temp, 2),
                 after: bin_means(&comp, &temp, 2),
+                as_loaded,
                 adev_before: surface_minima(&ch.data, &temp, sel.rate_hz),
                 adev_after: surface_minima(&comp, &temp, sel.rate_hz),
                 channel: ch.name,
                 unit: ch.unit,
                 out_of_range: report.out_of_range,
             });
+        }
+    }
+    if let Some(l) = &loaded {
+        for w in &l.warnings {
+            eprintln!("warning: {w}");
         }
     }
     let stdout = std::io::stdout();
@@ -248,13 +381,13 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
                 .map(|m| json!({"t_c": m.0, "sigma_min": m.1, "tau": m.2}))
                 .collect::<Vec<_>>()
         };
-        let doc = json!({
+        let mut doc = json!({
             "schema": "imutherm.tcal-eval/1",
             "model": a.model.display().to_string(),
             "rows": rows.iter().map(|r| {
                 let (rb, mb) = spread(&r.before);
                 let (ra, ma) = spread(&r.after);
-                json!({
+                let mut row = json!({
                     "file": r.file, "held_out": r.held_out, "channel": r.channel, "unit": r.unit,
                     "bias_rms_before": rb, "bias_max_before": mb,
                     "bias_rms_after": ra, "bias_max_after": ma,
@@ -262,118 +395,103 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
                     "bins_before": bins(&r.before), "bins_after": bins(&r.after),
                     "adev_minimum_over_temperature_before": minima(&r.adev_before),
                     "adev_minimum_over_temperature_after": minima(&r.adev_after),
-                })
+                });
+                if let Some(l) = &r.as_loaded {
+                    let (rl, ml) = spread(l);
+                    row["bias_rms_as_loaded"] = json!(rl);
+                    row["bias_max_as_loaded"] = json!(ml);
+                    row["bins_as_loaded"] = json!(bins(l));
+                }
+                row
             }).collect::<Vec<_>>(),
         });
+        if let Some(l) = &loaded {
+            doc["firmware"] = json!({
+                "name": l.firmware.key(),
+                "parameters": l.text,
+                "warnings": l.warnings,
+                "cal_temp_c": matches!(l.firmware, Firmware::ArduPilot).then_some(l.cal_temp_c),
+            });
+        }
         serde_json::to_writer_pretty(&mut out, &doc)?;
         writeln!(out)?;
-    } else if !rows.is_empty() {
-        writeln!(
-            out,
+        out.flush()?;
+        return Ok(());
+    }
+    let mut table: Vec<String> = Vec::new();
+    if !rows.is_empty() {
+        table.push(
             "residual bias over 1 °C temperature bins (spread of the bin means), before → after; \
              ADEV minimum per 5 °C bin, before → after"
-        )?;
-        for r in &rows {
-            let (rb, mb) = spread(&r.before);
-            let (ra, ma) = spread(&r.after);
-            let reduction = if rb > 0.0 { 100.0 * (1.0 - ra / rb) } else { 0.0 };
-            writeln!(
-                out,
-                "{:<24} {:<8} {} RMS {:.3e} → {:.3e} {} ({reduction:.1} % less), max {:.3e} → {:.3e}{}",
-                r.file,
-                r.channel,
-                if r.held_out { "held out" } else { "fitted  " },
-                rb,
-                ra,
-                r.unit,
-                mb,
-                ma,
-                if r.out_of_range > 0 {
-                    format!(", {} samples out of range", r.out_of_range)
-                } else {
-                    String::new()
+                .to_string(),
+        );
+        if let Some(l) = &loaded {
+            table.push(format!(
+                "\"as loaded\": the exported {} parameters applied as the firmware applies them{}",
+                l.firmware.name(),
+                match l.firmware {
+                    Firmware::ArduPilot => format!(", with INS_ACC/GYR CALTEMP = {:.2} °C", l.cal_temp_c),
+                    Firmware::Px4 if model.device_id.is_none() => {
+                        " (as if TC_x0_ID held the sensor's device id)".to_string()
+                    }
+                    Firmware::Px4 => String::new(),
                 }
-            )?;
-            let pairs: Vec<String> = r
-                .adev_before
-                .iter()
-                .zip(&r.adev_after)
-                .map(|(b, a)| format!("{:.0} °C {:.2e}→{:.2e}", b.0, b.1, a.1))
-                .collect();
-            if !pairs.is_empty() {
-                writeln!(out, "{:<24} {:<8}   σ_min: {}", "", "", pairs.join(", "))?;
-            }
+            ));
         }
     }
-    if let Some(kind) = &a.export {
-        write!(out, "{}", export(&model, kind)?)?;
+    for r in &rows {
+        let (rb, mb) = spread(&r.before);
+        let (ra, ma) = spread(&r.after);
+        let reduction = if rb > 0.0 { 100.0 * (1.0 - ra / rb) } else { 0.0 };
+        table.push(format!(
+            "{:<24} {:<8} {} RMS {:.3e} → {:.3e} {} ({reduction:.1} % less), max {:.3e} → {:.3e}{}",
+            r.file,
+            r.channel,
+            if r.held_out { "held out" } else { "fitted  " },
+            rb,
+            ra,
+            r.unit,
+            mb,
+            ma,
+            if r.out_of_range > 0 {
+                format!(", {} samples out of range", r.out_of_range)
+            } else {
+                String::new()
+            }
+        ));
+        if let Some(l) = &r.as_loaded {
+            let (rl, ml) = spread(l);
+            let reduction = if rb > 0.0 { 100.0 * (1.0 - rl / rb) } else { 0.0 };
+            table.push(format!(
+                "{:<24} {:<8} as loaded RMS {:.3e} {} ({reduction:.1} % less), max {:.3e}",
+                "", "", rl, r.unit, ml
+            ));
+        }
+        let pairs: Vec<String> = r
+            .adev_before
+            .iter()
+            .zip(&r.adev_after)
+            .map(|(b, a)| format!("{:.0} °C {:.2e}→{:.2e}", b.0, b.1, a.1))
+            .collect();
+        if !pairs.is_empty() {
+            table.push(format!("{:<24} {:<8}   σ_min: {}", "", "", pairs.join(", ")));
+        }
+    }
+    match &loaded {
+        // The parameter lines follow on standard output: the table goes in
+        // as comments, so the whole output still loads.
+        Some(l) => {
+            for line in &table {
+                writeln!(out, "# {line}")?;
+            }
+            write!(out, "{}", l.text)?;
+        }
+        None => {
+            for line in &table {
+                writeln!(out, "{line}")?;
+            }
+        }
     }
     out.flush()?;
     Ok(())
-}
-
-/// The coefficients in the shape flight stacks load them. These follow the
-/// stacks' conventions (a cubic in T − T_ref); parameter names follow them
-/// closely but are to be checked against the firmware version in use.
-/// A channel's compensation as the four coefficients of a cubic in
-/// (T − T_ref), for firmware that takes no more; a higher order is refused.
-fn cubic(model: &Model, c: &ChannelModel, firmware: &str, limit: &str) -> Result<[f64; 4]> {
-    if c.order > 3 {
-        bail!("--export {firmware}: {} has order {}; {limit}", c.name, c.order);
-    }
-    let p = c.power_coefficients(model);
-    Ok(std::array::from_fn(|k| p.get(k).copied().unwrap_or(0.0)))
-}
-
-fn export(model: &Model, kind: &str) -> Result<String> {
-    let mut s = String::new();
-    let axis = |name: &str| match name.chars().last() {
-        Some('x') => 0,
-        Some('y') => 1,
-        _ => 2,
-    };
-    match kind.to_ascii_lowercase().as_str() {
-        "px4" => {
-            let _ = writeln!(
-                s,
-                "# PX4-style thermal calibration: offset = X0 + X1·dT + X2·dT² + X3·dT³, dT = T − TREF (°C)"
-            );
-            for (prefix, stem) in [("TC_A0", "accel"), ("TC_G0", "gyro")] {
-                let _ = writeln!(s, "{prefix}_TREF {:.4}", model.t_ref_c);
-                let _ = writeln!(s, "{prefix}_TMIN {:.4}", model.t_min_c);
-                let _ = writeln!(s, "{prefix}_TMAX {:.4}", model.t_max_c);
-                for c in model.channels.iter().filter(|c| c.name.starts_with(stem)) {
-                    let p = cubic(model, c, "px4", "PX4 takes a cubic at most (fit with --order 3)")?;
-                    for (k, pk) in p.iter().enumerate() {
-                        let _ = writeln!(s, "{prefix}_X{k}_{} {pk:.9e}", axis(&c.name));
-                    }
-                }
-            }
-        }
-        "ardupilot" => {
-            let _ = writeln!(
-                s,
-                "# ArduPilot-style: v −= p(T − TREF) − p(T_cal − TREF), p without a constant term, cubic"
-            );
-            let _ = writeln!(s, "INS_TCAL1_ENABLE 1");
-            let _ = writeln!(s, "INS_TCAL1_TMIN {:.4}", model.t_min_c);
-            let _ = writeln!(s, "INS_TCAL1_TMAX {:.4}", model.t_max_c);
-            let _ = writeln!(
-                s,
-                "# TREF = {:.4} °C (ArduPilot's is 35 °C: fit with --tref 35 to load directly)",
-                model.t_ref_c
-            );
-            for (stem, key) in [("accel", "ACC"), ("gyro", "GYR")] {
-                for c in model.channels.iter().filter(|c| c.name.starts_with(stem)) {
-                    let p = cubic(model, c, "ardupilot", "ArduPilot takes a cubic at most")?;
-                    let xyz = ["X", "Y", "Z"][axis(&c.name)];
-                    for (k, pk) in p.iter().enumerate().skip(1) {
-                        let _ = writeln!(s, "INS_TCAL1_{key}{k}_{xyz} {pk:.9e}");
-                    }
-                }
-            }
-        }
-        other => bail!("--export {other}: expected px4 or ardupilot"),
-    }
-    Ok(s)
 }
