@@ -49,8 +49,7 @@ pub(super) fn write(model: &Model, n: u8, device_id: Option<u32>) -> Result<Expo
     let cubics = cubics(model, Firmware::ArduPilot, TEMP_REFERENCE_C)?;
     let mut warnings = Vec::new();
     let (lo, hi) = DOCUMENTED_RANGE_C;
-    let t_min = model.t_min_c.clamp(lo, hi);
-    let t_max = model.t_max_c.clamp(lo, hi);
+    let (t_min, t_max) = (model.t_min_c, model.t_max_c);
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -83,18 +82,22 @@ pub(super) fn write(model: &Model, n: u8, device_id: Option<u32>) -> Result<Expo
             "# For the IMU with device id {id}: check that INS_GYR{suffix}_ID / INS_ACC{suffix}_ID is {id}."
         );
     }
+    // @Range is documentation for ground stations: `AP_Param` stores any
+    // float and `correct_sensor` constrains T to whatever TMIN/TMAX hold.
+    // Holding the range to it would leave the part of the fit beyond it
+    // uncorrected, so the fitted range is written and the user told.
     if model.t_min_c < lo || model.t_max_c > hi {
         let _ = writeln!(
             s,
-            "# The fit spans {:.2} to {:.2} degC, beyond the documented TMIN/TMAX range {lo} to {hi}: the range below is",
+            "# TMIN/TMAX below span the fit, {:.2} to {:.2} degC, beyond their documented range {lo} to {hi} degC:",
             model.t_min_c, model.t_max_c
         );
         let _ = writeln!(
             s,
-            "# held to it, and the correction beyond it stays at its value at the edge."
+            "# the firmware applies them as stored, but a ground station may flag them as out of range."
         );
         warnings.push(format!(
-            "the fit spans {:.2} to {:.2} °C, beyond ArduPilot's documented INS_TCAL{n}_TMIN/TMAX range ({lo} to {hi} °C): written as {t_min:.2} to {t_max:.2} °C, so beyond it the correction stays at its edge value",
+            "the fit spans {:.2} to {:.2} °C, beyond the documented range of INS_TCAL{n}_TMIN/TMAX ({lo} to {hi} °C): written as fitted, which ArduPilot applies as stored, but a ground station may flag them; refit over a range within it to avoid that",
             model.t_min_c, model.t_max_c
         ));
     }

@@ -407,7 +407,7 @@ mod tests {
         m.centre_c = 60.0;
         m.scale_c = 40.0;
         let ap = export(&m, Firmware::ArduPilot, Target::default()).unwrap();
-        assert!(ap.text.contains("INS_TCAL1_TMAX 80\n"), "{}", ap.text);
+        assert!(ap.text.contains("INS_TCAL1_TMAX 100\n"), "{}", ap.text);
         assert!(ap.warnings.iter().any(|w| w.contains("documented")));
     }
 
