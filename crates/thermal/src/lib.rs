@@ -1,13 +1,16 @@
 //! # thermal — how an IMU's noise and bias move with temperature
 //!
-//! Two tools on top of `allan` and `imu`:
+//! Three tools on top of `allan` and `imu`:
 //! - [`surface`]: the Allan deviation over temperature (the thesis's
 //!   "3D ADEV"), per temperature bin or per sliding time window, with the
 //!   noise terms of each slice;
 //! - [`tcal`]: a polynomial compensation of the bias over temperature,
 //!   fitted on binned means with the order chosen by cross-validation,
 //!   applied as the thesis does, `x_comp = x − (p(T) − p(T_ref))`, never
-//!   extrapolated beyond the fitted range.
+//!   extrapolated beyond the fitted range; a model is checked before use
+//!   ([`ModelError`] names the field at fault);
+//! - [`firmware`]: a model as PX4's and ArduPilot's parameter files, and
+//!   those files applied to samples exactly as the firmware applies them.
 //!
 //! **What it is not:** no file handling and no printing (the `imutherm`
 //! binary does both), no plots (`report`).
