@@ -139,7 +139,11 @@ pub fn run(a: &DemoArgs) -> Result<()> {
             temp: &cool_temp,
             rate_hz: cool.rate_hz,
         }],
-        &FitOptions::default(),
+        // Capped at the flight stacks' cubic, so the demo's model exports.
+        &FitOptions {
+            max_auto_order: thermal::firmware::Firmware::MAX_ORDER,
+            ..FitOptions::default()
+        },
     )?;
     model.fitted_on = vec![cooling.display().to_string()];
     std::fs::write(
