@@ -403,6 +403,12 @@ pub struct TcalEvalArgs {
     #[arg(long, value_enum, value_name = "px4|ardupilot")]
     pub export: Option<FirmwareArg>,
 
+    /// With --export: apply this parameter file (a PX4 .params, an ArduPilot
+    /// .parm, as loaded into the vehicle) instead of the model's own export,
+    /// and do not print parameters.
+    #[arg(long, value_name = "FILE", requires = "export")]
+    pub params: Option<PathBuf>,
+
     /// Print one JSON document (schema imutherm.tcal-eval/1).
     #[arg(long)]
     pub json: bool,

@@ -293,6 +293,57 @@ fn eval_export_output_loads_and_shows_the_firmware_result() {
         );
         assert!(l < 0.2 * b, "{}: {b} → {l}", r["channel"]);
     }
+
+    // A file loaded into the vehicle, evaluated as it is: the export, then
+    // the same with the coefficients left unscaled (ArduPilot divides them
+    // by 1e6), which corrects nothing.
+    let parm = dir.path().join("imu.parm");
+    imutherm()
+        .args(["tcal", "export", "--firmware", "ardupilot", "-o"])
+        .arg(&parm)
+        .arg(&model)
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(&parm).unwrap();
+    let unscaled: String = text
+        .lines()
+        .map(|l| match l.split_once(' ') {
+            Some((name, v)) if name.contains("_ACC") || name.contains("_GYR") => {
+                format!("{name} {}\n", v.parse::<f64>().unwrap() / 1e6)
+            }
+            _ => format!("{l}\n"),
+        })
+        .collect();
+    let unscaled_path = dir.path().join("unscaled.parm");
+    std::fs::write(&unscaled_path, unscaled).unwrap();
+    let as_loaded = |params: &Path| -> Vec<(f64, f64)> {
+        let out = imutherm()
+            .args(["tcal", "eval", "--json", "--export", "ardupilot", "--params"])
+            .arg(params)
+            .arg(&model)
+            .arg(&heating)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        doc["rows"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| {
+                (
+                    r["bias_rms_before"].as_f64().unwrap(),
+                    r["bias_rms_as_loaded"].as_f64().unwrap(),
+                )
+            })
+            .collect()
+    };
+    for (b, l) in as_loaded(&parm) {
+        assert!(l < 0.2 * b, "{b} → {l}");
+    }
+    for (b, l) in as_loaded(&unscaled_path) {
+        assert!(l > 0.99 * b, "an unscaled file corrects nothing: {b} → {l}");
+    }
 }
 
 /// Writes a model JSON with `edit` applied to a sound one.

@@ -308,7 +308,24 @@ struct AsLoaded {
     cal_temp_c: f64,
 }
 
-fn as_loaded(model: &Model, firmware: Firmware) -> Result<AsLoaded> {
+fn as_loaded(model: &Model, firmware: Firmware, params: Option<&Path>) -> Result<AsLoaded> {
+    if let Some(path) = params {
+        let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+        let calibration = firmware::load(firmware, &text, None).with_context(|| {
+            format!(
+                "{}: not a {} parameter file imutherm can apply",
+                path.display(),
+                firmware.name()
+            )
+        })?;
+        return Ok(AsLoaded {
+            firmware,
+            text,
+            warnings: Vec::new(),
+            calibration,
+            cal_temp_c: model.t_ref_c,
+        });
+    }
     let exported = firmware::export(model, firmware, Target::default())
         .with_context(|| format!("--export {}: the model cannot be written for it", firmware.key()))?;
     // Read back as the ground station loads it, so what is evaluated is the
@@ -327,7 +344,10 @@ fn as_loaded(model: &Model, firmware: Firmware) -> Result<AsLoaded> {
 pub fn eval(a: &TcalEvalArgs) -> Result<()> {
     let model = load(&a.model)?;
     let read = recording_options(&a.read)?;
-    let loaded = a.export.map(|f| as_loaded(&model, f.into())).transpose()?;
+    let loaded = a
+        .export
+        .map(|f| as_loaded(&model, f.into(), a.params.as_deref()))
+        .transpose()?;
     let names: Vec<String> = model.channels.iter().map(|c| c.name.clone()).collect();
     let mut rows = Vec::new();
     for file in &a.files {
@@ -427,7 +447,11 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
         );
         if let Some(l) = &loaded {
             table.push(format!(
-                "\"as loaded\": the exported {} parameters applied as the firmware applies them{}",
+                "\"as loaded\": {} applied as {} applies it{}",
+                match &a.params {
+                    Some(p) => p.display().to_string(),
+                    None => format!("the exported {} parameter file", l.firmware.name()),
+                },
                 l.firmware.name(),
                 match l.firmware {
                     Firmware::ArduPilot => format!(", with INS_ACC/GYR CALTEMP = {:.2} °C", l.cal_temp_c),
@@ -480,13 +504,13 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
     match &loaded {
         // The parameter lines follow on standard output: the table goes in
         // as comments, so the whole output still loads.
-        Some(l) => {
+        Some(l) if a.params.is_none() => {
             for line in &table {
                 writeln!(out, "# {line}")?;
             }
             write!(out, "{}", l.text)?;
         }
-        None => {
+        _ => {
             for line in &table {
                 writeln!(out, "{line}")?;
             }
