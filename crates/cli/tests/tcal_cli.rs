@@ -292,6 +292,16 @@ fn eval_export_output_loads_and_shows_the_firmware_result() {
             r["bias_rms_as_loaded"].as_f64().unwrap(),
         );
         assert!(l < 0.2 * b, "{}: {b} → {l}", r["channel"]);
+        // The level (gravity, for the accelerometers) moves by less than
+        // the bias varied over temperature.
+        let (lb, ll) = (
+            r["level_before"].as_f64().unwrap(),
+            r["level_as_loaded"].as_f64().unwrap(),
+        );
+        let spread = r["bias_max_before"].as_f64().unwrap() * 2.0;
+        if r["channel"].as_str().unwrap().starts_with("accel") {
+            assert!((lb - ll).abs() < spread, "{}: level {lb} → {ll}", r["channel"]);
+        }
     }
 
     // A file loaded into the vehicle, evaluated as it is: the export, then

@@ -252,6 +252,12 @@ pub(crate) fn spread(bins: &[BinMean]) -> (f64, f64) {
     (rms, max)
 }
 
+/// The mean of the bin means: the reading's level over temperature (for an
+/// accelerometer at rest, gravity's share, which a correction must keep).
+fn level(bins: &[BinMean]) -> f64 {
+    bins.iter().map(|b| b.mean).sum::<f64>() / bins.len().max(1) as f64
+}
+
 /// σ_min of each 5 °C slice of the ADEV surface: (mean T, σ_min, τ).
 fn surface_minima(x: &[f64], t: &[f64], rate: f64) -> Vec<(f64, f64, f64)> {
     surface(x, t, rate, Slicing::Temperature { bin_width_c: 5.0 }, 0.683)
@@ -419,6 +425,8 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
                 if let Some(l) = &r.as_loaded {
                     let (rl, ml) = spread(l);
                     row["bias_rms_as_loaded"] = json!(rl);
+                    row["level_before"] = json!(level(&r.before));
+                    row["level_as_loaded"] = json!(level(l));
                     row["bias_max_as_loaded"] = json!(ml);
                     row["bins_as_loaded"] = json!(bins(l));
                 }
@@ -487,8 +495,14 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
             let (rl, ml) = spread(l);
             let reduction = if rb > 0.0 { 100.0 * (1.0 - rl / rb) } else { 0.0 };
             table.push(format!(
-                "{:<24} {:<8} as loaded RMS {:.3e} {} ({reduction:.1} % less), max {:.3e}",
-                "", "", rl, r.unit, ml
+                "{:<24} {:<8} as loaded RMS {:.3e} {} ({reduction:.1} % less), max {:.3e}, level {:.4} → {:.4}",
+                "",
+                "",
+                rl,
+                r.unit,
+                ml,
+                level(&r.before),
+                level(l)
             ));
         }
         let pairs: Vec<String> = r
