@@ -430,6 +430,12 @@ pub struct NoiseArgs {
     /// Print one JSON document (schema imutherm.noise/1).
     #[arg(long)]
     pub json: bool,
+
+    /// Print both methods' full detail per channel (the slope method's
+    /// stretches, the fit's points left out, every reason), not only the
+    /// compact table.
+    #[arg(long, short = 'v')]
+    pub verbose: bool,
 }
 
 const INFO_EXAMPLES: &str = "\

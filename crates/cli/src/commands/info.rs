@@ -33,7 +33,7 @@ pub fn recording_options(a: &ReadArgs) -> Result<RecordingOptions> {
                 Ok((c.trim().to_string(), u.trim().to_string()))
             }
             Some((_, u)) if parse_unit(u).is_none() => bail!(
-                "--unit {p}: unknown unit '{}' (known: m/s^2 g mg ug rad/s mrad/s deg/s deg/h degC K)",
+                "--unit {p}: unknown unit '{}' (known: m/s^2 g mg ug rad/s mrad/s deg/s deg/h degC degF K)",
                 u.trim()
             ),
             _ => bail!("--unit {p}: expected COLUMN=UNIT, e.g. gyro_x=deg/s"),
@@ -72,6 +72,9 @@ struct FileInfo {
     problems: Vec<ProblemInfo>,
     problems_unlisted: usize,
     dropped_samples: usize,
+    /// What the reader guessed or found suspicious (a time unit guessed, a
+    /// clock that disagrees with the given rate, an accelerometer in g).
+    notes: Vec<String>,
     /// What `imutherm record` counted (its `# trailer:` line), numbers as
     /// numbers.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -91,6 +94,8 @@ struct ChannelInfo {
     source: String,
     quantity: &'static str,
     unit: String,
+    /// Where the file's unit came from: header, flag, metadata or assumed.
+    unit_source: &'static str,
     mean: Option<f64>,
     std: Option<f64>,
     min: Option<f64>,
@@ -165,6 +170,7 @@ fn file_info(path: &Path, rec: &Recording, report: &ReadReport, opts: &Recording
                 source: c.source_name.clone(),
                 quantity: c.quantity.name(),
                 unit: c.unit.clone(),
+                unit_source: c.unit_source.name(),
                 mean: d.map(|d| d.0),
                 std: d.map(|d| d.1),
                 min: d.map(|d| d.2),
@@ -204,6 +210,7 @@ fn file_info(path: &Path, rec: &Recording, report: &ReadReport, opts: &Recording
             .collect(),
         problems_unlisted: report.unlisted,
         dropped_samples: report.dropped_samples,
+        notes: report.notes.clone(),
         logger: rec.meta.get(imu::log::TRAILER_KEY).map(|t| {
             imu::log::trailer_fields(t)
                 .into_iter()
@@ -272,10 +279,9 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
                 .jitter_s
                 .map(|j| format!(", jitter {:.3e} s", j))
                 .unwrap_or_default();
-            // A derived rate is 1/median interval: show it to the precision
-            // that means something, not 99.99999999999999.
-            let shown = format!("{r:.6}");
-            let shown = shown.trim_end_matches('0').trim_end_matches('.');
+            // A fitted rate to the digits that mean something, not
+            // 99.99999999781721.
+            let shown = imu::log::round_rate(r);
             writeln!(out, "  rate         {shown} Hz ({}{jitter})", f.rate_source)?;
         }
         None => writeln!(
@@ -295,16 +301,16 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
     }
     writeln!(
         out,
-        "  {:<10} {:<22} {:<13} {:>14} {:>12} {:>13} {:>13} {:>7}",
+        "  {:<10} {:<22} {:<17} {:>14} {:>12} {:>13} {:>13} {:>7}",
         "channel", "column", "unit", "mean", "std", "min", "max", "NaN"
     )?;
     for c in &f.channels {
         writeln!(
             out,
-            "  {:<10} {:<22} {:<13} {:>14} {:>12} {:>13} {:>13} {:>7}",
+            "  {:<10} {:<22} {:<17} {:>14} {:>12} {:>13} {:>13} {:>7}",
             c.name,
             c.source,
-            if c.unit.is_empty() { "-" } else { &c.unit },
+            unit_text(&c.unit, c.unit_source),
             opt(c.mean, 6),
             opt(c.std, 4),
             opt(c.min, 5),
@@ -349,9 +355,23 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
     if f.dropped_samples > 0 {
         writeln!(
             out,
-            "  dropped      {} samples (duplicate or backwards timestamps)",
+            "  dropped      {} rows written twice (stamp and values repeat the previous row)",
             f.dropped_samples
         )?;
     }
+    for n in &f.notes {
+        writeln!(out, "  note         {n}")?;
+    }
     Ok(())
+}
+
+/// A unit as printed beside a channel: `rad/s`, or `rad/s (assumed)` when
+/// nothing in the file or on the command line gave it.
+pub fn unit_text(unit: &str, source: &str) -> String {
+    let u = if unit.is_empty() { "-" } else { unit };
+    if source == imu::UnitSource::Assumed.name() {
+        format!("{u} (assumed)")
+    } else {
+        u.to_string()
+    }
 }
