@@ -179,6 +179,17 @@ pub enum Chosen {
     Nothing,
 }
 
+impl Chosen {
+    /// The value: the estimate, or the bound.
+    pub fn value(&self) -> Option<f64> {
+        match self {
+            Chosen::Fit(v) | Chosen::Slope(v) => Some(v.value),
+            Chosen::Bound(b) => Some(*b),
+            Chosen::Nothing => None,
+        }
+    }
+}
+
 /// A term's [`Chosen`] estimate and what a reader must know about it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Choice {
@@ -188,6 +199,13 @@ pub struct Choice {
     pub disagree: bool,
     /// Why the estimate is not the fit's, when it is not.
     pub note: Option<&'static str>,
+}
+
+impl Choice {
+    /// The value shown: the estimate, or the bound.
+    pub fn value(&self) -> Option<f64> {
+        self.chosen.value()
+    }
 }
 
 impl NoiseTerms {
