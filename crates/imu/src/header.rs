@@ -54,6 +54,8 @@ const SUFFIXES: &[(&str, &str)] = &[
     ("_rads", "rad/s"),
     ("_ms2", "m/s^2"),
     ("_dps", "deg/s"),
+    // PX4's uORB fields: `gyro_rad` is in rad/s.
+    ("_rad", "rad/s"),
     ("_mg", "mg"),
     ("_ms", "ms"),
     ("_us", "us"),

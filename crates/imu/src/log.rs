@@ -351,6 +351,17 @@ pub fn metadata_rate(meta: &Metadata) -> Option<f64> {
 
 fn classify(header: &str, unit_override: Option<(&str, UnitSource)>) -> ColumnKind {
     let (mut name, mut unit_text) = split_name_unit(header);
+    // A number in brackets is an index, not a unit: PX4's ulog2csv writes
+    // `gyro_rad[0]` … `gyro_rad[2]` (pyulog, core.py flattening of arrays).
+    let index_axis = unit_text.parse::<usize>().ok().map(|i| match i {
+        0 => Some(Axis::X),
+        1 => Some(Axis::Y),
+        2 => Some(Axis::Z),
+        _ => None,
+    });
+    if index_axis.is_some() {
+        unit_text = "";
+    }
     // A suffix is a unit only when what is left is a name that says the
     // same quantity: `acc_x_g` is in g, `gyro_x_s` is no time column.
     if unit_text.is_empty()
@@ -390,12 +401,11 @@ fn classify(header: &str, unit_override: Option<(&str, UnitSource)>) -> ColumnKi
         },
     };
     let quantity = unit.quantity;
-    let axis = match by_name {
-        Some((_, a)) if matches!(quantity, Quantity::Acceleration | Quantity::AngularRate) => {
-            a.or_else(|| trailing_axis(name))
-        }
-        _ if matches!(quantity, Quantity::Acceleration | Quantity::AngularRate) => trailing_axis(name),
-        _ => None,
+    let axis = match (by_name, index_axis) {
+        _ if !matches!(quantity, Quantity::Acceleration | Quantity::AngularRate) => None,
+        (_, Some(a)) => a,
+        (Some((_, a)), None) => a.or_else(|| trailing_axis(name)),
+        (None, None) => trailing_axis(name),
     };
     let imu_name = match (quantity, axis) {
         (Quantity::Acceleration | Quantity::AngularRate, Some(_)) | (Quantity::Temperature, _) => {

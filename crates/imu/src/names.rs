@@ -66,6 +66,24 @@ pub fn quantity_of_name(name: &str) -> Option<(Quantity, Option<Axis>)> {
     if n.starts_with("temp") || n.ends_with("temp") || n.contains("temperature") {
         return Some((Quantity::Temperature, None));
     }
+    // Bookkeeping beside the samples in the same record (PX4's
+    // `gyro_integral_dt`, `accelerometer_timestamp_relative`, counters) is
+    // no inertial axis, whatever sensor its name starts with.
+    let bookkeeping = [
+        "dt",
+        "time",
+        "timestamp",
+        "stamp",
+        "relative",
+        "integral",
+        "count",
+        "clipping",
+        "status",
+        "id",
+    ];
+    if n.split('_').any(|t| bookkeeping.contains(&t)) {
+        return None;
+    }
     let (axis, stem) = match axis_of(&n) {
         Some((a, s)) => (Some(a), s),
         None => (None, n.as_str()),
@@ -123,6 +141,8 @@ mod tests {
             ("x", None),
             ("sample_rate", None),
             ("host_time", None),
+            ("gyro_integral_dt", None),
+            ("accelerometer_timestamp_relative", None),
         ] {
             assert_eq!(quantity_of_name(name), want, "{name}");
         }

@@ -200,7 +200,10 @@ fn write_tables(out: &mut impl Write, opts: &Options, channels: &[Channel], curv
             if ch.unit.is_empty() {
                 String::new()
             } else {
-                format!(" [{}]", unit_text(&ch.unit, ch.unit_source.name()))
+                format!(
+                    " [{}]",
+                    unit_text(&ch.unit, ch.unit_source.name(), ch.quantity.name())
+                )
             },
             opts.stat,
             opts.data_type,

@@ -310,7 +310,7 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
             "  {:<10} {:<22} {:<17} {:>14} {:>12} {:>13} {:>13} {:>7}",
             c.name,
             c.source,
-            unit_text(&c.unit, c.unit_source),
+            unit_text(&c.unit, c.unit_source, c.quantity),
             opt(c.mean, 6),
             opt(c.std, 4),
             opt(c.min, 5),
@@ -366,10 +366,12 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
 }
 
 /// A unit as printed beside a channel: `rad/s`, or `rad/s (assumed)` when
-/// nothing in the file or on the command line gave it.
-pub fn unit_text(unit: &str, source: &str) -> String {
+/// nothing in the file or on the command line gave it and imutherm took
+/// the channel as SI by its name (a channel of unknown quantity keeps its
+/// own unit, assumed nothing).
+pub fn unit_text(unit: &str, source: &str, quantity: &str) -> String {
     let u = if unit.is_empty() { "-" } else { unit };
-    if source == imu::UnitSource::Assumed.name() {
+    if source == imu::UnitSource::Assumed.name() && quantity != Quantity::Other.name() {
         format!("{u} (assumed)")
     } else {
         u.to_string()

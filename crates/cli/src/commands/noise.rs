@@ -598,7 +598,7 @@ fn write_text(
                 out,
                 "{} [{}]",
                 ch.name,
-                crate::commands::info::unit_text(&ch.unit, ch.unit_source.name())
+                crate::commands::info::unit_text(&ch.unit, ch.unit_source.name(), ch.quantity.name())
             )?;
             if let Some(m) = &r.terms.slope.sigma_min {
                 let (fct, unit) = unit_of(Term::BiasInstability, ch.quantity, &ch.unit, units);
