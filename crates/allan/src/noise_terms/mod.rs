@@ -20,9 +20,11 @@
 
 mod fit;
 mod slope;
+mod thesis;
 
 pub use fit::{FitResult, fit_model};
 pub use slope::{MIN_EDF, Minimum, SlopeResult, slope_method};
+pub use thesis::{ThesisReading, thesis_reading};
 
 use crate::analysis::analyze_series;
 use crate::{AllanError, DataType, Options, PhaseSeries, Point, TauSpec};

@@ -13,7 +13,7 @@
 //! still falling at its longest supported τ has no minimum within the
 //! record, and B is then only bounded from above.
 
-use super::{Term, TermEstimate, TermValue, flicker_floor, upper_bound};
+use super::{Term, TermEstimate, TermValue, ThesisReading, flicker_floor, thesis_reading, upper_bound};
 use crate::Point;
 
 /// Largest distance between the curve's slope and a term's slope for the
@@ -59,6 +59,8 @@ pub struct SlopeResult {
     /// Upper bounds of the terms the method could not read: no term's share
     /// of σ² can exceed the upper end of σ's interval at any τ.
     pub bounds: Vec<(Term, f64)>,
+    /// N and B as the thesis's own script reads them, for comparison.
+    pub thesis: ThesisReading,
 }
 
 impl SlopeResult {
@@ -187,6 +189,7 @@ pub fn slope_method(points: &[Point]) -> SlopeResult {
             minimum: Minimum::Unknown,
             stretches: Vec::new(),
             bounds: Vec::new(),
+            thesis: thesis_reading(points),
         };
     }
     let slopes = local_slopes(&usable);
@@ -323,5 +326,6 @@ pub fn slope_method(points: &[Point]) -> SlopeResult {
         minimum,
         stretches: found_stretches,
         bounds,
+        thesis: thesis_reading(&usable),
     }
 }

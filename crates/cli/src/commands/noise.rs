@@ -527,6 +527,11 @@ fn write_json(
                         "sigma_min_min_edf": allan::noise_terms::MIN_EDF,
                         "slope_stretches": r.terms.slope.stretches.iter().map(|(t, a, b)| serde_json::json!({"term": t.symbol(), "tau_from": a, "tau_to": b})).collect::<Vec<_>>(),
                         "fit_left_out_taus": r.terms.fit.left_out,
+                        "thesis_reading": {
+                            "method": "analyzeAllan.m: N on the -1/2 line through the slope nearest -1/2; B = sigma at the first positive slope / 0.664",
+                            "N": r.terms.slope.thesis.n.map(|v| serde_json::json!({"si": json_value(&v, Term::WhiteNoise, ch, Units::Si), "tau": v.tau})),
+                            "B": r.terms.slope.thesis.b.map(|v| serde_json::json!({"si": json_value(&v, Term::BiasInstability, ch, Units::Si), "tau": v.tau})),
+                        },
                         "chosen": chosen,
                         "samples": ch.data.len(),
                         "sigma_min": sigma_min,
@@ -628,6 +633,30 @@ fn write_text(
                     t.slope()
                 )?;
             }
+            let th = &r.terms.slope.thesis;
+            let (fn_, un) = unit_of(Term::WhiteNoise, ch.quantity, &ch.unit, units);
+            let (fb, ub) = unit_of(Term::BiasInstability, ch.quantity, &ch.unit, units);
+            writeln!(
+                out,
+                "  the thesis's reading (analyzeAllan.m: slope nearest −1/2; σ at the first τ where the slope turns \
+                 positive): N {}, B {}",
+                th.n.map_or_else(
+                    || "—".to_string(),
+                    |v| format!(
+                        "{:.4e} {un} (at τ = {:.4} s)",
+                        v.value * fn_,
+                        v.tau.unwrap_or(f64::NAN)
+                    )
+                ),
+                th.b.map_or_else(
+                    || "—".to_string(),
+                    |v| format!(
+                        "{:.4e} {ub} (at τ = {:.4} s)",
+                        v.value * fb,
+                        v.tau.unwrap_or(f64::NAN)
+                    )
+                ),
+            )?;
             if !r.terms.fit.left_out.is_empty() {
                 writeln!(
                     out,
