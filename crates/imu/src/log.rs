@@ -934,6 +934,15 @@ mod tests {
 ";
 
     #[test]
+    fn rates_are_printed_to_sensible_digits() {
+        assert_eq!(round_rate(99.99999999781721), "100");
+        assert_eq!(round_rate(200.60180541624874), "200.602");
+        assert_eq!(round_rate(248.53871), "248.539");
+        assert_eq!(round_rate(0.5), "0.5");
+        assert_eq!(round_rate(1000.0), "1000");
+    }
+
+    #[test]
     fn reads_the_thesis_log() {
         let dir = tempfile::tempdir().unwrap();
         let p = dir.path().join("thesis.txt");

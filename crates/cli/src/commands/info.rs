@@ -335,7 +335,7 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
             get("bus_errors"),
             get("stopped_by"),
             match l.get("rate_measured_hz").and_then(serde_json::Value::as_f64) {
-                Some(r) => format!("measured {r} Hz"),
+                Some(r) => format!("measured {} Hz", imu::log::round_rate(r)),
                 None => "not measured (under 5 s without a loss)".to_string(),
             },
         )?;
