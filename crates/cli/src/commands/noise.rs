@@ -813,13 +813,19 @@ fn thesis_cell(r: &Analysed, term: Term, units: Units) -> String {
     }
 }
 
-/// The value written for Kalibr and how it was had: the fit's value; the
-/// upper end of the slope method's interval where the fit cannot be taken
-/// (a random walk is better overstated than understated for a filter);
-/// the term's upper bound where neither method reads it.
+/// The value written for Kalibr and how it was had: the fit's N; the upper
+/// end of the fit's interval for K (a filter copes with a random walk
+/// overstated, not with one understated, and K is the least certain
+/// term of a record of hours); the upper end of the slope method's
+/// interval where the fit cannot be taken; the term's upper bound where
+/// neither method reads it.
 fn kalibr_value(r: &Analysed, term: Term) -> Option<(f64, String)> {
     let choice = r.terms.choose(term);
     match choice.chosen {
+        Chosen::Fit(v) if term == Term::RateRandomWalk => Some((
+            v.hi,
+            format!("upper end of the fit's interval (fit {:.6e})", v.value),
+        )),
         Chosen::Fit(v) => Some((v.value, "fit".to_string())),
         Chosen::Slope(v) => Some((
             v.hi,
