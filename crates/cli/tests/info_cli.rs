@@ -183,3 +183,29 @@ fn the_adis16405_csv_and_a_phone_export_as_new_users_feed_them() {
     let table = String::from_utf8_lossy(&out.stdout);
     assert!(table.contains("[rad/s (assumed)]"), "{table}");
 }
+
+#[test]
+fn a_logger_whose_chip_runs_0_3_percent_fast_stamped_in_integer_ms() {
+    let rate = 200.0 * 1.003;
+    let mut text = String::from("timestamp[ms],gyro_x[rad/s]\n");
+    for k in 0..36_108u32 {
+        let _ = writeln!(text, "{},{k}", (f64::from(k) / rate * 1e3).floor());
+    }
+    let (_dir, p) = file("fast.csv", text.as_bytes());
+    let out = imutherm().arg("info").arg(&p).output().unwrap();
+    let shown = String::from_utf8_lossy(&out.stdout);
+    assert!(shown.contains("rate         200.6 Hz"), "{shown}");
+    assert!(
+        shown.contains("the median step (0.005000 s) would say 200 Hz"),
+        "{shown}"
+    );
+    let out = imutherm().args(["info", "--json"]).arg(&p).output().unwrap();
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let f = &doc["files"][0];
+    // Every real sample kept, none invented.
+    assert_eq!(f["samples"], 36_108);
+    assert_eq!(f["channels"][0]["nan_samples"], 0);
+    assert_eq!(f["dropped_samples"], 0);
+    let fitted = f["clock"]["rate_hz"].as_f64().unwrap();
+    assert!((fitted / rate - 1.0).abs() < 5e-4, "{fitted}");
+}

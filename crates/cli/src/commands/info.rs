@@ -66,6 +66,10 @@ struct FileInfo {
     rate_hz: Option<f64>,
     rate_source: &'static str,
     jitter_s: Option<f64>,
+    /// The time column's clock: the rate fitted to its stamps, the median
+    /// step (what a rate read off the steps would say), the samples fitted.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    clock: Option<serde_json::Value>,
     duration_s: Option<f64>,
     temperature_c: Option<Range>,
     channels: Vec<ChannelInfo>,
@@ -193,6 +197,17 @@ fn file_info(path: &Path, rec: &Recording, report: &ReadReport, opts: &Recording
         rate_hz: rec.rate_hz,
         rate_source,
         jitter_s: report.timing.as_ref().map(|t| t.jitter_s),
+        clock: report.timing.as_ref().map(|t| {
+            serde_json::json!({
+                "rate_hz": t.rate_hz,
+                "jitter_s": t.jitter_s,
+                "median_step_s": t.median_step_s,
+                "fitted_samples": t.fitted_samples,
+                "gaps": t.gaps.len(),
+                "duplicate_stamps": t.duplicates.len(),
+                "backward_stamps": t.backwards.len(),
+            })
+        }),
         duration_s: rec.duration_s(),
         temperature_c,
         channels,
@@ -283,6 +298,20 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
             // 99.99999999781721.
             let shown = imu::log::round_rate(r);
             writeln!(out, "  rate         {shown} Hz ({}{jitter})", f.rate_source)?;
+            // Where the clock and the median step part, say so: that is
+            // the case a rate read off the steps gets wrong.
+            if let Some(step) = f
+                .clock
+                .as_ref()
+                .and_then(|c| c["median_step_s"].as_f64())
+                .filter(|s| (r * s - 1.0).abs() > 1e-3)
+            {
+                writeln!(
+                    out,
+                    "  clock        fitted to the stamps; the median step ({step:.6} s) would say {} Hz",
+                    imu::log::round_rate(1.0 / step)
+                )?;
+            }
         }
         None => writeln!(
             out,
