@@ -141,7 +141,9 @@ pub struct Recording {
     pub channels: Vec<Channel>,
     /// Sample rate in Hz, given or derived; `None` when unknown.
     pub rate_hz: Option<f64>,
-    /// Per-sample timestamps in seconds, when the file has them.
+    /// Per-sample timestamps in seconds, when the file has them, one per
+    /// row read (not per slot of the channels); Unix epoch stamps are
+    /// counted from the first one, so that their steps keep their digits.
     pub timestamps: Option<Vec<f64>>,
     /// Metadata.
     pub meta: Metadata,
