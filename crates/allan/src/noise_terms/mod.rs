@@ -9,11 +9,15 @@
 //! | rate random walk K | K²τ/3 | +1/2 | σ(3 s) on the +1/2 line |
 //! | rate ramp R | R²τ²/2 | +1 | σ(√2 s) on the +1 line |
 //!
-//! Two estimators, side by side: the slope method as the thesis and
-//! MATLAB's `allanvar` example use it ([`slope_method`]), and a weighted,
-//! non-negative least-squares fit of the whole model ([`fit_model`]). Each
-//! value has an interval; a term the data cannot show is reported as not
-//! identifiable, with the reason, never as a number.
+//! Two estimators, side by side: the slope method of IEEE 952 read only
+//! where a term's slope holds over a stretch of τ ([`slope_method`]), and a
+//! weighted, non-negative least-squares fit of the whole model that leaves
+//! out what no power law describes ([`fit_model`]). Each value has an
+//! interval; a term the data cannot show is reported as not identifiable,
+//! with the reason and an upper bound ([`upper_bound`]), never as a
+//! number. [`NoiseTerms::choose`] says which estimate holds. The thesis's
+//! own reading (slope nearest −1/2, first positive slope) is kept beside
+//! them by name ([`thesis_reading`]), for comparison only.
 //!
 //! Units: the terms are in the unit of the rate data and seconds: N in
 //! unit/√Hz = unit·√s, B in unit, K in unit/√s, Q in unit·s, R in unit/s.
