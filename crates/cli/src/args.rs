@@ -21,7 +21,7 @@ pub enum Command {
     /// fitted on the cooling run and evaluated on a held-out heating run; writes
     /// DIR/report.html.
     #[command(
-        after_help = "Examples:\n  imutherm demo                 full: 1 h runs at 100 Hz\n  imutherm demo --quick --out /tmp/demo"
+        after_help = "Examples:\n  imutherm demo                 full: 1 h runs at 20 Hz\n  imutherm demo --quick --out /tmp/demo"
     )]
     Demo(DemoArgs),
     /// Allan-family deviations (adev, oadev, mdev, tdev, hdev, ohdev, totdev…)
@@ -416,7 +416,7 @@ pub struct TcalEvalArgs {
 
 const SIMULATE_EXAMPLES: &str = "\
 Examples:
-  imutherm simulate -o run34.txt                       the thesis preset: 1 h at 100 Hz, 34 °C
+  imutherm simulate -o run34.txt                       the thesis preset: 1 h at 20 Hz, 34 °C
   imutherm simulate --profile constant:82 --seed 4 -o run82.txt
   imutherm simulate --profile cooling:100:20:1800 --duration 3h -o cooling.txt
   imutherm simulate --preset mpu9250-thesis --print-config > my.toml   then edit, and:
@@ -516,6 +516,12 @@ pub struct NoiseArgs {
     /// Print one JSON document (schema imutherm.noise/1).
     #[arg(long)]
     pub json: bool,
+
+    /// Print both methods' full detail per channel (the slope method's
+    /// stretches, the fit's points left out, every reason), not only the
+    /// compact table.
+    #[arg(long, short = 'v')]
+    pub verbose: bool,
 }
 
 const INFO_EXAMPLES: &str = "\

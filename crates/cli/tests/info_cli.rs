@@ -1,5 +1,6 @@
 //! `imutherm info` end to end.
 
+use std::fmt::Write as _;
 use std::io::Write;
 
 use assert_cmd::Command;
@@ -117,4 +118,94 @@ fn unreadable_files_are_clear_errors() {
         .stdout(predicate::str::contains(
             "line 3: column 4: cannot read 'x' as a number (skipped as a gap)",
         ));
+}
+
+#[test]
+fn the_adis16405_csv_and_a_phone_export_as_new_users_feed_them() {
+    let dir = tempfile::tempdir().unwrap();
+    // The static ADIS16405 run of SMAC-Group/imudata as a user converts it.
+    let adis = dir.path().join("adis.csv");
+    let mut text = String::from("t_s,gyro_x_dps,gyro_y_dps,gyro_z_dps,acc_x_g,acc_y_g,acc_z_g\n");
+    for k in 0..3000 {
+        let _ = writeln!(text, "{:.2},0.05,-0.4,0.3,0.0,0.0,-1.0", k as f64 / 100.0);
+    }
+    std::fs::write(&adis, text).unwrap();
+    let out = Command::cargo_bin("imutherm")
+        .unwrap()
+        .args(["info", "--json"])
+        .arg(&adis)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let f = &doc["files"][0];
+    assert_eq!(f["rate_hz"], 100.0);
+    assert_eq!(f["channels"].as_array().unwrap().len(), 6, "t_s is the time axis");
+    for c in f["channels"].as_array().unwrap() {
+        assert_eq!(c["unit_source"], "header", "{c}");
+    }
+    let gx = &f["channels"][0];
+    assert!((gx["mean"].as_f64().unwrap() - 0.05f64.to_radians()).abs() < 1e-12);
+
+    // A phone app's export: no units, accelerometer in g.
+    let phone = dir.path().join("phone.csv");
+    let mut text = String::from("timestamp,ax,ay,az,gx,gy,gz\n");
+    for k in 0..2000u64 {
+        let _ = writeln!(text, "{},0.01,0.02,0.99,0.001,0.002,0.003", k * 5);
+    }
+    std::fs::write(&phone, text).unwrap();
+    let out = Command::cargo_bin("imutherm")
+        .unwrap()
+        .arg("info")
+        .arg(&phone)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("m/s^2 (assumed)") && text.contains("rad/s (assumed)"),
+        "{text}"
+    );
+    assert!(text.contains("looks like g"), "{text}");
+    assert!(text.contains("unit ms, guessed from the median step"), "{text}");
+    assert!(text.contains("rate         200 Hz"), "{text}");
+    // adev repeats what the reader guessed.
+    let out = Command::cargo_bin("imutherm")
+        .unwrap()
+        .args(["adev", "--channels", "gyro_x"])
+        .arg(&phone)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("guessed from the median step") && err.contains("0 gaps filled"),
+        "{err}"
+    );
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("[rad/s (assumed)]"), "{table}");
+}
+
+#[test]
+fn a_logger_whose_chip_runs_0_3_percent_fast_stamped_in_integer_ms() {
+    let rate = 200.0 * 1.003;
+    let mut text = String::from("timestamp[ms],gyro_x[rad/s]\n");
+    for k in 0..36_108u32 {
+        let _ = writeln!(text, "{},{k}", (f64::from(k) / rate * 1e3).floor());
+    }
+    let (_dir, p) = file("fast.csv", text.as_bytes());
+    let out = imutherm().arg("info").arg(&p).output().unwrap();
+    let shown = String::from_utf8_lossy(&out.stdout);
+    assert!(shown.contains("rate         200.6 Hz"), "{shown}");
+    assert!(
+        shown.contains("the median step (0.005000 s) would say 200 Hz"),
+        "{shown}"
+    );
+    let out = imutherm().args(["info", "--json"]).arg(&p).output().unwrap();
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let f = &doc["files"][0];
+    // Every real sample kept, none invented.
+    assert_eq!(f["samples"], 36_108);
+    assert_eq!(f["channels"][0]["nan_samples"], 0);
+    assert_eq!(f["dropped_samples"], 0);
+    let fitted = f["clock"]["rate_hz"].as_f64().unwrap();
+    assert!((fitted / rate - 1.0).abs() < 5e-4, "{fitted}");
 }

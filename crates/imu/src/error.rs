@@ -46,7 +46,7 @@ pub enum ReadErrorKind {
     },
     /// A unit imutherm does not know, given for a column.
     #[error(
-        "unknown unit '{unit}' for column '{column}' (known: m/s^2, g, mg, ug, rad/s, deg/s, deg/h, degC, K, s, ms, us, ns)"
+        "unknown unit '{unit}' for column '{column}' (known: m/s^2, g, mg, ug, rad/s, deg/s, deg/h, degC, degF, K, s, ms, us, ns)"
     )]
     UnknownUnit {
         /// The column.

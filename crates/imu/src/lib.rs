@@ -32,6 +32,7 @@
 pub mod error;
 pub mod header;
 pub mod log;
+pub mod names;
 pub mod recording;
 pub mod report;
 pub mod table;
@@ -44,4 +45,4 @@ pub use log::{
 };
 pub use recording::{Axis, Channel, Metadata, Recording};
 pub use report::{Problem, ProblemKind, ReadReport};
-pub use units::{Quantity, Unit};
+pub use units::{Quantity, Unit, UnitSource};

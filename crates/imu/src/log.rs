@@ -14,12 +14,13 @@ use std::path::Path;
 use rayon::prelude::*;
 
 use crate::error::{ReadError, ReadErrorKind};
-use crate::header::split_name_unit;
+use crate::header::{split_name_unit, split_unit_suffix};
+use crate::names::{is_time_name, quantity_of_name};
 use crate::recording::{Axis, Channel, Metadata, Recording, standard_name};
 use crate::report::{Problem, ProblemKind, ReadReport};
 use crate::table::{ReadPolicy, TableReader};
 use crate::timing::{analyze_timestamps, regularize};
-use crate::units::{Quantity, Unit, parse_unit};
+use crate::units::{Quantity, Unit, UnitSource, parse_unit};
 
 /// The thesis log's header, exactly as its logger wrote it (with the `m/^2`
 /// misprint, which readers of that format expect).
@@ -238,12 +239,15 @@ pub struct RecordingOptions {
     /// Unit per column (by header name or imutherm name), overriding the
     /// header's: `("gyro_x", "deg/s")`.
     pub units: Vec<(String, String)>,
-    /// The time column, by name; `None` looks for one named `time`,
-    /// `timestamp`, `t` or with a time unit (`[s]`, `[ns]`).
+    /// The time column, by name; `None` looks for one named as
+    /// [`crate::names::is_time_name`] says (`t`, `time`, `timestamp`,
+    /// `stamp`, `sec`, …, with or without a unit) or with a time unit
+    /// (`[s]`, `_ns`).
     pub time_column: Option<String>,
     /// Unit of the time column when its header has none: `s`, `ms`, `us`,
-    /// `ns`. Without either, values whose median step is ≥ 1000 are taken
-    /// as nanoseconds (no IMU samples slower than once in 1000 s).
+    /// `ns`. Without either, the unit is guessed (Unix epoch stamps by
+    /// their magnitude, others by the median step) and the report's notes
+    /// say so.
     pub time_unit: Option<String>,
     /// Skip malformed rows as gaps instead of failing.
     pub skip_bad_lines: bool,
@@ -262,41 +266,60 @@ pub struct ColumnKind {
     pub unit: Unit,
     /// The unit of the converted values.
     pub unit_label: String,
+    /// Where the unit came from.
+    pub unit_source: UnitSource,
+    /// A unit text that was given but is not one imutherm knows.
+    pub unknown_unit: Option<String>,
 }
 
-/// Judges a column from its header `name[unit]`, or from `unit_override`
-/// when given: the unit decides the quantity when imutherm knows it; a name
-/// with `acc`/`gyr`/`temp` and no unit is taken as already in SI; the last
-/// character `1/2/3` or `x/y/z` gives the axis.
+/// Judges a column from its header (`name[unit]`, `name(unit)`,
+/// `name_unit`), or from `unit_override` when given: the unit decides the
+/// quantity when imutherm knows it; a name imutherm recognises
+/// ([`crate::names`]) with no unit is taken as already in SI, and the unit
+/// is marked [`UnitSource::Assumed`]; the last character `1/2/3` or `x/y/z`
+/// gives the axis.
 pub fn classify_header(header: &str, unit_override: Option<&str>) -> ColumnKind {
-    let (name, quantity, axis, unit, unit_label) = classify(header, unit_override);
-    ColumnKind {
-        name,
-        quantity,
-        axis,
-        unit,
-        unit_label,
-    }
+    classify(header, unit_override.map(|u| (u, UnitSource::Flag)))
 }
 
 /// [`classify_header`] with the unit from `overrides` (`(column, unit)`
 /// pairs) when one names this column by its header, its header without the
 /// unit, or its imutherm name (`gyro_x`).
 pub fn classify_with_overrides(header: &str, overrides: &[(String, String)]) -> ColumnKind {
-    let (name, _) = split_name_unit(header);
-    let plain = classify_header(header, None);
-    let over = overrides
-        .iter()
-        .find(|(c, _)| {
-            c.eq_ignore_ascii_case(name)
-                || c.eq_ignore_ascii_case(header)
-                || c.eq_ignore_ascii_case(&plain.name)
-        })
-        .map(|(_, u)| u.as_str());
-    match over {
-        Some(u) => classify_header(header, Some(u)),
-        None => plain,
+    classify_with_sources(header, overrides, &[])
+}
+
+/// [`classify_with_overrides`], with units from the file's metadata
+/// (`# unit.gyro_x: deg/s`) below those of the command line.
+pub fn classify_with_sources(
+    header: &str,
+    flags: &[(String, String)],
+    metadata: &[(String, String)],
+) -> ColumnKind {
+    let plain = classify(header, None);
+    let find = |list: &[(String, String)]| {
+        list.iter()
+            .find(|(c, _)| names_column(c, header, &plain.name))
+            .map(|(_, u)| u.clone())
+    };
+    if let Some(u) = find(flags) {
+        return classify(header, Some((&u, UnitSource::Flag)));
     }
+    if let Some(u) = find(metadata) {
+        return classify(header, Some((&u, UnitSource::Metadata)));
+    }
+    plain
+}
+
+/// Whether `wanted` names the column of `header` (imutherm name `name`):
+/// by the whole header, the header without its unit, or imutherm's name.
+fn names_column(wanted: &str, header: &str, name: &str) -> bool {
+    let w = wanted.trim();
+    let (bare, _) = split_name_unit(header);
+    let stem = split_unit_suffix(bare).map_or(bare, |(s, _)| s);
+    [header, bare, stem, name]
+        .iter()
+        .any(|n| n.eq_ignore_ascii_case(w))
 }
 
 /// Reads `# key: value` comment lines into metadata (other comments are
@@ -326,31 +349,51 @@ pub fn metadata_rate(meta: &Metadata) -> Option<f64> {
         .filter(|r| r.is_finite() && *r > 0.0)
 }
 
-fn classify(header: &str, unit_override: Option<&str>) -> (String, Quantity, Option<Axis>, Unit, String) {
-    let (name, unit_text) = split_name_unit(header);
-    let unit_text = unit_override.unwrap_or(unit_text);
-    let lower = name.to_ascii_lowercase();
-    let axis = match lower.chars().last() {
-        Some('1' | 'x') => Some(Axis::X),
-        Some('2' | 'y') => Some(Axis::Y),
-        Some('3' | 'z') => Some(Axis::Z),
+fn classify(header: &str, unit_override: Option<(&str, UnitSource)>) -> ColumnKind {
+    let (mut name, mut unit_text) = split_name_unit(header);
+    // A number in brackets is an index, not a unit: PX4's ulog2csv writes
+    // `gyro_rad[0]` … `gyro_rad[2]` (pyulog, core.py flattening of arrays).
+    let index_axis = unit_text.parse::<usize>().ok().map(|i| match i {
+        0 => Some(Axis::X),
+        1 => Some(Axis::Y),
+        2 => Some(Axis::Z),
         _ => None,
-    };
-    let by_name = if lower.contains("acc") {
-        Some(Quantity::Acceleration)
-    } else if lower.contains("gyr") {
-        Some(Quantity::AngularRate)
-    } else if lower.starts_with("temp") || lower.ends_with("temp") || lower.contains("temperature") {
-        Some(Quantity::Temperature)
+    });
+    if index_axis.is_some() {
+        unit_text = "";
+    }
+    // A suffix is a unit only when what is left is a name that says the
+    // same quantity: `acc_x_g` is in g, `gyro_x_s` is no time column.
+    if unit_text.is_empty()
+        && let Some((stem, suffix)) = split_unit_suffix(name)
+        && let (Some((q, _)), Some(u)) = (quantity_of_name(stem), parse_unit(suffix))
+        && q == u.quantity
+    {
+        name = stem;
+        unit_text = suffix;
+    }
+    let mut source = if unit_text.is_empty() {
+        UnitSource::Assumed
     } else {
-        None
+        UnitSource::Header
     };
+    if let Some((u, from)) = unit_override {
+        unit_text = u;
+        source = from;
+    }
+    let by_name = quantity_of_name(name);
     let parsed = parse_unit(unit_text);
+    let unknown_unit = (!unit_text.is_empty() && parsed.is_none()).then(|| unit_text.to_string());
     // The unit decides the quantity when it is known; the name only when the
     // header carries no unit (imutherm's names are in SI).
     let unit = match (parsed, by_name) {
         (Some(u), _) => u,
-        (None, Some(q)) if unit_text.is_empty() => Unit::si(q),
+        (None, Some((q, _))) if unit_text.is_empty() && q != Quantity::Time => Unit::si(q),
+        (None, Some((Quantity::Time, _))) if unit_text.is_empty() => Unit {
+            quantity: Quantity::Time,
+            scale: 1.0,
+            offset: 0.0,
+        },
         _ => Unit {
             quantity: Quantity::Other,
             scale: 1.0,
@@ -358,10 +401,11 @@ fn classify(header: &str, unit_override: Option<&str>) -> (String, Quantity, Opt
         },
     };
     let quantity = unit.quantity;
-    let axis = if matches!(quantity, Quantity::Acceleration | Quantity::AngularRate) {
-        axis
-    } else {
-        None
+    let axis = match (by_name, index_axis) {
+        _ if !matches!(quantity, Quantity::Acceleration | Quantity::AngularRate) => None,
+        (_, Some(a)) => a,
+        (Some((_, a)), None) => a.or_else(|| trailing_axis(name)),
+        (None, None) => trailing_axis(name),
     };
     let imu_name = match (quantity, axis) {
         (Quantity::Acceleration | Quantity::AngularRate, Some(_)) | (Quantity::Temperature, _) => {
@@ -373,7 +417,32 @@ fn classify(header: &str, unit_override: Option<&str>) -> (String, Quantity, Opt
         Quantity::Other => unit_text.to_string(),
         q => q.si_unit().to_string(),
     };
-    (imu_name, quantity, axis, unit, unit_label)
+    if quantity == Quantity::Other {
+        source = if unit_text.is_empty() {
+            UnitSource::Assumed
+        } else {
+            source
+        };
+    }
+    ColumnKind {
+        name: imu_name,
+        quantity,
+        axis,
+        unit,
+        unit_label,
+        unit_source: source,
+        unknown_unit,
+    }
+}
+
+/// The axis a name's last character gives (`1/2/3`, `x/y/z`).
+fn trailing_axis(name: &str) -> Option<Axis> {
+    match name.to_ascii_lowercase().chars().last() {
+        Some('1' | 'x') => Some(Axis::X),
+        Some('2' | 'y') => Some(Axis::Y),
+        Some('3' | 'z') => Some(Axis::Z),
+        _ => None,
+    }
 }
 
 /// Reads a thesis log, an imutherm log, or any numeric column file with a
@@ -457,8 +526,99 @@ fn is_time_header(kind: &ColumnKind, header: &str) -> bool {
     if n == HOST_TIME_COLUMN {
         return false;
     }
-    kind.quantity == Quantity::Time
-        || ["time", "timestamp", "t", "time_s", "time_ns", "timestamp_ns"].contains(&n.as_str())
+    kind.quantity == Quantity::Time || is_time_name(&kind.name)
+}
+
+/// A rate to sensible digits: six significant figures, no trailing zeros
+/// (`200.602`, not `200.60180541624874`).
+pub fn round_rate(hz: f64) -> String {
+    if !hz.is_finite() || hz <= 0.0 {
+        return format!("{hz}");
+    }
+    let digits = (5 - hz.abs().log10().floor() as i32).max(0) as usize;
+    let text = format!("{hz:.digits$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
+
+/// The unit of a time column whose header and flags name none, and why:
+/// Unix epoch stamps by their magnitude (s ≈ 1.7e9, ms ≈ 1.7e12, µs ≈
+/// 1.7e15, ns ≈ 1.7e18), others by the median step, taking the unit that
+/// makes it an IMU's: steps below 2 in seconds, whole-numbered steps and
+/// steps up to 2000 in milliseconds, up to 1e5 in microseconds (10 Hz and
+/// faster), beyond in nanoseconds.
+fn guess_time_unit(raw: &[f64]) -> (f64, &'static str) {
+    let first = raw.iter().copied().find(|v| v.is_finite()).unwrap_or(0.0).abs();
+    for (lo, scale) in [(1e9, 1.0), (1e12, 1e-3), (1e15, 1e-6), (1e18, 1e-9)] {
+        if (lo..lo * 10.0).contains(&first) {
+            return (
+                scale,
+                "guessed from the magnitude of the stamps (Unix epoch time)",
+            );
+        }
+    }
+    let mut steps: Vec<f64> = raw.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).collect();
+    steps.sort_unstable_by(f64::total_cmp);
+    let Some(&m) = steps.get(steps.len() / 2) else {
+        return (1.0, "guessed (too few steps to tell)");
+    };
+    let whole = raw.iter().take(1000).all(|v| !v.is_finite() || v.fract() == 0.0);
+    let why = "guessed from the median step";
+    if m < 2.0 && !whole {
+        (1.0, why)
+    } else if m < 2000.0 {
+        (1e-3, why)
+    } else if m < 1e5 {
+        (1e-6, why)
+    } else {
+        (1e-9, why)
+    }
+}
+
+/// Units of columns written in the metadata as `# unit.<column>: <unit>`.
+fn metadata_units(meta: &Metadata) -> Vec<(String, String)> {
+    meta.entries
+        .iter()
+        .filter_map(|(k, v)| Some((k.strip_prefix("unit.")?.to_string(), v.clone())))
+        .collect()
+}
+
+/// A note when a static accelerometer read as m/s² (its unit assumed) has
+/// a mean norm near 1 or 1000: the file is then in g or mg.
+fn accel_unit_note(channels: &[Channel]) -> Option<String> {
+    let axes: Vec<&Channel> = channels
+        .iter()
+        .filter(|c| c.quantity == Quantity::Acceleration && c.axis.is_some())
+        .collect();
+    if axes.is_empty() || axes.iter().any(|c| c.unit_source != UnitSource::Assumed) {
+        return None;
+    }
+    let norm = axes
+        .iter()
+        .map(|c| {
+            let (s, n) = c
+                .data
+                .iter()
+                .filter(|v| v.is_finite())
+                .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+            if n == 0 { 0.0 } else { (s / n as f64).powi(2) }
+        })
+        .sum::<f64>()
+        .sqrt();
+    let looks = if (0.7..1.3).contains(&norm) {
+        "g"
+    } else if (700.0..1300.0).contains(&norm) {
+        "mg"
+    } else {
+        return None;
+    };
+    Some(format!(
+        "the accelerometer's unit is assumed m/s², but its mean norm is {norm:.4}: that looks like {looks}, \
+         not m/s²; give --unit accel_x={looks} (and y, z) or write the unit in the header"
+    ))
 }
 
 /// [`read_recording`], with everything found wrong on the way. NaN and
@@ -487,10 +647,40 @@ pub fn read_recording_with_report(
     }
     let file_rate = metadata_rate(&meta);
     let headers: Vec<String> = reader.names().to_vec();
+    let from_meta = metadata_units(&meta);
     let kinds: Vec<ColumnKind> = headers
         .iter()
-        .map(|h| classify_with_overrides(h, &opts.units))
+        .map(|h| classify_with_sources(h, &opts.units, &from_meta))
         .collect();
+    // A unit given for a column that is not there is a typo, not a no-op.
+    if let Some((column, _)) = opts.units.iter().find(|(c, _)| {
+        !headers
+            .iter()
+            .zip(&kinds)
+            .any(|(h, k)| names_column(c, h, &k.name))
+    }) {
+        return Err(ReadError::new(
+            path,
+            ReadErrorKind::NoSuchColumn {
+                wanted: format!("{column} (named by --unit)"),
+                available: headers.join(", "),
+            },
+        ));
+    }
+    // A unit imutherm cannot read, on a column it knows the meaning of,
+    // would otherwise leave the column out of every analysis in silence.
+    if let Some((i, k)) = kinds.iter().enumerate().find(|(i, k)| {
+        k.unknown_unit.is_some() && quantity_of_name(split_name_unit(&headers[*i]).0).is_some()
+    }) {
+        return Err(ReadError::new(
+            path,
+            ReadErrorKind::UnknownUnit {
+                column: headers[i].clone(),
+                unit: k.unknown_unit.clone().unwrap_or_default(),
+            },
+        )
+        .at(1, Some(i + 1)));
+    }
     let time_index = match &opts.time_column {
         Some(name) => Some(
             kinds
@@ -607,32 +797,71 @@ pub fn read_recording_with_report(
             quantity: kind.quantity,
             axis: kind.axis,
             unit: kind.unit_label.clone(),
+            unit_source: kind.unit_source,
             data,
         });
     }
     let mut rate_hz = opts.rate_hz.or(file_rate);
     let mut timestamps = None;
     if let (Some(ti), Some(raw)) = (time_index, time) {
-        let header_unit = kinds[ti].unit;
+        let header_unit = Some(kinds[ti].unit)
+            .filter(|u| u.quantity == Quantity::Time && kinds[ti].unit_source != UnitSource::Assumed);
         let given = opts
             .time_unit
             .as_deref()
             .and_then(parse_unit)
             .filter(|u| u.quantity == Quantity::Time);
-        let scale = if header_unit.quantity == Quantity::Time {
-            header_unit.scale
-        } else if let Some(u) = given {
-            u.scale
-        } else {
-            let mut steps: Vec<f64> = raw.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).collect();
-            steps.sort_unstable_by(f64::total_cmp);
-            match steps.get(steps.len() / 2) {
-                Some(&m) if m >= 1000.0 => 1e-9,
-                _ => 1.0,
+        let (scale, origin) = match (header_unit, given) {
+            (Some(u), _) => (u.scale, None),
+            (None, Some(u)) => (u.scale, None),
+            (None, None) => {
+                let (scale, why) = guess_time_unit(&raw);
+                (scale, Some(why))
             }
         };
-        let t: Vec<f64> = raw.iter().map(|v| v * scale).collect();
+        if let Some(why) = origin {
+            report.notes.push(format!(
+                "time column '{}': unit {}, {why}; give --time-unit if that is wrong",
+                headers[ti],
+                match scale {
+                    1.0 => "s",
+                    1e-3 => "ms",
+                    1e-6 => "us",
+                    _ => "ns",
+                }
+            ));
+        }
+        // Epoch stamps (1.7e18 ns) are taken from the first one, so that
+        // the steps keep their digits.
+        let t0 = raw.iter().copied().find(|v| v.is_finite()).unwrap_or(0.0);
+        let epoch = t0.abs() * scale > 1e8;
+        let origin_raw = if epoch { t0 } else { 0.0 };
+        let t: Vec<f64> = raw.iter().map(|v| (v - origin_raw) * scale).collect();
         if let Some(timing) = analyze_timestamps(&t) {
+            let rate = *rate_hz.get_or_insert(timing.rate_hz);
+            if (rate / timing.rate_hz - 1.0).abs() > 1e-3 {
+                report.notes.push(format!(
+                    "the time column's clock runs at {} Hz, not the {} Hz given; samples are placed \
+                     by their order and gaps sized on {} Hz",
+                    round_rate(timing.rate_hz),
+                    round_rate(rate),
+                    round_rate(rate)
+                ));
+            }
+            let cols: Vec<Vec<f64>> = channels.iter_mut().map(|c| std::mem::take(&mut c.data)).collect();
+            let Some((regular, dropped)) = regularize(&t, rate, &cols) else {
+                let finite = || t.iter().copied().filter(|v| v.is_finite());
+                return Err(ReadError::new(
+                    path,
+                    ReadErrorKind::TimeColumn(format!(
+                        "column {} spans {:.6e} s, far more than its {} samples at {rate} Hz: \
+                         check the time unit (--time-unit) or the values",
+                        ti + 1,
+                        finite().fold(f64::NEG_INFINITY, f64::max) - finite().fold(f64::INFINITY, f64::min),
+                        t.len()
+                    )),
+                ));
+            };
             for &(row, missing) in &timing.gaps {
                 report.push(Problem {
                     kind: ProblemKind::TimeGap,
@@ -641,11 +870,18 @@ pub fn read_recording_with_report(
                     channel: None,
                     count: missing,
                     message: format!(
-                        "{missing} missing sample{} before this line (gap in time)",
+                        "{missing} missing sample{} before this line (a step in time, filled as a gap)",
                         if missing == 1 { "" } else { "s" }
                     ),
                 });
             }
+            let action = |row: usize| {
+                if dropped.binary_search(&row).is_ok() {
+                    "the whole row repeats the previous one: dropped"
+                } else {
+                    "sample kept, in the slot after the previous one"
+                }
+            };
             for &row in &timing.duplicates {
                 report.push(Problem {
                     kind: ProblemKind::DuplicateTime,
@@ -653,7 +889,7 @@ pub fn read_recording_with_report(
                     column: Some(ti + 1),
                     channel: None,
                     count: 1,
-                    message: "duplicate timestamp (sample dropped)".to_string(),
+                    message: format!("duplicate timestamp ({})", action(row)),
                 });
             }
             for &row in &timing.backwards {
@@ -663,38 +899,18 @@ pub fn read_recording_with_report(
                     column: Some(ti + 1),
                     channel: None,
                     count: 1,
-                    message: "timestamp earlier than the previous one (sample dropped)".to_string(),
+                    message: format!("timestamp earlier than the previous one ({})", action(row)),
                 });
             }
-            let rate = *rate_hz.get_or_insert(timing.rate_hz);
-            let cols: Vec<Vec<f64>> = channels.iter_mut().map(|c| std::mem::take(&mut c.data)).collect();
-            let Some((regular, dropped)) = regularize(&t, rate, &cols) else {
-                return Err(ReadError::new(
-                    path,
-                    ReadErrorKind::TimeColumn(format!(
-                        "column {} spans {:.6e} s, far more than its {} samples at {rate} Hz: \
-                         check the time unit (--time-unit) or the values",
-                        ti + 1,
-                        t.iter()
-                            .copied()
-                            .filter(|v| v.is_finite())
-                            .fold(f64::NEG_INFINITY, f64::max)
-                            - t.iter()
-                                .copied()
-                                .filter(|v| v.is_finite())
-                                .fold(f64::INFINITY, f64::min),
-                        t.len()
-                    )),
-                ));
-            };
             for (c, d) in channels.iter_mut().zip(regular) {
                 c.data = d;
             }
-            report.dropped_samples = dropped;
+            report.dropped_samples = dropped.len();
             report.timing = Some(timing);
         }
         timestamps = Some(t);
     }
+    report.notes.extend(accel_unit_note(&channels));
     report.problems.sort_by_key(|p| p.line);
     Ok((
         Recording {
@@ -716,6 +932,15 @@ mod tests {
 0.8786720092773437, 0.19632453613281248, 9.344569079589844, -0.03677179134860051, 0.022649291772688717, 0.01891882018659881, 4.062269745709408
 0.8810662109374999, 0.22026655273437498, 9.363722692871093, -0.036238866836301946, 0.023182216284987275, 0.01945174469889737, 4.074250456764609
 ";
+
+    #[test]
+    fn rates_are_printed_to_sensible_digits() {
+        assert_eq!(round_rate(99.99999999781721), "100");
+        assert_eq!(round_rate(200.60180541624874), "200.602");
+        assert_eq!(round_rate(248.53871), "248.539");
+        assert_eq!(round_rate(0.5), "0.5");
+        assert_eq!(round_rate(1000.0), "1000");
+    }
 
     #[test]
     fn reads_the_thesis_log() {
@@ -941,14 +1166,18 @@ mod tests {
         ] {
             assert!(found.contains(&want), "{want:?} not in {found:?}");
         }
-        // On the 10 ms grid: 0..70 ms is 8 slots; slots 3, 4 and 2 (NaN)
-        // and 6 (inf) are gaps.
+        // Every sample keeps a slot: the gap of two before line 5 is
+        // filled, the duplicate (line 6, another value) and the step back
+        // (line 8) are kept in the slots after their predecessors. Slot 2
+        // (NaN) and 7 (inf) are gaps of the file itself.
         let g = &rec.channel("gyro_x").unwrap().data;
-        assert_eq!(g.len(), 8);
-        assert_eq!(report.dropped_samples, 2);
+        assert_eq!(g.len(), 10);
+        assert_eq!(report.dropped_samples, 0);
         assert!((g[1] - 2.0f64.to_radians()).abs() < 1e-15);
-        assert!(g[2].is_nan() && g[3].is_nan() && g[4].is_nan() && g[6].is_nan());
-        assert!((g[7] - 8.0f64.to_radians()).abs() < 1e-15);
+        assert!(g[2].is_nan() && g[3].is_nan() && g[4].is_nan() && g[7].is_nan());
+        for (slot, deg) in [(5, 4.0), (6, 5.0), (8, 7.0), (9, 8.0)] {
+            assert!((g[slot] - f64::to_radians(deg)).abs() < 1e-15, "slot {slot}");
+        }
         assert_eq!(rec.timestamps.as_ref().unwrap()[1], 0.01);
     }
 }

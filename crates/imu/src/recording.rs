@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use crate::units::Quantity;
+use crate::units::{Quantity, UnitSource};
 
 /// A sensor axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -43,6 +43,9 @@ pub struct Channel {
     pub axis: Option<Axis>,
     /// The unit of `data`: SI for known quantities, the file's own otherwise.
     pub unit: String,
+    /// Where the unit of the file came from (header, flag, metadata) or
+    /// that it was assumed.
+    pub unit_source: UnitSource,
     /// The samples; NaN marks a missing sample (a gap).
     pub data: Vec<f64>,
 }
@@ -57,6 +60,7 @@ impl Channel {
             quantity,
             axis: Some(axis),
             unit: quantity.si_unit().to_string(),
+            unit_source: UnitSource::Header,
             data,
         }
     }
@@ -69,6 +73,7 @@ impl Channel {
             quantity: Quantity::Temperature,
             axis: None,
             unit: Quantity::Temperature.si_unit().to_string(),
+            unit_source: UnitSource::Header,
             data,
         }
     }
@@ -136,7 +141,9 @@ pub struct Recording {
     pub channels: Vec<Channel>,
     /// Sample rate in Hz, given or derived; `None` when unknown.
     pub rate_hz: Option<f64>,
-    /// Per-sample timestamps in seconds, when the file has them.
+    /// Per-sample timestamps in seconds, when the file has them, one per
+    /// row read (not per slot of the channels); Unix epoch stamps are
+    /// counted from the first one, so that their steps keep their digits.
     pub timestamps: Option<Vec<f64>>,
     /// Metadata.
     pub meta: Metadata,

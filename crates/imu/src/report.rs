@@ -104,8 +104,13 @@ pub struct ReadReport {
     pub rows: usize,
     /// The time column's verdict, when the file has one.
     pub timing: Option<Timing>,
-    /// Samples dropped for duplicate or backwards timestamps.
+    /// Rows dropped because they repeat the previous row, stamp and values
+    /// alike (a line written twice).
     pub dropped_samples: usize,
+    /// What the reader guessed or found suspicious without it being a
+    /// problem of a line: a time unit guessed, a clock that disagrees with
+    /// the given rate, an accelerometer that looks like g.
+    pub notes: Vec<String>,
 }
 
 impl ReadReport {

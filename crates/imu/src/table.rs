@@ -194,7 +194,8 @@ impl TableReader {
             line_no += 1;
             let text = std::str::from_utf8(&raw)
                 .map_err(|_| ReadError::new(&path, ReadErrorKind::NotText).at(line_no, None))?
-                .trim_end_matches(['\n', '\r']);
+                .trim_end_matches(['\n', '\r'])
+                .trim_start_matches('\u{feff}');
             if is_skipped(text.as_bytes()) {
                 if let Some(c) = text.trim_start().strip_prefix('#') {
                     comments.push(c.trim().to_string());
@@ -213,7 +214,7 @@ impl TableReader {
         } else {
             let names = fields
                 .iter()
-                .map(|f| String::from_utf8_lossy(f).trim().to_string())
+                .map(|f| crate::header::clean_cell(&String::from_utf8_lossy(f)).to_string())
                 .collect();
             (names, true, None)
         };

@@ -56,6 +56,33 @@ impl fmt::Display for Quantity {
     }
 }
 
+/// Where a channel's unit came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum UnitSource {
+    /// Written in the header (`[deg/s]`, `(g)`, `_dps`).
+    Header,
+    /// Given on the command line (`--unit gyro_x=deg/s`).
+    Flag,
+    /// Written in the file's metadata (`# unit.gyro_x: deg/s`).
+    Metadata,
+    /// Nowhere: the channel's name says what it measures, and its values
+    /// are taken as already in SI. Printed as "assumed".
+    #[default]
+    Assumed,
+}
+
+impl UnitSource {
+    /// Snake-case name for JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            UnitSource::Header => "header",
+            UnitSource::Flag => "flag",
+            UnitSource::Metadata => "metadata",
+            UnitSource::Assumed => "assumed",
+        }
+    }
+}
+
 /// A parsed unit: SI value = raw · scale + offset.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Unit {
@@ -122,17 +149,23 @@ pub fn parse_unit(text: &str) -> Option<Unit> {
         "g" | "g0" | "gee" => u(Quantity::Acceleration, STANDARD_GRAVITY),
         "mg" => u(Quantity::Acceleration, STANDARD_GRAVITY * 1e-3),
         "ug" => u(Quantity::Acceleration, STANDARD_GRAVITY * 1e-6),
-        "rad/s" | "rads^-1" | "rad/sec" | "rps" => u(Quantity::AngularRate, 1.0),
+        "rad/s" | "rads^-1" | "rad/sec" | "rps" | "radps" => u(Quantity::AngularRate, 1.0),
         "mrad/s" => u(Quantity::AngularRate, 1e-3),
-        "deg/s" | "dps" | "deg/sec" | "degs^-1" => u(Quantity::AngularRate, deg),
+        "deg/s" | "dps" | "deg/sec" | "degs^-1" | "degps" => u(Quantity::AngularRate, deg),
         "deg/h" | "deg/hr" | "dph" => u(Quantity::AngularRate, deg / 3600.0),
         "degc" | "c" | "celsius" | "degreesc" => u(Quantity::Temperature, 1.0),
+        // °F → °C: (F − 32)·5/9.
+        "degf" | "f" | "fahrenheit" => Some(Unit {
+            quantity: Quantity::Temperature,
+            scale: 5.0 / 9.0,
+            offset: -32.0 * 5.0 / 9.0,
+        }),
         "k" | "kelvin" => Some(Unit {
             quantity: Quantity::Temperature,
             scale: 1.0,
             offset: -273.15,
         }),
-        "s" | "sec" => u(Quantity::Time, 1.0),
+        "s" | "sec" | "seconds" => u(Quantity::Time, 1.0),
         "ms" => u(Quantity::Time, 1e-3),
         "us" => u(Quantity::Time, 1e-6),
         "ns" => u(Quantity::Time, 1e-9),
@@ -155,6 +188,8 @@ mod tests {
             ("K", Quantity::Temperature, 300.0, 26.85),
             ("degC", Quantity::Temperature, 21.0, 21.0),
             ("ns", Quantity::Time, 1e9, 1.0),
+            ("degF", Quantity::Temperature, 212.0, 100.0),
+            ("dps", Quantity::AngularRate, 180.0, PI),
         ];
         for (text, q, raw, si) in cases {
             let u = parse_unit(text).unwrap_or_else(|| panic!("{text}"));

@@ -39,7 +39,8 @@
 //! cfg.profile = imusim::thermal::Profile::parse("cooling:100:20:1800").unwrap();
 //! let sim = Simulator::new(cfg).unwrap();
 //! let rec = sim.recording(Some("mpu9250-thesis")).unwrap();
-//! assert_eq!(rec.len(), 1000);
+//! // At the thesis's 20 Hz.
+//! assert_eq!(rec.len(), 200);
 //! // The truth travels with the data, in SI (rad/√s for the gyro's N).
 //! let n: f64 = rec.meta.get("true.gyro_x.n").unwrap().parse().unwrap();
 //! assert!((n - 0.0084f64.to_radians()).abs() < 1e-12);

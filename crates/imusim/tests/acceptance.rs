@@ -271,6 +271,8 @@ fn chunks_of_any_size_give_the_same_series() {
     // The simulated chip pulls a few samples at a time: the series must not
     // depend on how it is cut.
     let mut cfg = presets::preset("mpu9250-thesis").unwrap();
+    // 10 000 samples, whatever the preset's rate.
+    cfg.rate_hz = 100.0;
     cfg.duration_s = 100.0;
     let sim = Simulator::new(cfg).unwrap();
     let mut whole = Vec::new();

@@ -35,6 +35,10 @@ pub struct FitResult {
     pub points: usize,
     /// Confidence level of the intervals.
     pub confidence: f64,
+    /// τ of the points left out of the fit as outliers: points the model
+    /// misses by far more than their scatter and than the others (a
+    /// periodic bump, a tone), which no sum of the five terms describes.
+    pub left_out: Vec<f64>,
 }
 
 impl FitResult {
@@ -144,9 +148,50 @@ fn select(
     (best, model)
 }
 
+/// A point is left out when the model misses it by more than this many of
+/// its standard deviations…
+const OUTLIER_SIGMAS: f64 = 5.0;
+/// …and by more than this many times the median miss (so that a model
+/// that fits nothing well is not whittled down to the points it fits).
+const OUTLIER_MEDIAN: f64 = 3.0;
+
 /// Fits the model to `points` (octave taus of an OADEV curve are best:
-/// nearly independent), with intervals at `confidence`.
+/// nearly independent), with intervals at `confidence`. Points the model
+/// misses far beyond their scatter (a periodic disturbance's bump, a
+/// tone's ripple) are left out one at a time, worst first, up to a quarter
+/// of them: they are no power-law term, and kept they would be explained
+/// as one (a quantization that is a tone, a white noise lifted by a bump).
 pub fn fit_model(points: &[Point], confidence: f64) -> FitResult {
+    let mut pts: Vec<Point> = points.to_vec();
+    let mut left_out = Vec::new();
+    let budget = points.len() / 4;
+    loop {
+        let (mut result, misses) = fit_once(&pts, confidence);
+        let mut order: Vec<f64> = misses.iter().map(|(_, r)| r.abs()).collect();
+        order.sort_unstable_by(f64::total_cmp);
+        let median = order.get(order.len() / 2).copied().unwrap_or(0.0);
+        let worst = misses
+            .iter()
+            .copied()
+            .filter(|(_, r)| r.abs() > OUTLIER_SIGMAS && r.abs() > OUTLIER_MEDIAN * median)
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
+        match worst {
+            Some((tau, _)) if left_out.len() < budget && pts.len() > 6 => {
+                pts.retain(|p| p.tau != tau);
+                left_out.push(tau);
+            }
+            _ => {
+                left_out.sort_unstable_by(f64::total_cmp);
+                result.left_out = left_out;
+                return result;
+            }
+        }
+    }
+}
+
+/// One fit of all `points`, and each fitted point's miss (τ, (σ̂² − model)
+/// in standard deviations of σ̂²).
+fn fit_once(points: &[Point], confidence: f64) -> (FitResult, Vec<(f64, f64)>) {
     let pts: Vec<&Point> = points
         .iter()
         .filter(|p| p.dev.is_finite() && p.dev > 0.0 && p.edf.is_finite() && p.edf > 0.0 && p.tau > 0.0)
@@ -160,9 +205,13 @@ pub fn fit_model(points: &[Point], confidence: f64) -> FitResult {
         chi2_reduced: None,
         points: n,
         confidence,
+        left_out: Vec::new(),
     };
     if n < 2 {
-        return not_enough("not identifiable: fewer than 2 points to fit");
+        return (
+            not_enough("not identifiable: fewer than 2 points to fit"),
+            Vec::new(),
+        );
     }
     let a = DMatrix::from_fn(n, 5, |i, k| Term::ALL[k].variance_basis(pts[i].tau));
     let y = DVector::from_iterator(n, pts.iter().map(|p| p.dev * p.dev));
@@ -173,12 +222,14 @@ pub fn fit_model(points: &[Point], confidence: f64) -> FitResult {
     // τ. One that never does is buried under the others; its coefficient
     // would only soak up the scatter of the points and bias the terms it
     // trades off with, so it is taken out and the rest refitted.
+    // Quantization must show at two points at least: at the shortest τ
+    // alone, a tone near the Nyquist frequency, an aliasing artefact or the
+    // anti-alias filter lifts the curve the way 3Q²/τ² would.
     while let Some(s) = &best {
-        let buried = s
-            .active
-            .iter()
-            .zip(&s.coef)
-            .find(|&(&k, &c)| (0..n).all(|i| c * a[(i, k)] < SHOW_SHARE * model[i]));
+        let buried = s.active.iter().zip(&s.coef).find(|&(&k, &c)| {
+            let shows = (0..n).filter(|&i| c * a[(i, k)] >= SHOW_SHARE * model[i]).count();
+            shows < if Term::ALL[k] == Term::Quantization { 2 } else { 1 }
+        });
         match buried {
             Some((&k, _)) => {
                 allowed &= !(1 << k);
@@ -188,7 +239,10 @@ pub fn fit_model(points: &[Point], confidence: f64) -> FitResult {
         }
     }
     let Some(sol) = best else {
-        return not_enough("not identifiable: no positive combination of the terms fits the curve");
+        return (
+            not_enough("not identifiable: no positive combination of the terms fits the curve"),
+            Vec::new(),
+        );
     };
 
     // Covariance of the active coefficients: (AᵀWA)⁻¹, scaled by the
@@ -266,12 +320,19 @@ pub fn fit_model(points: &[Point], confidence: f64) -> FitResult {
             )
         })
         .collect();
-    FitResult {
-        terms,
-        chi2_reduced,
-        points: n,
-        confidence,
-    }
+    let misses = (0..n)
+        .map(|i| (pts[i].tau, (y[i] - model[i]) / (model[i] * (2.0 / edf[i]).sqrt())))
+        .collect();
+    (
+        FitResult {
+            terms,
+            chi2_reduced,
+            points: n,
+            confidence,
+            left_out: Vec::new(),
+        },
+        misses,
+    )
 }
 
 /// Says where a term of variance coefficient at most `c_hi` would come out

@@ -9,20 +9,26 @@
 //! | rate random walk K | K²τ/3 | +1/2 | σ(3 s) on the +1/2 line |
 //! | rate ramp R | R²τ²/2 | +1 | σ(√2 s) on the +1 line |
 //!
-//! Two estimators, side by side: the slope method as the thesis and
-//! MATLAB's `allanvar` example use it ([`slope_method`]), and a weighted,
-//! non-negative least-squares fit of the whole model ([`fit_model`]). Each
-//! value has an interval; a term the data cannot show is reported as not
-//! identifiable, with the reason, never as a number.
+//! Two estimators, side by side: the slope method of IEEE 952 read only
+//! where a term's slope holds over a stretch of τ ([`slope_method`]), and a
+//! weighted, non-negative least-squares fit of the whole model that leaves
+//! out what no power law describes ([`fit_model`]). Each value has an
+//! interval; a term the data cannot show is reported as not identifiable,
+//! with the reason and an upper bound ([`upper_bound`]), never as a
+//! number. [`NoiseTerms::choose`] says which estimate holds. The thesis's
+//! own reading (slope nearest −1/2, first positive slope) is kept beside
+//! them by name ([`thesis_reading`]), for comparison only.
 //!
 //! Units: the terms are in the unit of the rate data and seconds: N in
 //! unit/√Hz = unit·√s, B in unit, K in unit/√s, Q in unit·s, R in unit/s.
 
 mod fit;
 mod slope;
+mod thesis;
 
 pub use fit::{FitResult, fit_model};
-pub use slope::{SlopeResult, slope_method};
+pub use slope::{MIN_EDF, Minimum, SlopeResult, slope_method};
+pub use thesis::{ThesisReading, thesis_reading};
 
 use crate::analysis::analyze_series;
 use crate::{AllanError, DataType, Options, PhaseSeries, Point, TauSpec};
@@ -31,6 +37,20 @@ use crate::{AllanError, DataType, Options, PhaseSeries, Point, TauSpec};
 /// bias instability B is 0.664·B (IEEE 952 Annex C).
 pub fn flicker_floor() -> f64 {
     (2.0 * std::f64::consts::LN_2 / std::f64::consts::PI).sqrt()
+}
+
+/// The largest value `term` can have on this curve: its share of σ² can
+/// nowhere exceed σ², so at every τ with at least `min_edf` degrees of
+/// freedom the term is below the upper end of σ's interval read along its
+/// own line; the smallest of these is the bound (at the confidence of the
+/// points' intervals). `None` without such a point.
+pub fn upper_bound(term: Term, points: &[Point], min_edf: f64) -> Option<f64> {
+    points
+        .iter()
+        .filter(|p| p.edf >= min_edf && p.dev_hi.is_finite() && p.dev_hi > 0.0 && p.tau > 0.0)
+        .map(|p| (p.dev_hi * p.dev_hi / term.variance_basis(p.tau)).sqrt())
+        .filter(|v| v.is_finite())
+        .min_by(f64::total_cmp)
 }
 
 /// One of the five terms.
@@ -150,6 +170,85 @@ pub struct NoiseTerms {
     pub fit: FitResult,
     /// Terms both identified whose intervals do not overlap, with a sentence.
     pub disagreements: Vec<(Term, String)>,
+}
+
+/// What to show for a term: the estimate that holds, and how it was had.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Chosen {
+    /// The fit's value.
+    Fit(TermValue),
+    /// The slope method's value (the fit could not separate the term).
+    Slope(TermValue),
+    /// Neither method could read it: its upper bound.
+    Bound(f64),
+    /// Nothing can be said.
+    Nothing,
+}
+
+impl Chosen {
+    /// The value: the estimate, or the bound.
+    pub fn value(&self) -> Option<f64> {
+        match self {
+            Chosen::Fit(v) | Chosen::Slope(v) => Some(v.value),
+            Chosen::Bound(b) => Some(*b),
+            Chosen::Nothing => None,
+        }
+    }
+}
+
+/// A term's [`Chosen`] estimate and what a reader must know about it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Choice {
+    /// The estimate.
+    pub chosen: Chosen,
+    /// The two methods disagree beyond their intervals (the fit is shown).
+    pub disagree: bool,
+    /// Why the estimate is not the fit's, when it is not.
+    pub note: Option<&'static str>,
+}
+
+impl Choice {
+    /// The value shown: the estimate, or the bound.
+    pub fn value(&self) -> Option<f64> {
+        self.chosen.value()
+    }
+}
+
+impl NoiseTerms {
+    /// The estimate of `term` that holds: the fit's, unless the fit cannot
+    /// separate it; then the slope method's; then the term's upper bound.
+    /// A rate random walk the fit found beside no bias instability is not
+    /// taken as measured: flicker noise the fit could not resolve lifts the
+    /// long-τ end of the curve the way a random walk does, so its K may be
+    /// mostly B (the slope method's K, or the bound, is used instead).
+    pub fn choose(&self, term: Term) -> Choice {
+        let disagree = self.disagreements.iter().any(|(t, _)| *t == term);
+        let slope = self.slope.get(term).value().copied();
+        let fallback = |note| Choice {
+            chosen: match (slope, self.slope.bound(term)) {
+                (Some(v), _) => Chosen::Slope(v),
+                (None, Some(b)) => Chosen::Bound(b),
+                (None, None) => Chosen::Nothing,
+            },
+            disagree: false,
+            note: Some(note),
+        };
+        match self.fit.get(term).value() {
+            Some(_)
+                if term == Term::RateRandomWalk && self.fit.get(Term::BiasInstability).value().is_none() =>
+            {
+                fallback(
+                    "the fit's K stands beside no bias instability and may hold one it could not resolve",
+                )
+            }
+            Some(v) => Choice {
+                chosen: Chosen::Fit(*v),
+                disagree,
+                note: None,
+            },
+            None => fallback("the fit cannot separate this term"),
+        }
+    }
 }
 
 /// The overlapping ADEV of rate samples `y` at octave taus, and the noise

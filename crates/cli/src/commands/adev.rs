@@ -11,6 +11,7 @@ use allan::{Curve, DataType, Options, Stat, TauSpec};
 use crate::args::AdevArgs;
 use crate::commands::confidence::confidence_level;
 use crate::commands::info::recording_options;
+use crate::commands::info::unit_text;
 use crate::commands::selection::{Channel, read_channels};
 
 /// The JSON schema name, versioned: scripts rely on its fields.
@@ -98,6 +99,8 @@ struct JsonDoc<'a> {
 struct JsonChannel<'a> {
     name: &'a str,
     unit: &'a str,
+    /// Where the file's unit came from: header, flag, metadata or assumed.
+    unit_source: &'static str,
     file: String,
     column: usize,
     rate_hz: f64,
@@ -134,6 +137,7 @@ fn write_json(out: &mut impl Write, opts: &Options, channels: &[Channel], curves
             .map(|(ch, c)| JsonChannel {
                 name: &ch.name,
                 unit: &ch.unit,
+                unit_source: ch.unit_source.name(),
                 file: ch.file.display().to_string(),
                 column: ch.column,
                 rate_hz: c.rate_hz,
@@ -196,11 +200,14 @@ fn write_tables(out: &mut impl Write, opts: &Options, channels: &[Channel], curv
             if ch.unit.is_empty() {
                 String::new()
             } else {
-                format!(" [{}]", ch.unit)
+                format!(
+                    " [{}]",
+                    unit_text(&ch.unit, ch.unit_source.name(), ch.quantity.name())
+                )
             },
             opts.stat,
             opts.data_type,
-            c.rate_hz,
+            imu::log::round_rate(c.rate_hz),
             c.samples,
             c.nan_samples,
             100.0 * opts.confidence

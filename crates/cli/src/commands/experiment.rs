@@ -113,6 +113,22 @@ fn guides(r: &Analysed, run: &str) -> (Vec<Asymptote>, Option<(f64, f64, String)
     (lines, marker)
 }
 
+/// The value of `term` that holds ([`NoiseTerms::choose`]), in the
+/// thesis's units, to four decimals: the fit's, the slope method's marked
+/// "(slope)" where the fit cannot separate the term, an upper bound as
+/// "≤ …", a "*" where the methods disagree.
+pub fn held_value(r: &Analysed, term: Term) -> String {
+    use allan::noise_terms::Chosen;
+    let f = deg(r.channel.quantity);
+    let c = r.terms.choose(term);
+    match c.chosen {
+        Chosen::Fit(v) => format!("{:.4}{}", v.value * f, if c.disagree { "*" } else { "" }),
+        Chosen::Slope(v) => format!("{:.4} (slope)", v.value * f),
+        Chosen::Bound(b) => format!("≤ {:.4}", b * f),
+        Chosen::Nothing => "—".to_string(),
+    }
+}
+
 /// Radians to degrees for angular rates, 1 otherwise: the thesis quotes
 /// gyro terms in degrees.
 pub fn deg(q: Quantity) -> f64 {
@@ -157,9 +173,14 @@ pub fn noise_tables(page: &mut Page, analysed: &[(Vec<Analysed>, Option<f64>)]) 
         let n_rows: Vec<Vec<String>> = names
             .iter()
             .map(|n| {
-                row(n, &|r| match r.terms.slope.get(Term::WhiteNoise) {
-                    TermEstimate::Value(v) => format!("{:.4}", v.value * deg(q)),
-                    TermEstimate::NotIdentifiable(_) => "not identifiable".into(),
+                row(n, &|r| {
+                    let disagree = r.terms.disagreements.iter().any(|(t, _)| *t == Term::WhiteNoise);
+                    match r.terms.slope.get(Term::WhiteNoise) {
+                        TermEstimate::Value(v) if !disagree => format!("{:.4}", v.value * deg(q)),
+                        // A slope the method cannot read, or one the fit
+                        // contradicts, is not printed as if it held.
+                        _ => format!("{} (fit)", held_value(r, Term::WhiteNoise)),
+                    }
                 })
             })
             .collect();
@@ -179,7 +200,14 @@ pub fn noise_tables(page: &mut Page, analysed: &[(Vec<Analysed>, Option<f64>)]) 
             .iter()
             .map(|n| {
                 row(n, &|r| match r.terms.slope.sigma_min {
-                    Some(m) => format!("{:.4} (at {:.1} s)", m.value * deg(q), m.tau.unwrap_or(f64::NAN)),
+                    Some(m) if r.terms.slope.minimum == allan::noise_terms::Minimum::Found => {
+                        format!("{:.4} (at {:.1} s)", m.value * deg(q), m.tau.unwrap_or(f64::NAN))
+                    }
+                    Some(m) => format!(
+                        "no minimum within the record; σ ≤ {:.4} at {:.1} s",
+                        m.hi * deg(q),
+                        m.tau.unwrap_or(f64::NAN)
+                    ),
                     None => "—".into(),
                 })
             })

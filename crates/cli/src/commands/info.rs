@@ -33,7 +33,7 @@ pub fn recording_options(a: &ReadArgs) -> Result<RecordingOptions> {
                 Ok((c.trim().to_string(), u.trim().to_string()))
             }
             Some((_, u)) if parse_unit(u).is_none() => bail!(
-                "--unit {p}: unknown unit '{}' (known: m/s^2 g mg ug rad/s mrad/s deg/s deg/h degC K)",
+                "--unit {p}: unknown unit '{}' (known: m/s^2 g mg ug rad/s mrad/s deg/s deg/h degC degF K)",
                 u.trim()
             ),
             _ => bail!("--unit {p}: expected COLUMN=UNIT, e.g. gyro_x=deg/s"),
@@ -66,12 +66,19 @@ struct FileInfo {
     rate_hz: Option<f64>,
     rate_source: &'static str,
     jitter_s: Option<f64>,
+    /// The time column's clock: the rate fitted to its stamps, the median
+    /// step (what a rate read off the steps would say), the samples fitted.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    clock: Option<serde_json::Value>,
     duration_s: Option<f64>,
     temperature_c: Option<Range>,
     channels: Vec<ChannelInfo>,
     problems: Vec<ProblemInfo>,
     problems_unlisted: usize,
     dropped_samples: usize,
+    /// What the reader guessed or found suspicious (a time unit guessed, a
+    /// clock that disagrees with the given rate, an accelerometer in g).
+    notes: Vec<String>,
     /// What `imutherm record` counted (its `# trailer:` line), numbers as
     /// numbers.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -91,6 +98,8 @@ struct ChannelInfo {
     source: String,
     quantity: &'static str,
     unit: String,
+    /// Where the file's unit came from: header, flag, metadata or assumed.
+    unit_source: &'static str,
     mean: Option<f64>,
     std: Option<f64>,
     min: Option<f64>,
@@ -165,6 +174,7 @@ fn file_info(path: &Path, rec: &Recording, report: &ReadReport, opts: &Recording
                 source: c.source_name.clone(),
                 quantity: c.quantity.name(),
                 unit: c.unit.clone(),
+                unit_source: c.unit_source.name(),
                 mean: d.map(|d| d.0),
                 std: d.map(|d| d.1),
                 min: d.map(|d| d.2),
@@ -187,6 +197,17 @@ fn file_info(path: &Path, rec: &Recording, report: &ReadReport, opts: &Recording
         rate_hz: rec.rate_hz,
         rate_source,
         jitter_s: report.timing.as_ref().map(|t| t.jitter_s),
+        clock: report.timing.as_ref().map(|t| {
+            serde_json::json!({
+                "rate_hz": t.rate_hz,
+                "jitter_s": t.jitter_s,
+                "median_step_s": t.median_step_s,
+                "fitted_samples": t.fitted_samples,
+                "gaps": t.gaps.len(),
+                "duplicate_stamps": t.duplicates.len(),
+                "backward_stamps": t.backwards.len(),
+            })
+        }),
         duration_s: rec.duration_s(),
         temperature_c,
         channels,
@@ -204,6 +225,7 @@ fn file_info(path: &Path, rec: &Recording, report: &ReadReport, opts: &Recording
             .collect(),
         problems_unlisted: report.unlisted,
         dropped_samples: report.dropped_samples,
+        notes: report.notes.clone(),
         logger: rec.meta.get(imu::log::TRAILER_KEY).map(|t| {
             imu::log::trailer_fields(t)
                 .into_iter()
@@ -272,11 +294,24 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
                 .jitter_s
                 .map(|j| format!(", jitter {:.3e} s", j))
                 .unwrap_or_default();
-            // A derived rate is 1/median interval: show it to the precision
-            // that means something, not 99.99999999999999.
-            let shown = format!("{r:.6}");
-            let shown = shown.trim_end_matches('0').trim_end_matches('.');
+            // A fitted rate to the digits that mean something, not
+            // 99.99999999781721.
+            let shown = imu::log::round_rate(r);
             writeln!(out, "  rate         {shown} Hz ({}{jitter})", f.rate_source)?;
+            // Where the clock and the median step part, say so: that is
+            // the case a rate read off the steps gets wrong.
+            if let Some(step) = f
+                .clock
+                .as_ref()
+                .and_then(|c| c["median_step_s"].as_f64())
+                .filter(|s| (r * s - 1.0).abs() > 1e-3)
+            {
+                writeln!(
+                    out,
+                    "  clock        fitted to the stamps; the median step ({step:.6} s) would say {} Hz",
+                    imu::log::round_rate(1.0 / step)
+                )?;
+            }
         }
         None => writeln!(
             out,
@@ -295,16 +330,16 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
     }
     writeln!(
         out,
-        "  {:<10} {:<22} {:<13} {:>14} {:>12} {:>13} {:>13} {:>7}",
+        "  {:<10} {:<22} {:<17} {:>14} {:>12} {:>13} {:>13} {:>7}",
         "channel", "column", "unit", "mean", "std", "min", "max", "NaN"
     )?;
     for c in &f.channels {
         writeln!(
             out,
-            "  {:<10} {:<22} {:<13} {:>14} {:>12} {:>13} {:>13} {:>7}",
+            "  {:<10} {:<22} {:<17} {:>14} {:>12} {:>13} {:>13} {:>7}",
             c.name,
             c.source,
-            if c.unit.is_empty() { "-" } else { &c.unit },
+            unit_text(&c.unit, c.unit_source, c.quantity),
             opt(c.mean, 6),
             opt(c.std, 4),
             opt(c.min, 5),
@@ -329,7 +364,7 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
             get("bus_errors"),
             get("stopped_by"),
             match l.get("rate_measured_hz").and_then(serde_json::Value::as_f64) {
-                Some(r) => format!("measured {r} Hz"),
+                Some(r) => format!("measured {} Hz", imu::log::round_rate(r)),
                 None => "not measured (under 5 s without a loss)".to_string(),
             },
         )?;
@@ -349,9 +384,25 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
     if f.dropped_samples > 0 {
         writeln!(
             out,
-            "  dropped      {} samples (duplicate or backwards timestamps)",
+            "  dropped      {} rows written twice (stamp and values repeat the previous row)",
             f.dropped_samples
         )?;
     }
+    for n in &f.notes {
+        writeln!(out, "  note         {n}")?;
+    }
     Ok(())
+}
+
+/// A unit as printed beside a channel: `rad/s`, or `rad/s (assumed)` when
+/// nothing in the file or on the command line gave it and imutherm took
+/// the channel as SI by its name (a channel of unknown quantity keeps its
+/// own unit, assumed nothing).
+pub fn unit_text(unit: &str, source: &str, quantity: &str) -> String {
+    let u = if unit.is_empty() { "-" } else { unit };
+    if source == imu::UnitSource::Assumed.name() && quantity != Quantity::Other.name() {
+        format!("{u} (assumed)")
+    } else {
+        u.to_string()
+    }
 }

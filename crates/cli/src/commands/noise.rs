@@ -10,7 +10,7 @@ use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use allan::noise_terms::{NoiseTerms, Term, TermEstimate, TermValue, analyze_terms};
+use allan::noise_terms::{Chosen, Minimum, NoiseTerms, Term, TermEstimate, TermValue, analyze_terms};
 use imu::Quantity;
 use imu::units::STANDARD_GRAVITY;
 
@@ -151,18 +151,221 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
             eprintln!("warning: {}: {}: {why}", r.channel.file.display(), r.channel.name);
         }
     }
-    if let Some(path) = &a.kalibr {
-        write_kalibr(path, &analysed, &rates, &a.files)?;
-        eprintln!("wrote {}", path.display());
-    }
+    // The analysis is printed first, whatever becomes of the yaml.
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     if a.json {
         write_json(&mut out, &analysed, &a.files, &temps, &rates, units, confidence)?;
-    } else {
+    } else if a.verbose {
         write_text(&mut out, &analysed, &a.files, &temps, units, confidence)?;
+    } else {
+        write_compact(&mut out, &analysed, &a.files, &temps, &rates, units, confidence)?;
+        if a.files.len() > 1 {
+            write_thesis_tables(&mut out, &analysed, &a.files, &temps, units)?;
+        }
     }
     out.flush()?;
+    if let Some(path) = &a.kalibr {
+        write_kalibr(path, &analysed, &rates, &a.files, confidence)?;
+        eprintln!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// A number to three significant figures, fixed between 0.01 and 10 000,
+/// in scientific notation outside.
+fn sig3(v: f64) -> String {
+    let a = v.abs();
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    if a == 0.0 || (0.01..10_000.0).contains(&a) {
+        let digits = if a == 0.0 {
+            2
+        } else {
+            (2 - a.log10().floor() as i32).max(0) as usize
+        };
+        format!("{v:.digits$}")
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
+/// The cell of a term in the compact table, and whether it needs the
+/// footnote of a disagreement (`*`) or of a fallback (`†`).
+fn compact_cell(r: &Analysed, term: Term, units: Units) -> String {
+    let ch = &r.channel;
+    let (f, _) = unit_of(term, ch.quantity, &ch.unit, units);
+    let choice = r.terms.choose(term);
+    let mark = if choice.disagree { "*" } else { "" };
+    match choice.chosen {
+        Chosen::Fit(v) => format!(
+            "{} [{}, {}]{mark}",
+            sig3(v.value * f),
+            sig3(v.lo * f),
+            sig3(v.hi * f)
+        ),
+        Chosen::Slope(v) => format!("{} [{}, {}]†", sig3(v.value * f), sig3(v.lo * f), sig3(v.hi * f)),
+        Chosen::Bound(b) => format!("≤ {}", sig3(b * f)),
+        Chosen::Nothing => "—".to_string(),
+    }
+}
+
+/// One compact table per file: rows are axes, columns the terms, each
+/// cell the estimate that holds with its interval; units in the header.
+fn write_compact(
+    out: &mut impl Write,
+    analysed: &[Analysed],
+    files: &[std::path::PathBuf],
+    temps: &[Option<f64>],
+    rates: &[f64],
+    units: Units,
+    confidence: f64,
+) -> Result<()> {
+    for (i, f) in files.iter().enumerate() {
+        let rows: Vec<&Analysed> = analysed.iter().filter(|r| r.file_index == i).collect();
+        let t = temps[i]
+            .map(|t| format!(", mean temperature {t:.1} °C"))
+            .unwrap_or_default();
+        let samples = rows.first().map_or(0, |r| r.channel.data.len());
+        writeln!(
+            out,
+            "# {} — {} Hz, {:.0} s{t}; intervals at {:.1} %",
+            f.display(),
+            imu::log::round_rate(rates[i]),
+            samples as f64 / rates[i],
+            100.0 * confidence
+        )?;
+        let mut groups: Vec<(Quantity, String)> = Vec::new();
+        for r in &rows {
+            if !groups
+                .iter()
+                .any(|(q, u)| *q == r.channel.quantity && *u == r.channel.unit)
+            {
+                groups.push((r.channel.quantity, r.channel.unit.clone()));
+            }
+        }
+        let (mut any_disagree, mut any_fallback, mut any_bound) = (false, false, false);
+        for (q, unit) in groups {
+            let members: Vec<&&Analysed> = rows
+                .iter()
+                .filter(|r| r.channel.quantity == q && r.channel.unit == unit)
+                .collect();
+            // Q and R get a column only where some axis shows them.
+            let terms: Vec<Term> = Term::ALL
+                .into_iter()
+                .filter(|t| {
+                    matches!(t, Term::WhiteNoise | Term::BiasInstability | Term::RateRandomWalk)
+                        || members
+                            .iter()
+                            .any(|r| matches!(r.terms.choose(*t).chosen, Chosen::Fit(_) | Chosen::Slope(_)))
+                })
+                .collect();
+            let assumed = members
+                .iter()
+                .any(|r| r.channel.unit_source == imu::UnitSource::Assumed);
+            let data_unit = if unit.is_empty() {
+                "-".to_string()
+            } else {
+                unit.clone()
+            };
+            let label = format!(
+                "{} [{data_unit}{}]",
+                match q {
+                    Quantity::AngularRate => "gyro",
+                    Quantity::Acceleration => "accel",
+                    _ => "channel",
+                },
+                if assumed { ", assumed" } else { "" }
+            );
+            let cells: Vec<Vec<String>> = members
+                .iter()
+                .map(|r| terms.iter().map(|&t| compact_cell(r, t, units)).collect())
+                .collect();
+            let heads: Vec<String> = terms
+                .iter()
+                .map(|&t| format!("{} [{}]", t.symbol(), unit_of(t, q, &unit, units).1))
+                .collect();
+            let width: Vec<usize> = (0..terms.len())
+                .map(|k| {
+                    cells
+                        .iter()
+                        .map(|c| c[k].chars().count())
+                        .chain([heads[k].chars().count()])
+                        .max()
+                        .unwrap_or(0)
+                })
+                .collect();
+            let name_w = members
+                .iter()
+                .map(|r| r.channel.name.chars().count())
+                .chain([label.chars().count()])
+                .max()
+                .unwrap_or(8);
+            let pad = |text: &str, w: usize| {
+                format!("{text}{}", " ".repeat(w.saturating_sub(text.chars().count())))
+            };
+            let mut line = pad(&label, name_w);
+            for (k, h) in heads.iter().enumerate() {
+                line.push_str("  ");
+                line.push_str(&pad(h, width[k]));
+            }
+            writeln!(out, "{}", line.trim_end())?;
+            for (r, row) in members.iter().zip(&cells) {
+                let mut line = pad(&r.channel.name, name_w);
+                for (k, c) in row.iter().enumerate() {
+                    line.push_str("  ");
+                    line.push_str(&pad(c, width[k]));
+                    any_disagree |= c.ends_with('*');
+                    any_fallback |= c.ends_with('†');
+                    any_bound |= c.starts_with('≤');
+                }
+                writeln!(out, "{}", line.trim_end())?;
+            }
+            // Why a term is only bounded: the first axis's reason says
+            // what the record would need.
+            for &t in &terms {
+                if let Some(r) = members
+                    .iter()
+                    .find(|r| matches!(r.terms.choose(t).chosen, Chosen::Bound(_) | Chosen::Nothing))
+                    && let TermEstimate::NotIdentifiable(why) = r.terms.fit.get(t)
+                {
+                    writeln!(out, "  {} ({}): {why}", t.symbol(), r.channel.name)?;
+                }
+            }
+            if let Some(r) = members.first()
+                && r.terms.slope.minimum == Minimum::StillFalling
+            {
+                writeln!(
+                    out,
+                    "  σ_min ({}): no minimum within the record; the ADEV still falls at the longest τ \
+                     with ≥ {} degrees of freedom",
+                    r.channel.name,
+                    allan::noise_terms::MIN_EDF
+                )?;
+            }
+        }
+        if any_disagree {
+            writeln!(
+                out,
+                "  * the slope method and the fit disagree beyond their intervals; the fit is shown (--verbose for both)"
+            )?;
+        }
+        if any_fallback {
+            writeln!(
+                out,
+                "  † the slope method's reading: the fit cannot separate this term, or found K beside no B"
+            )?;
+        }
+        if any_bound {
+            writeln!(
+                out,
+                "  ≤ not identifiable: an upper bound at {:.1} % (no term's share of σ² exceeds σ's upper bound)",
+                100.0 * confidence
+            )?;
+        }
+        writeln!(out)?;
+    }
     Ok(())
 }
 
@@ -283,10 +486,53 @@ fn write_json(
                             "tau": v.tau,
                         })
                     });
+                    let chosen: Vec<serde_json::Value> = Term::ALL
+                        .iter()
+                        .map(|&t| {
+                            let c = r.terms.choose(t);
+                            let (method, value) = match c.chosen {
+                                Chosen::Fit(v) => ("fit", Some(json_value(&v, t, ch, Units::Si))),
+                                Chosen::Slope(v) => ("slope", Some(json_value(&v, t, ch, Units::Si))),
+                                Chosen::Bound(b) => (
+                                    "upper_bound",
+                                    Some(json_value(
+                                        &TermValue { value: b, lo: 0.0, hi: b, tau: None },
+                                        t,
+                                        ch,
+                                        Units::Si,
+                                    )),
+                                ),
+                                Chosen::Nothing => ("none", None),
+                            };
+                            serde_json::json!({
+                                "term": t.symbol(),
+                                "method": method,
+                                "si": value,
+                                "disagree": c.disagree,
+                                "note": c.note,
+                            })
+                        })
+                        .collect();
                     serde_json::json!({
                         "name": ch.name,
                         "quantity": ch.quantity.name(),
                         "unit": ch.unit,
+                        "unit_source": ch.unit_source.name(),
+                        "minimum": match r.terms.slope.minimum {
+                            Minimum::Found => "found",
+                            Minimum::StillFalling => "still_falling",
+                            Minimum::RisesFromStart => "rises_from_start",
+                            Minimum::Unknown => "unknown",
+                        },
+                        "sigma_min_min_edf": allan::noise_terms::MIN_EDF,
+                        "slope_stretches": r.terms.slope.stretches.iter().map(|(t, a, b)| serde_json::json!({"term": t.symbol(), "tau_from": a, "tau_to": b})).collect::<Vec<_>>(),
+                        "fit_left_out_taus": r.terms.fit.left_out,
+                        "thesis_reading": {
+                            "method": "analyzeAllan.m: N on the -1/2 line through the slope nearest -1/2; B = sigma at the first positive slope / 0.664",
+                            "N": r.terms.slope.thesis.n.map(|v| serde_json::json!({"si": json_value(&v, Term::WhiteNoise, ch, Units::Si), "tau": v.tau})),
+                            "B": r.terms.slope.thesis.b.map(|v| serde_json::json!({"si": json_value(&v, Term::BiasInstability, ch, Units::Si), "tau": v.tau})),
+                        },
+                        "chosen": chosen,
                         "samples": ch.data.len(),
                         "sigma_min": sigma_min,
                         "slope": slope,
@@ -353,14 +599,75 @@ fn write_text(
         )?;
         for r in analysed.iter().filter(|r| r.file_index == i) {
             let ch = &r.channel;
-            writeln!(out, "{} [{}]", ch.name, ch.unit)?;
+            writeln!(
+                out,
+                "{} [{}]",
+                ch.name,
+                crate::commands::info::unit_text(&ch.unit, ch.unit_source.name(), ch.quantity.name())
+            )?;
             if let Some(m) = &r.terms.slope.sigma_min {
                 let (fct, unit) = unit_of(Term::BiasInstability, ch.quantity, &ch.unit, units);
+                let where_ = match r.terms.slope.minimum {
+                    Minimum::Found => String::new(),
+                    _ => format!(
+                        " — no minimum within the record; B ≤ {:.4e} {unit}",
+                        r.terms.slope.bound(Term::BiasInstability).unwrap_or(f64::NAN) * fct
+                    ),
+                };
                 writeln!(
                     out,
-                    "  σ_min (ADEV minimum) {:.4e} {unit} at τ = {:.4} s",
+                    "  σ_min (ADEV minimum among points with ≥ {} degrees of freedom) {:.4e} [{:.4e}, {:.4e}] {unit} \
+                     at τ = {:.4} s{where_}",
+                    allan::noise_terms::MIN_EDF,
                     m.value * fct,
+                    m.lo * fct,
+                    m.hi * fct,
                     m.tau.unwrap_or(f64::NAN)
+                )?;
+            }
+            for (t, a, b) in &r.terms.slope.stretches {
+                writeln!(
+                    out,
+                    "  slope method read {} where slope {:+} holds, τ {a:.4} … {b:.4} s",
+                    t.symbol(),
+                    t.slope()
+                )?;
+            }
+            let th = &r.terms.slope.thesis;
+            let (fn_, un) = unit_of(Term::WhiteNoise, ch.quantity, &ch.unit, units);
+            let (fb, ub) = unit_of(Term::BiasInstability, ch.quantity, &ch.unit, units);
+            writeln!(
+                out,
+                "  the thesis's reading (analyzeAllan.m: slope nearest −1/2; σ at the first τ where the slope turns \
+                 positive): N {}, B {}",
+                th.n.map_or_else(
+                    || "—".to_string(),
+                    |v| format!(
+                        "{:.4e} {un} (at τ = {:.4} s)",
+                        v.value * fn_,
+                        v.tau.unwrap_or(f64::NAN)
+                    )
+                ),
+                th.b.map_or_else(
+                    || "—".to_string(),
+                    |v| format!(
+                        "{:.4e} {ub} (at τ = {:.4} s)",
+                        v.value * fb,
+                        v.tau.unwrap_or(f64::NAN)
+                    )
+                ),
+            )?;
+            if !r.terms.fit.left_out.is_empty() {
+                writeln!(
+                    out,
+                    "  fit left out, as no power-law term (a bump, a tone): τ = {} s",
+                    r.terms
+                        .fit
+                        .left_out
+                        .iter()
+                        .map(|t| format!("{t:.4}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 )?;
             }
             for term in Term::ALL {
@@ -380,19 +687,27 @@ fn write_text(
         writeln!(out)?;
     }
     if files.len() > 1 {
-        write_thesis_tables(out, analysed, files, temps)?;
+        write_thesis_tables(out, analysed, files, temps, units)?;
     }
     Ok(())
 }
 
 /// The thesis's layout: one table per term, rows = axes, columns = the
-/// files' mean temperatures; slope-method values as the thesis read them.
+/// files' mean temperatures; slope-method values as the thesis read them,
+/// the fit's where the slope method cannot read the term or disagrees with
+/// the fit (marked), in the thesis's units (°/√s, °/s) or the datasheet's.
 fn write_thesis_tables(
     out: &mut impl Write,
     analysed: &[Analysed],
     files: &[std::path::PathBuf],
     temps: &[Option<f64>],
+    units: Units,
 ) -> Result<()> {
+    let units = if units == Units::Datasheet {
+        Units::Datasheet
+    } else {
+        Units::Thesis
+    };
     let mut names: Vec<(String, Quantity, String)> = Vec::new();
     for r in analysed {
         if !names.iter().any(|(n, _, _)| *n == r.channel.name) {
@@ -432,22 +747,30 @@ fn write_thesis_tables(
                 "Bias instability: σ_min (at τ) → B = σ_min/0.664",
             ),
         ] {
-            let (_, unit) = unit_of(term, q, unit0, Units::Thesis);
+            let (_, unit) = unit_of(term, q, unit0, units);
             let mut line = format!("{title} — {what} [{unit}] (slope method)\n{:<10}", "");
             for h in &header {
                 let _ = write!(line, " {h:>26}");
             }
             writeln!(out, "{line}")?;
+            let mut marked = false;
             for (name, _, _) in &rows {
                 let mut line = format!("{name:<10}");
                 for i in 0..files.len() {
                     let cell = analysed
                         .iter()
                         .find(|r| r.file_index == i && r.channel.name == *name)
-                        .map_or_else(|| "—".to_string(), |r| thesis_cell(r, term));
+                        .map_or_else(|| "—".to_string(), |r| thesis_cell(r, term, units));
+                    marked |= cell.ends_with('*');
                     let _ = write!(line, " {cell:>26}");
                 }
                 writeln!(out, "{line}")?;
+            }
+            if marked {
+                writeln!(
+                    out,
+                    "* the fit's value: the slope method disagrees with it beyond their intervals, or cannot read the term"
+                )?;
             }
             writeln!(out)?;
         }
@@ -455,31 +778,71 @@ fn write_thesis_tables(
     Ok(())
 }
 
-fn thesis_cell(r: &Analysed, term: Term) -> String {
+fn thesis_cell(r: &Analysed, term: Term, units: Units) -> String {
     let ch = &r.channel;
-    let (f, _) = unit_of(term, ch.quantity, &ch.unit, Units::Thesis);
+    let (f, _) = unit_of(term, ch.quantity, &ch.unit, units);
+    let digits = |v: f64| {
+        if units == Units::Thesis {
+            format!("{v:.4}")
+        } else {
+            sig3(v)
+        }
+    };
+    let fit_or = |fallback: String| match r.terms.fit.get(term) {
+        TermEstimate::Value(v) => format!("{}*", digits(v.value * f)),
+        TermEstimate::NotIdentifiable(_) => fallback,
+    };
+    let disagree = r.terms.disagreements.iter().any(|(t, _)| *t == term);
     match term {
         Term::BiasInstability => match (&r.terms.slope.sigma_min, r.terms.slope.get(term)) {
-            (Some(m), TermEstimate::Value(b)) => format!(
-                "{:.4} (at {:.1}s) → {:.4}",
-                m.value * f,
+            (Some(m), TermEstimate::Value(b)) if !disagree => format!(
+                "{} (at {:.1}s) → {}",
+                digits(m.value * f),
                 m.tau.unwrap_or(f64::NAN),
-                b.value * f
+                digits(b.value * f)
             ),
-            _ => "not identifiable".to_string(),
+            _ => fit_or(match r.terms.slope.bound(term) {
+                Some(b) => format!("no minimum; B ≤ {}", digits(b * f)),
+                None => "not identifiable".to_string(),
+            }),
         },
         _ => match r.terms.slope.get(term) {
-            TermEstimate::Value(v) => format!("{:.4}", v.value * f),
-            TermEstimate::NotIdentifiable(_) => "not identifiable".to_string(),
+            TermEstimate::Value(v) if !disagree => digits(v.value * f),
+            _ => fit_or("not identifiable".to_string()),
         },
     }
 }
 
-/// The value for Kalibr: the fit's. The slope method would read a +1/2
-/// wiggle of noise at long τ as a random walk; the fit only keeps a term
-/// that shows beyond the scatter.
-fn best(r: &Analysed, term: Term) -> Option<f64> {
-    r.terms.fit.get(term).value().map(|v| v.value)
+/// The value written for Kalibr and how it was had: the fit's N; the upper
+/// end of the fit's interval for K (a filter copes with a random walk
+/// overstated, not with one understated, and K is the least certain
+/// term of a record of hours); the upper end of the slope method's
+/// interval where the fit cannot be taken; the term's upper bound where
+/// neither method reads it.
+fn kalibr_value(r: &Analysed, term: Term) -> Option<(f64, String)> {
+    let choice = r.terms.choose(term);
+    match choice.chosen {
+        Chosen::Fit(v) if term == Term::RateRandomWalk => Some((
+            v.hi,
+            format!("upper end of the fit's interval (fit {:.6e})", v.value),
+        )),
+        Chosen::Fit(v) => Some((v.value, "fit".to_string())),
+        Chosen::Slope(v) => Some((
+            v.hi,
+            format!(
+                "upper end of the slope method's interval ({})",
+                choice.note.unwrap_or("the fit cannot separate it")
+            ),
+        )),
+        Chosen::Bound(b) => Some((
+            b,
+            format!(
+                "upper bound: not identifiable in this record{}",
+                choice.note.map(|n| format!(" ({n})")).unwrap_or_default()
+            ),
+        )),
+        Chosen::Nothing => None,
+    }
 }
 
 fn write_kalibr(
@@ -487,6 +850,7 @@ fn write_kalibr(
     analysed: &[Analysed],
     rates: &[f64],
     files: &[std::path::PathBuf],
+    confidence: f64,
 ) -> Result<()> {
     let mut text = String::new();
     let _ = writeln!(
@@ -502,7 +866,8 @@ fn write_kalibr(
     let _ = writeln!(
         text,
         "# Continuous-time values (IEEE 952 on the overlapping ADEV): *_noise_density = N, \
-         *_random_walk = K; the worst axis of each sensor is used."
+         *_random_walk = K; the worst axis of each sensor is used. Bounds and intervals at {:.1} %.",
+        100.0 * confidence
     );
     let mut values = Vec::new();
     for (q, sensor, n_unit, k_unit) in [
@@ -527,41 +892,35 @@ fn write_kalibr(
             (Term::WhiteNoise, "noise_density", n_unit),
             (Term::RateRandomWalk, "random_walk", k_unit),
         ] {
-            let per_axis: Vec<(String, Option<f64>)> = axes
+            let per_axis: Vec<(String, Option<(f64, String)>)> = axes
                 .iter()
                 .map(|r| {
                     (
                         format!("{} ({})", r.channel.name, r.channel.file.display()),
-                        best(r, term),
+                        kalibr_value(r, term),
                     )
                 })
                 .collect();
-            let worst = per_axis.iter().filter_map(|(_, v)| *v).fold(f64::NAN, f64::max);
-            if !worst.is_finite() {
-                let why = axes
-                    .first()
-                    .map(|r| match r.terms.fit.get(term) {
-                        TermEstimate::NotIdentifiable(w) => w.clone(),
-                        TermEstimate::Value(_) => String::new(),
-                    })
-                    .unwrap_or_default();
+            let worst = per_axis
+                .iter()
+                .filter_map(|(_, v)| v.as_ref().map(|v| v.0))
+                .fold(f64::NAN, f64::max);
+            if !(worst.is_finite() && worst > 0.0) {
                 bail!(
-                    "--kalibr: {sensor} {} is not identifiable on any axis ({why})",
+                    "--kalibr: {sensor} {}: no axis has a curve to read it from, not even an upper bound",
                     term.symbol()
                 );
             }
-            let _ = writeln!(
-                text,
-                "# {sensor}_{key} per axis [{unit}]: {}",
-                per_axis
-                    .iter()
-                    .map(|(n, v)| format!(
-                        "{n} {}",
-                        v.map_or_else(|| "not identifiable".to_string(), |v| format!("{v:.6e}"))
-                    ))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            );
+            for (n, v) in &per_axis {
+                let _ = writeln!(
+                    text,
+                    "# {sensor}_{key} {n}: {}",
+                    v.as_ref().map_or_else(
+                        || "nothing to read".to_string(),
+                        |(v, how)| format!("{v:.6e} [{unit}], {how}")
+                    )
+                );
+            }
             values.push((format!("{sensor}_{key}"), worst, unit));
         }
     }
@@ -569,7 +928,11 @@ fn write_kalibr(
         let _ = writeln!(text, "{key}: {v:.6e}  # {unit}");
     }
     let rate = rates.first().copied().unwrap_or(1.0);
-    let _ = writeln!(text, "rostopic: /imu0\nupdate_rate: {rate}  # Hz");
+    let _ = writeln!(
+        text,
+        "rostopic: /imu0  # check: the topic your IMU publishes on\nupdate_rate: {}  # Hz, the recording's",
+        imu::log::round_rate(rate)
+    );
     std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?;
     Ok(())
 }

@@ -21,6 +21,8 @@ pub struct Channel {
     pub quantity: Quantity,
     /// Unit of `data` (SI for known quantities).
     pub unit: String,
+    /// Where the file's unit came from; `Assumed` is printed beside it.
+    pub unit_source: imu::UnitSource,
     /// Sample rate, Hz.
     pub rate_hz: f64,
     /// Lines in the file, to say where the data ended.
@@ -113,6 +115,32 @@ pub fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) ->
             report.unlisted
         );
     }
+    for n in &report.notes {
+        eprintln!("note: {}: {n}", file.display());
+    }
+    // What the reader did to the samples, repeated here so that an
+    // analysis never rests on filled or dropped samples unsaid.
+    if let Some(t) = &report.timing {
+        let filled: usize = report
+            .problems
+            .iter()
+            .filter(|p| p.kind == imu::ProblemKind::TimeGap)
+            .map(|p| p.count)
+            .sum();
+        eprintln!(
+            "note: {}: samples placed on the time column's clock ({} Hz, jitter {:.2e} s): {} gap{} filled \
+             with {filled} empty samples, {} duplicate and {} backward stamps kept, {} repeated row{} dropped",
+            file.display(),
+            imu::log::round_rate(t.rate_hz),
+            t.jitter_s,
+            t.gaps.len(),
+            if t.gaps.len() == 1 { "" } else { "s" },
+            t.duplicates.len() - report.dropped_samples.min(t.duplicates.len()),
+            t.backwards.len(),
+            report.dropped_samples,
+            if report.dropped_samples == 1 { "" } else { "s" },
+        );
+    }
     let rate_hz = match rec.rate_hz {
         Some(r) => r,
         None => {
@@ -140,6 +168,7 @@ pub fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) ->
             name: ch.name.clone(),
             quantity: ch.quantity,
             unit: ch.unit.clone(),
+            unit_source: ch.unit_source,
             rate_hz,
             lines: report.lines,
             // The temperature stays in the recording for the callers that
