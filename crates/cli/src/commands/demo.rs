@@ -1,7 +1,5 @@
 //! `imutherm demo`: the thesis's whole experiment on simulated data.
 
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -11,6 +9,7 @@ use rayon::prelude::*;
 
 use allan::noise_terms::Term;
 use imu::RecordingOptions;
+use imu::output::{AtomicFile, OutputPolicy, write_file};
 use imusim::thermal::Profile;
 use imusim::{Simulator, presets};
 use report::html::Page;
@@ -24,6 +23,13 @@ use crate::commands::experiment::{
 };
 use crate::commands::selection::read_channels;
 use crate::commands::tcal::{BinMean, bin_means, spread};
+
+/// The demo writes only its own files, into its own directory: replacing
+/// them is what running it again means.
+const OWN_FILE: OutputPolicy<'static> = OutputPolicy {
+    overwrite: true,
+    inputs: &[],
+};
 
 /// The thesis's constant-temperature runs, °C.
 const TEMPERATURES: [f64; 4] = [34.0, 43.0, 62.0, 82.0];
@@ -42,13 +48,15 @@ fn simulate(
     cfg.seed = seed;
     cfg.profile = profile;
     let sim = Simulator::new(cfg)?;
-    let file = File::create(path).with_context(|| format!("creating {}", path.display()))?;
+    // The demo's directory is its own: its files are replaced, each
+    // atomically, and nothing else in it is touched.
+    let mut file = AtomicFile::create(path, &OWN_FILE)?;
     let base = bar.position();
-    sim.write_log(
-        BufWriter::new(file),
-        &sim.metadata(Some("mpu9250-thesis")),
-        |done, _| bar.set_position(base + done),
-    )?;
+    sim.write_log(&mut file, &sim.metadata(Some("mpu9250-thesis")), |done, _| {
+        bar.set_position(base + done)
+    })
+    .with_context(|| format!("writing {}", path.display()))?;
+    file.commit()?;
     Ok(())
 }
 
@@ -142,9 +150,10 @@ pub fn run(a: &DemoArgs) -> Result<()> {
         &FitOptions::default(),
     )?;
     model.fitted_on = vec![cooling.display().to_string()];
-    std::fs::write(
-        file("tcal_model.json"),
-        serde_json::to_string_pretty(&model)? + "\n",
+    write_file(
+        &file("tcal_model.json"),
+        (serde_json::to_string_pretty(&model)? + "\n").as_bytes(),
+        &OWN_FILE,
     )?;
     let heat = read_channels(&heating, &[], &RecordingOptions::default())?;
     let heat_temp = heat
@@ -277,7 +286,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     );
     let html = page.finish();
     let report_path = file("report.html");
-    std::fs::write(&report_path, &html).with_context(|| format!("writing {}", report_path.display()))?;
+    write_file(&report_path, html.as_bytes(), &OWN_FILE)?;
 
     // 6. Summary.
     println!("report: {}", report_path.display());

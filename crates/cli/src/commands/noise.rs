@@ -97,6 +97,16 @@ struct Analysed {
 }
 
 pub fn run(a: &NoiseArgs) -> Result<()> {
+    // Refused before the analysis, not after it.
+    if let Some(path) = &a.kalibr {
+        imu::output::check_output(
+            path,
+            &imu::output::OutputPolicy {
+                overwrite: a.overwrite,
+                inputs: &a.files,
+            },
+        )?;
+    }
     let units = match a.units.to_ascii_lowercase().as_str() {
         "si" => Units::Si,
         "datasheet" => Units::Datasheet,
@@ -152,7 +162,7 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
         }
     }
     if let Some(path) = &a.kalibr {
-        write_kalibr(path, &analysed, &rates, &a.files)?;
+        write_kalibr(path, &analysed, &rates, &a.files, a.overwrite)?;
         eprintln!("wrote {}", path.display());
     }
     let stdout = std::io::stdout();
@@ -487,6 +497,7 @@ fn write_kalibr(
     analysed: &[Analysed],
     rates: &[f64],
     files: &[std::path::PathBuf],
+    overwrite: bool,
 ) -> Result<()> {
     let mut text = String::new();
     let _ = writeln!(
@@ -570,6 +581,13 @@ fn write_kalibr(
     }
     let rate = rates.first().copied().unwrap_or(1.0);
     let _ = writeln!(text, "rostopic: /imu0\nupdate_rate: {rate}  # Hz");
-    std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?;
+    imu::output::write_file(
+        path,
+        text.as_bytes(),
+        &imu::output::OutputPolicy {
+            overwrite,
+            inputs: files,
+        },
+    )?;
     Ok(())
 }

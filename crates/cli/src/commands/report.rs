@@ -112,7 +112,16 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     }
 
     let path = a.out.join("report.html");
-    std::fs::write(&path, page.finish()).with_context(|| format!("writing {}", path.display()))?;
+    // DIR is the report's own: its report.html is replaced (atomically),
+    // unless it is one of the inputs.
+    imu::output::write_file(
+        &path,
+        page.finish().as_bytes(),
+        &imu::output::OutputPolicy {
+            overwrite: true,
+            inputs: &a.files,
+        },
+    )?;
     println!("report: {}", path.display());
     Ok(())
 }
