@@ -875,6 +875,15 @@ impl Layout<'_> {
         let mut values: Vec<f64> = vec![0.0; self.ncols];
         let mut rest = block;
         while !rest.is_empty() {
+            // A run of empty lines is skipped at once: a file of nothing but
+            // newlines costs one run and a pass over its bytes.
+            if rest[0] == b'\n' {
+                let n = rest.iter().position(|&b| b != b'\n').unwrap_or(rest.len());
+                skipped.push_run(lines + 1, n as u64);
+                lines += n as u64;
+                rest = &rest[n..];
+                continue;
+            }
             let (line, next) = match memchr::memchr(b'\n', rest) {
                 Some(nl) => (&rest[..nl], &rest[nl + 1..]),
                 None => (rest, &rest[rest.len()..]),
