@@ -441,4 +441,14 @@ fn report_never_replaces_an_input_in_its_directory() {
         .stderr(predicate::str::contains("destroy the data being read"));
     assert_eq!(std::fs::read(&input).unwrap(), before);
     assert_eq!(std::fs::read(out.join("notes.txt")).unwrap(), b"mine");
+    // It reads each recording several times: a stream is refused, not
+    // waited on forever.
+    imutherm()
+        .args(["report", "-", "--out"])
+        .arg(&out)
+        .pipe_stdin(&input)
+        .unwrap()
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("save it to a file first"));
 }

@@ -1201,6 +1201,23 @@ mod tests {
     }
 
     #[test]
+    fn comments_before_the_first_row_are_bounded() {
+        let mut content = "#\n".repeat(MAX_HEADER_COMMENTS).into_bytes();
+        content.extend(b"v\n1\n");
+        let f = file(&content);
+        assert_eq!(
+            TableReader::open(f.path()).unwrap().comments().len(),
+            MAX_HEADER_COMMENTS
+        );
+        let mut content = "#\n".repeat(MAX_HEADER_COMMENTS + 1).into_bytes();
+        content.extend(b"v\n1\n");
+        let f = file(&content);
+        let e = TableReader::open(f.path()).unwrap_err();
+        assert!(matches!(e.kind, ReadErrorKind::TooManyComments { .. }), "{e}");
+        assert_eq!(e.line, Some(MAX_HEADER_COMMENTS as u64 + 1));
+    }
+
+    #[test]
     fn cr_only_line_endings_are_refused_by_name() {
         let f = file(b"a,b\r1,2\r3,4\r");
         let e = TableReader::open(f.path()).unwrap_err();

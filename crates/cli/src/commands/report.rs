@@ -1,6 +1,8 @@
 //! `imutherm report`: one HTML page for a set of recordings.
 
-use anyhow::{Context, Result};
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
 
 use imu::read_recording_with_report;
 use report::html::Page;
@@ -18,6 +20,17 @@ const SURFACE_SPAN_C: f64 = 5.0;
 
 pub fn run(a: &ReportArgs) -> Result<()> {
     let read = recording_options(&a.read)?;
+    // The report reads each recording several times (inventory, noise
+    // terms, surfaces): a stream can be read only once.
+    for f in &a.files {
+        let stream = f == Path::new("-") || std::fs::metadata(f).is_ok_and(|m| !m.is_file() && !m.is_dir());
+        if stream {
+            bail!(
+                "{}: the report reads each recording more than once, which a pipe or standard input cannot give; save it to a file first",
+                f.display()
+            );
+        }
+    }
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let png = PngDir::new(&a.format, &a.out)?;
     let mut page = Page::new("imutherm report");
