@@ -203,6 +203,10 @@ impl AtomicFile {
             },
             LockedOpenError::Io(e) => WriteError::io("creating", &temp, e),
         })?;
+        // A replaced file keeps its permissions (a shared log stays shared).
+        if let Ok(m) = std::fs::metadata(&real) {
+            let _ = file.set_permissions(m.permissions());
+        }
         Ok(AtomicFile {
             target: real,
             temp: Some(temp),

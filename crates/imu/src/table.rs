@@ -93,6 +93,13 @@ fn parse_number(field: &[u8]) -> Option<f64> {
     fast_float2::parse::<f64, _>(field).ok()
 }
 
+/// Whether a carriage return stands inside `line`, before other text: the
+/// mark of lines that end in CR alone (a CR among trailing blanks is only
+/// untidy).
+fn has_inner_cr(line: &[u8]) -> bool {
+    memchr::memchr(b'\r', line.trim_ascii_end()).is_some()
+}
+
 fn is_skipped(line: &[u8]) -> bool {
     let t = line.trim_ascii_start();
     t.is_empty() || t[0] == b'#'
@@ -286,7 +293,7 @@ impl TableReader {
             // Mac OS), which would read as one endless line.
             let body = raw.strip_suffix(b"\n").unwrap_or(&raw);
             let body = body.strip_suffix(b"\r").unwrap_or(body);
-            if body.contains(&b'\r') {
+            if has_inner_cr(body) {
                 return Err(ReadError::new(&path, ReadErrorKind::CrLineEndings).at(line_no, None));
             }
             if read == LineRead::TooLong {
@@ -473,6 +480,7 @@ impl TableReader {
             carry: Vec::new(),
             eof: false,
             too_long: false,
+            cr_only: false,
         };
         let io_err = |e| ReadError::new(&self.path, ReadErrorKind::Io(e));
         let mut merger = Merger {
@@ -516,13 +524,14 @@ impl TableReader {
             merger.merge(r, bytes)?;
         }
         if source.too_long {
-            return Err(ReadError::new(
-                &self.path,
+            let kind = if source.cr_only {
+                ReadErrorKind::CrLineEndings
+            } else {
                 ReadErrorKind::LineTooLong {
                     limit: MAX_LINE_BYTES,
-                },
-            )
-            .at(merger.line_no + 1, None));
+                }
+            };
+            return Err(ReadError::new(&self.path, kind).at(merger.line_no + 1, None));
         }
         self.line_no = merger.line_no;
         let trailer = find_trailer(&self.tail.lock().unwrap_or_else(|p| p.into_inner()));
@@ -678,6 +687,8 @@ struct BlockSource<'a> {
     eof: bool,
     /// A line longer than [`MAX_LINE_BYTES`] stopped the reading.
     too_long: bool,
+    /// That line holds carriage returns: CR-only line endings.
+    cr_only: bool,
 }
 
 impl BlockSource<'_> {
@@ -707,6 +718,7 @@ impl BlockSource<'_> {
                 }
                 None if block.len() > MAX_LINE_BYTES => {
                     self.too_long = true;
+                    self.cr_only = memchr::memchr(b'\r', &block).is_some();
                     self.eof = true;
                 }
                 None => self.carry = block,
@@ -895,6 +907,13 @@ impl Layout<'_> {
             // not finish, even when what is left reads as a (shorter)
             // number: it is dropped and reported.
             if last && unterminated && rest.is_empty() && !is_skipped(line) {
+                if has_inner_cr(line) {
+                    return Err(BlockFault {
+                        line: lines,
+                        column: None,
+                        kind: ReadErrorKind::CrLineEndings,
+                    });
+                }
                 self.delimiter.split_into(line, &mut fields);
                 problems.push(BlockFault {
                     line: lines,
@@ -915,6 +934,15 @@ impl Layout<'_> {
             if is_skipped(line) {
                 skipped.push(lines);
                 continue;
+            }
+            // A carriage return inside a line: the file's lines end in CR
+            // alone from here on, which no row can be read from.
+            if has_inner_cr(line) {
+                return Err(BlockFault {
+                    line: lines,
+                    column: None,
+                    kind: ReadErrorKind::CrLineEndings,
+                });
             }
             // The careful path: find out exactly what is wrong, or handle
             // what the fast path does not (non-numeric unselected cells).
@@ -1223,6 +1251,15 @@ mod tests {
         let e = TableReader::open(f.path()).unwrap_err();
         assert!(matches!(e.kind, ReadErrorKind::CrLineEndings), "{e}");
         assert_eq!(e.line, Some(1));
+        // From the second line on, short or beyond the line limit.
+        let mut long = b"a,b\n".to_vec();
+        long.extend("1,2\r".repeat(MAX_LINE_BYTES / 4 + 10).bytes());
+        for content in [&b"a,b\n1,2\r3,4\r"[..], &long] {
+            let f = file(content);
+            let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
+            assert!(matches!(e.kind, ReadErrorKind::CrLineEndings), "{e}");
+            assert_eq!(e.line, Some(2));
+        }
     }
 
     #[test]
