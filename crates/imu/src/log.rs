@@ -475,15 +475,6 @@ pub fn read_recording_with_report(
     path: &Path,
     opts: &RecordingOptions,
 ) -> Result<(Recording, ReadReport), ReadError> {
-    if let Some((column, unit)) = opts.units.iter().find(|(_, u)| parse_unit(u).is_none()) {
-        return Err(ReadError::new(
-            path,
-            ReadErrorKind::UnknownUnit {
-                column: column.clone(),
-                unit: unit.clone(),
-            },
-        ));
-    }
     read_recording_from(TableReader::open(path)?, opts)
 }
 

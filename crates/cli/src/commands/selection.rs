@@ -4,11 +4,9 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Result, bail};
 
-use imu::Quantity;
-use imu::RecordingOptions;
-use imu::log::read_recording_from;
-use imu::log::{ColumnKind, classify_with_overrides};
+use imu::log::{ColumnKind, classify_with_overrides, read_recording_from};
 use imu::table::TableReader;
+use imu::{Quantity, RecordingOptions};
 
 /// One column to analyse.
 pub struct Channel {
