@@ -452,3 +452,47 @@ fn report_never_replaces_an_input_in_its_directory() {
         .code(1)
         .stderr(predicate::str::contains("save it to a file first"));
 }
+
+#[test]
+fn output_directories_replace_only_imutherms_own_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = simulate(dir.path(), "run.txt", "constant:30");
+    let out = dir.path().join("rep");
+    for _ in 0..2 {
+        // Run again into the same directory: its own report is replaced.
+        imutherm()
+            .arg("report")
+            .arg(&run)
+            .arg("--out")
+            .arg(&out)
+            .assert()
+            .success();
+    }
+    let page = out.join("report.html");
+    std::fs::write(&page, "my notes\n").unwrap();
+    imutherm()
+        .arg("report")
+        .arg(&run)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("was not written by imutherm"));
+    assert_eq!(std::fs::read_to_string(&page).unwrap(), "my notes\n");
+
+    // The demo checks all its names before simulating anything.
+    let demo = dir.path().join("demo");
+    std::fs::create_dir(&demo).unwrap();
+    std::fs::write(demo.join("run_62C.txt"), "a run of my own\n").unwrap();
+    let t0 = std::time::Instant::now();
+    imutherm()
+        .args(["demo", "--quick", "--out"])
+        .arg(&demo)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "run_62C.txt exists and was not written by imutherm",
+        ));
+    assert!(t0.elapsed().as_secs_f64() < 5.0);
+    assert_eq!(std::fs::read_dir(&demo).unwrap().count(), 1);
+}

@@ -19,7 +19,8 @@ use thermal::tcal::{FitOptions, Run, fit};
 
 use crate::args::DemoArgs;
 use crate::commands::experiment::{
-    Analysed, PngDir, adev_figures, analyse_run, command_section, deg, noise_tables, time_figures,
+    Analysed, LOG_MARK, PAGE_MARK, PngDir, adev_figures, analyse_run, command_section, deg, noise_tables,
+    refuse_foreign_files, time_figures,
 };
 use crate::commands::selection::read_channels;
 use crate::commands::tcal::{BinMean, bin_means, spread};
@@ -67,6 +68,15 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     } else {
         (100.0, 3600.0, 3.0 * 3600.0)
     };
+    let runs_named: Vec<String> = TEMPERATURES.iter().map(|t| format!("run_{t:.0}C.txt")).collect();
+    let mut own: Vec<(&str, &str)> = runs_named.iter().map(|n| (n.as_str(), LOG_MARK)).collect();
+    own.extend([
+        ("cooling_100_to_20C.txt", LOG_MARK),
+        ("heating_25_to_95C.txt", LOG_MARK),
+        ("tcal_model.json", "\"schema\": \"imutherm.tcal/1\""),
+        ("report.html", PAGE_MARK),
+    ]);
+    refuse_foreign_files(&a.out, &own)?;
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let png = PngDir::new(&a.format, &a.out)?;
     let file = |name: &str| a.out.join(name);
@@ -81,7 +91,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     bar.set_message("simulating the runs");
     let mut runs: Vec<PathBuf> = Vec::new();
     for (i, t) in TEMPERATURES.iter().enumerate() {
-        let p = file(&format!("run_{t:.0}C.txt"));
+        let p = file(&runs_named[i]);
         let profile = Profile::Constant {
             temp_c: *t,
             fluctuation_c: 0.05,

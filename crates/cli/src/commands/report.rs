@@ -11,7 +11,8 @@ use thermal::surface::{Slicing, surface};
 
 use crate::args::ReportArgs;
 use crate::commands::experiment::{
-    PngDir, adev_figures, analyse_run, command_section, noise_tables, time_figures,
+    PAGE_MARK, PngDir, adev_figures, analyse_run, command_section, noise_tables, refuse_foreign_files,
+    time_figures,
 };
 use crate::commands::info::recording_options;
 
@@ -31,6 +32,16 @@ pub fn run(a: &ReportArgs) -> Result<()> {
             );
         }
     }
+    // Before any work: the page is never one of the inputs, nor a file
+    // imutherm did not write.
+    imu::output::check_output(
+        &a.out.join("report.html"),
+        &imu::output::OutputPolicy {
+            overwrite: true,
+            inputs: &a.files,
+        },
+    )?;
+    refuse_foreign_files(&a.out, &[("report.html", PAGE_MARK)])?;
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let png = PngDir::new(&a.format, &a.out)?;
     let mut page = Page::new("imutherm report");
