@@ -97,7 +97,16 @@ fn parse_number(field: &[u8]) -> Option<f64> {
 /// mark of lines that end in CR alone (a CR among trailing blanks is only
 /// untidy).
 fn has_inner_cr(line: &[u8]) -> bool {
-    memchr::memchr(b'\r', line.trim_ascii_end()).is_some()
+    memchr::memchr(b'\r', line.trim_ascii_end()).is_some() && is_text(line)
+}
+
+/// Whether `bytes` are UTF-8 text, but for a character cut at their end
+/// (a line cut at the length limit).
+fn is_text(bytes: &[u8]) -> bool {
+    match std::str::from_utf8(bytes) {
+        Ok(_) => true,
+        Err(e) => e.error_len().is_none(),
+    }
 }
 
 fn is_skipped(line: &[u8]) -> bool {
@@ -289,10 +298,13 @@ impl TableReader {
                 return Err(ReadError::new(&path, ReadErrorKind::NoData));
             }
             line_no += 1;
-            // A carriage return inside the line: lines end in CR alone (old
-            // Mac OS), which would read as one endless line.
             let body = raw.strip_suffix(b"\n").unwrap_or(&raw);
             let body = body.strip_suffix(b"\r").unwrap_or(body);
+            if !is_text(body) {
+                return Err(ReadError::new(&path, ReadErrorKind::NotText).at(line_no, None));
+            }
+            // A carriage return inside the line: lines end in CR alone (old
+            // Mac OS), which would read as one endless line.
             if has_inner_cr(body) {
                 return Err(ReadError::new(&path, ReadErrorKind::CrLineEndings).at(line_no, None));
             }
@@ -718,7 +730,7 @@ impl BlockSource<'_> {
                 }
                 None if block.len() > MAX_LINE_BYTES => {
                     self.too_long = true;
-                    self.cr_only = memchr::memchr(b'\r', &block).is_some();
+                    self.cr_only = has_inner_cr(&block);
                     self.eof = true;
                 }
                 None => self.carry = block,
