@@ -104,7 +104,15 @@ pub fn check_output(target: &Path, policy: &OutputPolicy<'_>) -> Result<(), Writ
             path: target.to_path_buf(),
         });
     }
-    for input in policy.inputs {
+    // A terminal is everyone's input and output at once.
+    #[cfg(unix)]
+    let terminal = {
+        use std::os::unix::fs::FileTypeExt;
+        meta.file_type().is_char_device()
+    };
+    #[cfg(not(unix))]
+    let terminal = false;
+    for input in policy.inputs.iter().filter(|_| !terminal) {
         if is_same_file(target, &meta, input) {
             return Err(WriteError::IsInput {
                 path: target.to_path_buf(),
@@ -223,10 +231,11 @@ impl AtomicFile {
     /// Flushes, syncs and renames the `.partial` file onto the target. On
     /// error the target is left as it was.
     pub fn commit(mut self) -> Result<(), WriteError> {
-        let written = self.temp.as_deref().unwrap_or(&self.target).to_path_buf();
+        // Errors name the file the user asked for, not its `.partial`.
+        let target = self.target.clone();
         self.out
             .flush()
-            .map_err(|e| WriteError::io("writing", &written, e))?;
+            .map_err(|e| WriteError::io("writing", &target, e))?;
         let Some(temp) = self.temp.clone() else {
             self.committed = true;
             return Ok(());
@@ -236,7 +245,7 @@ impl AtomicFile {
         self.out
             .get_ref()
             .sync_all()
-            .map_err(|e| WriteError::io("writing", &temp, e))?;
+            .map_err(|e| WriteError::io("writing", &target, e))?;
         std::fs::rename(&temp, &self.target)
             .map_err(|e| WriteError::io(format!("renaming {} to", temp.display()), &self.target, e))?;
         self.committed = true;
@@ -356,9 +365,8 @@ pub fn create_in_place(target: &Path, overwrite: bool) -> Result<File, WriteErro
 /// Writes `bytes` to `target` through an [`AtomicFile`].
 pub fn write_file(target: &Path, bytes: &[u8], policy: &OutputPolicy<'_>) -> Result<(), WriteError> {
     let mut f = AtomicFile::create(target, policy)?;
-    let temp = f.temp.clone().unwrap_or_else(|| target.to_path_buf());
     f.write_all(bytes)
-        .map_err(|e| WriteError::io("writing", &temp, e))?;
+        .map_err(|e| WriteError::io("writing", target, e))?;
     f.commit()
 }
 
