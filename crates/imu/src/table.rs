@@ -1199,6 +1199,13 @@ mod tests {
         let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
         assert_eq!(t.rows(), rows);
         assert!(t.columns[0].iter().enumerate().all(|(i, &v)| v == i as f64));
+        // Cut after many blocks: the last row alone is dropped, at its line.
+        content.pop();
+        let f = file(&content);
+        let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+        assert_eq!(t.rows(), rows - 1);
+        assert_eq!(t.problems.len(), 1);
+        assert_eq!(t.problems[0].line, Some(rows as u64));
     }
 
     #[test]
