@@ -126,6 +126,16 @@ pub fn check_output(target: &Path, policy: &OutputPolicy<'_>) -> Result<(), Writ
             size: meta.len(),
         });
     }
+    // A running writer of the target itself (`imutherm record`) holds its
+    // lock: replacing the file under it would lose its data.
+    if meta.is_file()
+        && let Ok(existing) = File::open(target)
+        && let Err(std::fs::TryLockError::WouldBlock) = existing.try_lock_shared()
+    {
+        return Err(WriteError::Busy {
+            path: target.to_path_buf(),
+        });
+    }
     Ok(())
 }
 
@@ -195,15 +205,6 @@ impl AtomicFile {
             }
             _ => target.to_path_buf(),
         };
-        // A running writer of the target itself (`imutherm record`) holds
-        // its lock: replacing the file under it would lose its data.
-        if let Ok(existing) = File::open(&real)
-            && let Err(std::fs::TryLockError::WouldBlock) = existing.try_lock_shared()
-        {
-            return Err(WriteError::Busy {
-                path: target.to_path_buf(),
-            });
-        }
         let temp = partial_path(&real);
         let file = open_locked(&temp, true).map_err(|e| match e {
             LockedOpenError::Busy => WriteError::Busy {
