@@ -365,6 +365,11 @@ pub struct TcalFitArgs {
     /// Where to write the model (JSON, schema imutherm.tcal/1).
     #[arg(long, short = 'o', value_name = "MODEL.json")]
     pub output: PathBuf,
+
+    /// Replace the output if it exists (by default an existing file is an
+    /// error; an input is never replaced).
+    #[arg(long)]
+    pub overwrite: bool,
 }
 
 #[derive(Debug, Args)]
@@ -383,6 +388,11 @@ pub struct TcalApplyArgs {
     /// Output recording (imutherm log).
     #[arg(long, short = 'o', value_name = "FILE")]
     pub output: PathBuf,
+
+    /// Replace the output if it exists (by default an existing file is an
+    /// error; an input is never replaced).
+    #[arg(long)]
+    pub overwrite: bool,
 }
 
 #[derive(Debug, Args)]
@@ -465,6 +475,11 @@ pub struct SimulateArgs {
     /// Print the effective configuration as TOML and exit.
     #[arg(long)]
     pub print_config: bool,
+
+    /// Replace the output if it exists (by default an existing file is an
+    /// error; an input is never replaced).
+    #[arg(long)]
+    pub overwrite: bool,
 }
 
 const NOISE_EXAMPLES: &str = "\
@@ -512,6 +527,11 @@ pub struct NoiseArgs {
     /// worst axis, per-axis values in comments).
     #[arg(long, value_name = "FILE")]
     pub kalibr: Option<PathBuf>,
+
+    /// Replace the --kalibr file if it exists (by default an existing file
+    /// is an error; an input is never replaced).
+    #[arg(long)]
+    pub overwrite: bool,
 
     /// Print one JSON document (schema imutherm.noise/1).
     #[arg(long)]

@@ -12,6 +12,7 @@ use std::process::ExitCode;
 use clap::Parser;
 
 fn main() -> ExitCode {
+    quiet_on_closed_stdout();
     let cli = args::Cli::parse();
     let result = match cli.command {
         args::Command::Demo(a) => commands::demo::run(&a),
@@ -29,9 +30,43 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        // The reader of the output left (`imutherm adev f | head -1`): it
+        // has all it wanted, which is success (as ripgrep does).
+        Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::from(1)
         }
     }
+}
+
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
+
+/// `print!` panics when standard output fails. A closed pipe ends the
+/// program quietly with status 0; any other failure (`> /dev/full`) is an
+/// error with status 1, not a panic's backtrace.
+fn quiet_on_closed_stdout() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let message = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        // std's own wording (library/std/src/io/stdio.rs, `print_to`).
+        if let Some(reason) = message.strip_prefix("failed printing to stdout: ") {
+            if reason.starts_with("Broken pipe") {
+                std::process::exit(0);
+            }
+            eprintln!("error: writing to standard output: {reason}");
+            std::process::exit(1);
+        }
+        default(info);
+    }));
 }

@@ -29,7 +29,9 @@ pub enum ReadErrorKind {
     },
     /// The last line ends without a newline and is incomplete: what a logger
     /// killed mid-write leaves.
-    #[error("truncated last line (no newline at the end, {found} of {expected} fields)")]
+    #[error(
+        "truncated last line (no newline at the end: a write that did not finish; {found} of {expected} fields)"
+    )]
     TruncatedLastLine {
         /// Fields of the first row.
         expected: usize,
@@ -60,6 +62,40 @@ pub enum ReadErrorKind {
     /// A line that is not valid UTF-8 text.
     #[error("the line is not UTF-8 text")]
     NotText,
+    /// A line longer than the readers' limit: not a table.
+    #[error(
+        "a line longer than {limit} bytes: not a table of numbers (a binary file, or a line that never ends)"
+    )]
+    LineTooLong {
+        /// The limit, bytes.
+        limit: usize,
+    },
+    /// Lines that end in a carriage return alone.
+    #[error(
+        "lines end in a carriage return alone (old Mac OS line endings); convert them first: tr '\\r' '\\n'"
+    )]
+    CrLineEndings,
+    /// More comment lines before the first row than the readers keep.
+    #[error("more than {limit} comment lines before the first row")]
+    TooManyComments {
+        /// The limit, lines.
+        limit: usize,
+    },
+    /// Two columns of one name.
+    #[error(
+        "columns {first} and {second} are both named '{name}': rename one, or every use of the name is ambiguous"
+    )]
+    DuplicateColumn {
+        /// The name.
+        name: String,
+        /// 1-based column of its first use.
+        first: usize,
+        /// 1-based column of its second use.
+        second: usize,
+    },
+    /// A directory given where a file is read.
+    #[error("is a directory, not a file")]
+    IsDirectory,
 }
 
 /// A reading error with its place.
@@ -105,11 +141,6 @@ impl fmt::Display for ReadError {
     }
 }
 
-impl std::error::Error for ReadError {
-    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
-        match &self.kind {
-            ReadErrorKind::Io(e) => Some(e),
-            _ => None,
-        }
-    }
-}
+// No source: the system's error is already in the message, and a chain
+// printer (`{:#}`) would print it twice.
+impl std::error::Error for ReadError {}

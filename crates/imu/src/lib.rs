@@ -17,6 +17,9 @@
 //! (NaN and infinite samples become gaps, a truncated last line is dropped,
 //! rows out of time order are dropped, missing timestamps become gaps).
 //!
+//! Files are written through [`output`]: a temporary file renamed on
+//! success, never onto an existing file unasked nor onto an input.
+//!
 //! **What it is not:** no statistics (the `allan` crate) and no printing.
 //!
 //! ```
@@ -33,6 +36,7 @@ pub mod error;
 pub mod header;
 pub mod log;
 pub mod names;
+pub mod output;
 pub mod recording;
 pub mod report;
 pub mod table;

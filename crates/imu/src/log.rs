@@ -486,9 +486,14 @@ const TRAILER_WINDOW: u64 = 64 * 1024;
 
 /// The value of the last `# trailer:` line in the file's last 64 KiB (what
 /// `imutherm record` counted: samples, gaps, overflows, bus errors…), or
-/// `None` (no trailer, a gzip file, unreadable). Reads only that tail.
+/// `None` (no trailer, a gzip file, not a regular file, unreadable). Reads
+/// only that tail, of a regular file only: a pipe or a device cannot be read
+/// again (the readers take the trailer from the stream, [`crate::table::Table::trailer`]).
 pub fn read_trailer(path: &Path) -> Option<String> {
     use std::io::{Read, Seek, SeekFrom};
+    if !std::fs::metadata(path).ok()?.is_file() {
+        return None;
+    }
     let mut f = std::fs::File::open(path).ok()?;
     let len = f.metadata().ok()?.len();
     let mut magic = [0u8; 2];
@@ -630,6 +635,17 @@ pub fn read_recording_with_report(
     path: &Path,
     opts: &RecordingOptions,
 ) -> Result<(Recording, ReadReport), ReadError> {
+    read_recording_from(TableReader::open(path)?, opts)
+}
+
+/// [`read_recording_with_report`] from a file already opened (its header
+/// read): a pipe or standard input can be read only once.
+pub fn read_recording_from(
+    reader: TableReader,
+    opts: &RecordingOptions,
+) -> Result<(Recording, ReadReport), ReadError> {
+    let path = reader.path().to_path_buf();
+    let path = path.as_path();
     if let Some((column, unit)) = opts.units.iter().find(|(_, u)| parse_unit(u).is_none()) {
         return Err(ReadError::new(
             path,
@@ -639,12 +655,8 @@ pub fn read_recording_with_report(
             },
         ));
     }
-    let reader = TableReader::open(path)?;
     let mut meta = parse_metadata(reader.comments());
     meta.source = Some(path.to_path_buf());
-    if let Some(t) = read_trailer(path) {
-        meta.set(TRAILER_KEY, t);
-    }
     let file_rate = metadata_rate(&meta);
     let headers: Vec<String> = reader.names().to_vec();
     let from_meta = metadata_units(&meta);
@@ -696,6 +708,10 @@ pub fn read_recording_with_report(
             skip_bad_lines: opts.skip_bad_lines,
         },
     )?;
+    // From the stream's tail as it went by: the file is never read twice.
+    if let Some(t) = table.trailer.take() {
+        meta.set(TRAILER_KEY, t);
+    }
     let table_columns = std::mem::take(&mut table.columns);
     let rows = table_columns.first().map_or(0, Vec::len);
     let mut report = ReadReport {

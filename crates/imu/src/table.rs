@@ -4,11 +4,19 @@
 //! The file is streamed in blocks; each batch of blocks is parsed on all
 //! cores, and the blocks' results are joined in order, so line numbers in
 //! errors stay exact. Gzip input (by its magic bytes, not its name) is
-//! decompressed on the fly.
+//! decompressed on the fly. `-` is standard input; pipes, FIFOs and devices
+//! are read once, from start to end, never reopened: the trailer is taken
+//! from the tail of the stream as it goes by.
+//!
+//! Limits, so that a hostile file cannot take the machine's memory: a line
+//! is at most [`MAX_LINE_BYTES`], the comment lines before the first row at
+//! most [`MAX_HEADER_COMMENTS`]; blank and comment lines among the rows are
+//! kept as runs, so a file of nothing but newlines costs no memory.
 
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
 use rayon::prelude::*;
 
@@ -17,6 +25,19 @@ use crate::error::{ReadError, ReadErrorKind};
 /// Bytes per parse block: large enough to amortise the thread hand-off,
 /// small enough that a batch of them stays a few MiB.
 const BLOCK_BYTES: usize = 1 << 20;
+
+/// The longest line read, in bytes. An IMU row is under 200 bytes; a
+/// longer line is not a table (a binary file, a file of NUL bytes, old Mac
+/// line endings), and reading on would hold all of it in memory.
+pub const MAX_LINE_BYTES: usize = 1 << 20;
+
+/// The most comment lines kept before the header or first row (a
+/// recording's metadata is a few dozen).
+pub const MAX_HEADER_COMMENTS: usize = 100_000;
+
+/// How much of the end of the stream is kept to find the trailer in (the
+/// recorder writes it last).
+const TAIL_BYTES: usize = 64 * 1024;
 
 /// How fields are separated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -72,6 +93,22 @@ fn parse_number(field: &[u8]) -> Option<f64> {
     fast_float2::parse::<f64, _>(field).ok()
 }
 
+/// Whether a carriage return stands inside `line`, before other text: the
+/// mark of lines that end in CR alone (a CR among trailing blanks is only
+/// untidy).
+fn has_inner_cr(line: &[u8]) -> bool {
+    memchr::memchr(b'\r', line.trim_ascii_end()).is_some() && is_text(line)
+}
+
+/// Whether `bytes` are UTF-8 text, but for a character cut at their end
+/// (a line cut at the length limit).
+fn is_text(bytes: &[u8]) -> bool {
+    match std::str::from_utf8(bytes) {
+        Ok(_) => true,
+        Err(e) => e.error_len().is_none(),
+    }
+}
+
 fn is_skipped(line: &[u8]) -> bool {
     let t = line.trim_ascii_start();
     t.is_empty() || t[0] == b'#'
@@ -90,8 +127,14 @@ pub struct TableReader {
     pending: Option<(u64, String)>,
     /// Lines consumed so far.
     line_no: u64,
-    /// Whether the file is gzip-compressed (its size says nothing of the data).
-    gzip: bool,
+    /// The file's size when it is a regular, uncompressed file (a pipe's
+    /// or a gzip file's size says nothing of the data).
+    file_bytes: Option<u64>,
+    /// Whether the first data row (when there is no header) ended with a
+    /// newline.
+    pending_terminated: bool,
+    /// The last bytes of the stream read so far.
+    tail: Arc<Mutex<Vec<u8>>>,
 }
 
 impl std::fmt::Debug for TableReader {
@@ -125,8 +168,61 @@ pub struct Table {
     pub problems: Vec<ReadError>,
     /// The line of the first row (after the header).
     pub body_start_line: u64,
-    /// Blank and comment lines among the rows, ascending.
-    pub skipped_lines: Vec<u64>,
+    /// Blank and comment lines among the rows.
+    pub skipped_lines: SkippedLines,
+    /// The value of the last `# trailer:` line in the stream's last 64 KiB
+    /// (what `imutherm record` counted), if any.
+    pub trailer: Option<String>,
+}
+
+/// Line numbers of blank and comment lines, ascending, kept as runs of
+/// consecutive lines: a million blank lines are one run.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct SkippedLines {
+    /// (first line, lines, skipped lines before this run).
+    runs: Vec<(u64, u64, u64)>,
+}
+
+impl SkippedLines {
+    /// Adds `line`, after every line added so far.
+    pub fn push(&mut self, line: u64) {
+        self.push_run(line, 1);
+    }
+
+    fn push_run(&mut self, first: u64, count: u64) {
+        match self.runs.last_mut() {
+            Some((start, n, _)) if *start + *n == first => *n += count,
+            last => {
+                let before = last.map_or(0, |&mut (_, n, b)| b + n);
+                self.runs.push((first, count, before));
+            }
+        }
+    }
+
+    /// Number of skipped lines.
+    pub fn len(&self) -> u64 {
+        self.runs.last().map_or(0, |&(_, n, b)| b + n)
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.runs.is_empty()
+    }
+
+    /// Whether `line` is one of them.
+    pub fn contains(&self, line: u64) -> bool {
+        let i = self.runs.partition_point(|&(s, _, _)| s <= line);
+        i > 0 && {
+            let (s, n, _) = self.runs[i - 1];
+            line < s + n
+        }
+    }
+
+    fn append(&mut self, other: &SkippedLines, offset: u64) {
+        for &(s, n, _) in &other.runs {
+            self.push_run(s + offset, n);
+        }
+    }
 }
 
 impl Table {
@@ -136,17 +232,12 @@ impl Table {
         // s_i ≤ base + row + i, that is s_i − i ≤ base + row; s_i − i never
         // decreases (the lines are distinct), so a binary search counts them
         // in O(log n), which matters for files with many gap comments.
+        // Within a run s_i − i is constant (the run's start less the lines
+        // skipped before it), so the search runs over the runs.
         let target = self.body_start_line + row as u64;
-        let (mut lo, mut hi) = (0, self.skipped_lines.len());
-        while lo < hi {
-            let mid = lo + (hi - lo) / 2;
-            if self.skipped_lines[mid].saturating_sub(mid as u64) <= target {
-                lo = mid + 1;
-            } else {
-                hi = mid;
-            }
-        }
-        target + lo as u64
+        let runs = &self.skipped_lines.runs;
+        let k = runs.partition_point(|&(s, _, before)| s.saturating_sub(before) <= target);
+        target + k.checked_sub(1).map_or(0, |i| runs[i].1 + runs[i].2)
     }
 }
 
@@ -166,43 +257,85 @@ impl Table {
 }
 
 impl TableReader {
-    /// Opens `path`, reads its comments and header, and works out the layout.
+    /// Opens `path` (`-`: standard input), reads its comments and header,
+    /// and works out the layout.
     pub fn open(path: impl AsRef<Path>) -> Result<TableReader, ReadError> {
         let path = path.as_ref().to_path_buf();
         let io_err = |e: std::io::Error| ReadError::new(&path, ReadErrorKind::Io(e));
-        let file = File::open(&path).map_err(io_err)?;
-        let mut buffered = BufReader::with_capacity(1 << 16, file);
+        let (raw_input, regular_bytes): (Box<dyn Read + Send>, Option<u64>) = if path == Path::new("-") {
+            (Box::new(std::io::stdin()), None)
+        } else {
+            let file = File::open(&path).map_err(io_err)?;
+            let meta = file.metadata().map_err(io_err)?;
+            if meta.is_dir() {
+                return Err(ReadError::new(&path, ReadErrorKind::IsDirectory));
+            }
+            let size = meta.is_file().then_some(meta.len());
+            (Box::new(file), size)
+        };
+        let mut buffered = BufReader::with_capacity(1 << 16, raw_input);
         let gz = buffered.fill_buf().map_err(io_err)?.starts_with(&[0x1f, 0x8b]);
-        let mut input: Box<dyn BufRead + Send> = if gz {
-            Box::new(BufReader::with_capacity(
-                1 << 16,
-                flate2::read::MultiGzDecoder::new(buffered),
-            ))
+        let decoded: Box<dyn Read + Send> = if gz {
+            Box::new(GzipMembers::new(buffered))
         } else {
             Box::new(buffered)
         };
+        let tail = Arc::new(Mutex::new(Vec::new()));
+        let mut input: Box<dyn BufRead + Send> = Box::new(BufReader::with_capacity(
+            1 << 16,
+            TailKeeper {
+                inner: decoded,
+                tail: Arc::clone(&tail),
+            },
+        ));
 
         let mut comments = Vec::new();
         let mut line_no = 0u64;
         let mut raw = Vec::new();
-        let first = loop {
-            raw.clear();
-            let got = input.read_until(b'\n', &mut raw).map_err(io_err)?;
-            if got == 0 {
+        let (first, terminated) = loop {
+            let read = read_line_bounded(&mut input, &mut raw).map_err(io_err)?;
+            if raw.is_empty() {
                 return Err(ReadError::new(&path, ReadErrorKind::NoData));
             }
             line_no += 1;
-            let text = std::str::from_utf8(&raw)
+            let body = raw.strip_suffix(b"\n").unwrap_or(&raw);
+            let body = body.strip_suffix(b"\r").unwrap_or(body);
+            if !is_text(body) {
+                return Err(ReadError::new(&path, ReadErrorKind::NotText).at(line_no, None));
+            }
+            // A carriage return inside the line: lines end in CR alone (old
+            // Mac OS), which would read as one endless line.
+            if has_inner_cr(body) {
+                return Err(ReadError::new(&path, ReadErrorKind::CrLineEndings).at(line_no, None));
+            }
+            if read == LineRead::TooLong {
+                return Err(ReadError::new(
+                    &path,
+                    ReadErrorKind::LineTooLong {
+                        limit: MAX_LINE_BYTES,
+                    },
+                )
+                .at(line_no, None));
+            }
+            let text = std::str::from_utf8(body)
                 .map_err(|_| ReadError::new(&path, ReadErrorKind::NotText).at(line_no, None))?
-                .trim_end_matches(['\n', '\r'])
                 .trim_start_matches('\u{feff}');
             if is_skipped(text.as_bytes()) {
                 if let Some(c) = text.trim_start().strip_prefix('#') {
+                    if comments.len() == MAX_HEADER_COMMENTS {
+                        return Err(ReadError::new(
+                            &path,
+                            ReadErrorKind::TooManyComments {
+                                limit: MAX_HEADER_COMMENTS,
+                            },
+                        )
+                        .at(line_no, None));
+                    }
                     comments.push(c.trim().to_string());
                 }
                 continue;
             }
-            break text.to_string();
+            break (text.to_string(), read == LineRead::Whole);
         };
         let delimiter = Delimiter::detect(&first);
         let mut fields = Vec::new();
@@ -212,10 +345,25 @@ impl TableReader {
             let names = (1..=fields.len()).map(|i| format!("col{i}")).collect();
             (names, false, Some((line_no, first.clone())))
         } else {
-            let names = fields
+            let names: Vec<String> = fields
                 .iter()
                 .map(|f| crate::header::clean_cell(&String::from_utf8_lossy(f)).to_string())
                 .collect();
+            // Two columns of one name: whichever a name picks, the other is
+            // lost or mistaken for it.
+            for (i, n) in names.iter().enumerate() {
+                if let Some(first) = names[..i].iter().position(|m| m == n) {
+                    return Err(ReadError::new(
+                        &path,
+                        ReadErrorKind::DuplicateColumn {
+                            name: n.clone(),
+                            first: first + 1,
+                            second: i + 1,
+                        },
+                    )
+                    .at(line_no, None));
+                }
+            }
             (names, true, None)
         };
         Ok(TableReader {
@@ -227,8 +375,15 @@ impl TableReader {
             delimiter,
             pending,
             line_no,
-            gzip: gz,
+            file_bytes: if gz { None } else { regular_bytes },
+            pending_terminated: terminated,
+            tail,
         })
+    }
+
+    /// The file, as it was named (`-` for standard input).
+    pub fn path(&self) -> &Path {
+        &self.path
     }
 
     /// Column names: the header's, or `col1`, `col2`, … without one.
@@ -315,22 +470,19 @@ impl TableReader {
         let mut got = Collected {
             columns: vec![Vec::new(); select.len()],
             problems: Vec::new(),
-            skipped_lines: Vec::new(),
+            skipped_lines: SkippedLines::default(),
         };
         let body_start_line = match &self.pending {
             Some((line, _)) => *line,
             None => self.line_no + 1,
         };
         // The file size sizes the columns (see `Merger::merge`).
-        let file_bytes = if self.gzip {
-            None
-        } else {
-            std::fs::metadata(&self.path).ok().map(|m| m.len())
-        };
+        let file_bytes = self.file_bytes;
 
         if let Some((line, text)) = self.pending.take() {
+            // Without its newline, the first row is also the last, and cut.
             let out = layout
-                .parse_block(text.as_bytes(), false)
+                .parse_block(text.as_bytes(), !self.pending_terminated)
                 .map_err(|f| f.into_error(&self.path, line - 1))?;
             out.append_to(&mut got, &self.path, line - 1);
         }
@@ -340,6 +492,8 @@ impl TableReader {
             input: &mut self.input,
             carry: Vec::new(),
             eof: false,
+            too_long: false,
+            cr_only: false,
         };
         let io_err = |e| ReadError::new(&self.path, ReadErrorKind::Io(e));
         let mut merger = Merger {
@@ -382,7 +536,18 @@ impl TableReader {
         if let Some((r, bytes)) = parsed {
             merger.merge(r, bytes)?;
         }
+        if source.too_long {
+            let kind = if source.cr_only {
+                ReadErrorKind::CrLineEndings
+            } else {
+                ReadErrorKind::LineTooLong {
+                    limit: MAX_LINE_BYTES,
+                }
+            };
+            return Err(ReadError::new(&self.path, kind).at(merger.line_no + 1, None));
+        }
         self.line_no = merger.line_no;
+        let trailer = find_trailer(&self.tail.lock().unwrap_or_else(|p| p.into_inner()));
         let Collected {
             columns,
             problems,
@@ -402,7 +567,128 @@ impl TableReader {
             problems,
             body_start_line,
             skipped_lines,
+            trailer,
         })
+    }
+}
+
+/// The value of the last `# trailer:` line in `tail`.
+fn find_trailer(tail: &[u8]) -> Option<String> {
+    String::from_utf8_lossy(tail)
+        .lines()
+        .rev()
+        .find_map(|l| l.trim().strip_prefix("# trailer:").map(|v| v.trim().to_string()))
+}
+
+/// How a bounded line read ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum LineRead {
+    /// At its newline.
+    Whole,
+    /// At the end of the input, without a newline (or nothing was left).
+    Unterminated,
+    /// At [`MAX_LINE_BYTES`], without a newline.
+    TooLong,
+}
+
+/// Reads one line into `raw` (cleared first), newline included, stopping
+/// at [`MAX_LINE_BYTES`].
+fn read_line_bounded(input: &mut dyn BufRead, raw: &mut Vec<u8>) -> std::io::Result<LineRead> {
+    raw.clear();
+    loop {
+        let buf = input.fill_buf()?;
+        if buf.is_empty() {
+            return Ok(LineRead::Unterminated);
+        }
+        let room = MAX_LINE_BYTES + 1 - raw.len();
+        let (take, done) = match memchr::memchr(b'\n', buf) {
+            Some(nl) if nl < room => (nl + 1, Some(LineRead::Whole)),
+            _ if buf.len() >= room => (room, Some(LineRead::TooLong)),
+            _ => (buf.len(), None),
+        };
+        raw.extend_from_slice(&buf[..take]);
+        input.consume(take);
+        if let Some(how) = done {
+            return Ok(how);
+        }
+    }
+}
+
+/// Passes a stream through, keeping its last [`TAIL_BYTES`]: the trailer
+/// is found there without reading the input a second time (which a pipe
+/// cannot give, and a live stream would lose bytes to).
+struct TailKeeper {
+    inner: Box<dyn Read + Send>,
+    tail: Arc<Mutex<Vec<u8>>>,
+}
+
+impl Read for TailKeeper {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        let mut tail = self.tail.lock().unwrap_or_else(|p| p.into_inner());
+        tail.extend_from_slice(&buf[..n]);
+        if tail.len() > 2 * TAIL_BYTES {
+            let cut = tail.len() - TAIL_BYTES;
+            tail.drain(..cut);
+        }
+        Ok(n)
+    }
+}
+
+/// Gzip members one after another, as `gzip -d` reads them: a file of
+/// several members is their concatenation, and zero bytes after the last
+/// member (padding a tape or a block device adds) are ignored. Other bytes
+/// after it are an error rather than data dropped unseen.
+struct GzipMembers<R: BufRead> {
+    member: Option<flate2::bufread::GzDecoder<R>>,
+}
+
+impl<R: BufRead> GzipMembers<R> {
+    fn new(input: R) -> Self {
+        GzipMembers {
+            member: Some(flate2::bufread::GzDecoder::new(input)),
+        }
+    }
+}
+
+impl<R: BufRead> Read for GzipMembers<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        loop {
+            let Some(member) = self.member.as_mut() else {
+                return Ok(0);
+            };
+            let n = member.read(buf)?;
+            if n > 0 || buf.is_empty() {
+                return Ok(n);
+            }
+            // The member ended (its CRC and length checked): what follows?
+            let Some(member) = self.member.take() else {
+                return Ok(0);
+            };
+            let mut rest = member.into_inner();
+            let mut padding = false;
+            loop {
+                let next = rest.fill_buf()?;
+                if next.is_empty() {
+                    return Ok(0);
+                }
+                if !padding && next[0] == 0x1f {
+                    // gzip(1) reads a member's magic byte by byte too.
+                    self.member = Some(flate2::bufread::GzDecoder::new(rest));
+                    break;
+                }
+                // Zero padding runs to the end, or it is not padding.
+                if next.iter().any(|&b| b != 0) {
+                    return Err(std::io::Error::new(
+                        std::io::ErrorKind::InvalidData,
+                        "data after the end of the gzip stream that is neither another member nor zero padding",
+                    ));
+                }
+                let n = next.len();
+                rest.consume(n);
+                padding = true;
+            }
+        }
     }
 }
 
@@ -412,6 +698,10 @@ struct BlockSource<'a> {
     /// The partial line at the end of the previous block.
     carry: Vec<u8>,
     eof: bool,
+    /// A line longer than [`MAX_LINE_BYTES`] stopped the reading.
+    too_long: bool,
+    /// That line holds carriage returns: CR-only line endings.
+    cr_only: bool,
 }
 
 impl BlockSource<'_> {
@@ -438,6 +728,11 @@ impl BlockSource<'_> {
                     self.carry = block[nl + 1..].to_vec();
                     block.truncate(nl + 1);
                     blocks.push(block);
+                }
+                None if block.len() > MAX_LINE_BYTES => {
+                    self.too_long = true;
+                    self.cr_only = has_inner_cr(&block);
+                    self.eof = true;
                 }
                 None => self.carry = block,
             }
@@ -495,7 +790,7 @@ impl Merger<'_> {
 struct Collected {
     columns: Vec<Vec<f64>>,
     problems: Vec<ReadError>,
-    skipped_lines: Vec<u64>,
+    skipped_lines: SkippedLines,
 }
 
 struct BlockOut {
@@ -504,7 +799,7 @@ struct BlockOut {
     /// Lines skipped (as gaps) or dropped (a truncated last line).
     problems: Vec<BlockFault>,
     /// Blank and comment lines among the rows (block-relative).
-    skipped: Vec<u64>,
+    skipped: SkippedLines,
 }
 
 impl BlockOut {
@@ -514,8 +809,7 @@ impl BlockOut {
                 .into_iter()
                 .map(|p| p.into_error(path, lines_before)),
         );
-        into.skipped_lines
-            .extend(self.skipped.iter().map(|l| l + lines_before));
+        into.skipped_lines.append(&self.skipped, lines_before);
         let columns = &mut into.columns;
         for (dst, src) in columns.iter_mut().zip(self.columns) {
             if dst.is_empty() {
@@ -595,7 +889,7 @@ impl Layout<'_> {
     /// without its newline is a truncated write if it is short.
     fn parse_block(&self, block: &[u8], last: bool) -> Result<BlockOut, BlockFault> {
         let mut problems = Vec::new();
-        let mut skipped = Vec::new();
+        let mut skipped = SkippedLines::default();
         let est_rows = block.len() / (8 * self.ncols.max(1)) + 1;
         let mut columns: Vec<Vec<f64>> = (0..self.select.len())
             .map(|_| Vec::with_capacity(est_rows))
@@ -606,6 +900,15 @@ impl Layout<'_> {
         let mut values: Vec<f64> = vec![0.0; self.ncols];
         let mut rest = block;
         while !rest.is_empty() {
+            // A run of empty lines is skipped at once: a file of nothing but
+            // newlines costs one run and a pass over its bytes.
+            if rest[0] == b'\n' {
+                let n = rest.iter().position(|&b| b != b'\n').unwrap_or(rest.len());
+                skipped.push_run(lines + 1, n as u64);
+                lines += n as u64;
+                rest = &rest[n..];
+                continue;
+            }
             let (line, next) = match memchr::memchr(b'\n', rest) {
                 Some(nl) => (&rest[..nl], &rest[nl + 1..]),
                 None => (rest, &rest[rest.len()..]),
@@ -613,6 +916,28 @@ impl Layout<'_> {
             rest = next;
             lines += 1;
             let line = line.strip_suffix(b"\r").unwrap_or(line);
+            // A last line without its newline was cut by a write that did
+            // not finish, even when what is left reads as a (shorter)
+            // number: it is dropped and reported.
+            if last && unterminated && rest.is_empty() && !is_skipped(line) {
+                if has_inner_cr(line) {
+                    return Err(BlockFault {
+                        line: lines,
+                        column: None,
+                        kind: ReadErrorKind::CrLineEndings,
+                    });
+                }
+                self.delimiter.split_into(line, &mut fields);
+                problems.push(BlockFault {
+                    line: lines,
+                    column: None,
+                    kind: ReadErrorKind::TruncatedLastLine {
+                        expected: self.ncols,
+                        found: fields.len(),
+                    },
+                });
+                continue;
+            }
             if self.parse_line_fast(line, &mut values) {
                 for (dst, &i) in columns.iter_mut().zip(self.select) {
                     dst.push(values[i]);
@@ -623,6 +948,15 @@ impl Layout<'_> {
                 skipped.push(lines);
                 continue;
             }
+            // A carriage return inside a line: the file's lines end in CR
+            // alone from here on, which no row can be read from.
+            if has_inner_cr(line) {
+                return Err(BlockFault {
+                    line: lines,
+                    column: None,
+                    kind: ReadErrorKind::CrLineEndings,
+                });
+            }
             // The careful path: find out exactly what is wrong, or handle
             // what the fast path does not (non-numeric unselected cells).
             self.delimiter.split_into(line, &mut fields);
@@ -631,20 +965,14 @@ impl Layout<'_> {
                 column,
                 kind,
             };
-            let truncated = last && unterminated && rest.is_empty();
             let problem = if fields.len() != self.ncols {
-                let kind = if truncated && fields.len() < self.ncols {
-                    ReadErrorKind::TruncatedLastLine {
-                        expected: self.ncols,
-                        found: fields.len(),
-                    }
-                } else {
+                Some(fault(
+                    None,
                     ReadErrorKind::FieldCount {
                         expected: self.ncols,
                         found: fields.len(),
-                    }
-                };
-                Some(fault(None, kind))
+                    },
+                ))
             } else {
                 self.select.iter().find_map(|&i| {
                     parse_number(fields[i]).is_none().then(|| {
@@ -658,18 +986,6 @@ impl Layout<'_> {
                     for (dst, &i) in columns.iter_mut().zip(self.select) {
                         dst.push(parse_number(fields[i]).unwrap_or(f64::NAN));
                     }
-                }
-                // A logger that lost power leaves a partial last line: it is
-                // dropped and reported, the rest of the file kept.
-                Some(mut p) if truncated => {
-                    if !matches!(p.kind, ReadErrorKind::TruncatedLastLine { .. }) {
-                        p.kind = ReadErrorKind::TruncatedLastLine {
-                            expected: self.ncols,
-                            found: fields.len(),
-                        };
-                        p.column = None;
-                    }
-                    problems.push(p);
                 }
                 // Skipped lines become gaps so that sample indices (and so
                 // time) stay right.
@@ -809,7 +1125,12 @@ mod tests {
             lines: 400,
             problems: Vec::new(),
             body_start_line,
-            skipped_lines: skipped,
+            skipped_lines: {
+                let mut s = SkippedLines::default();
+                skipped.iter().for_each(|&l| s.push(l));
+                s
+            },
+            trailer: None,
         };
         for (row, &line) in row_lines.iter().enumerate() {
             assert_eq!(t.line_of_row(row), line, "row {row}");
@@ -832,10 +1153,35 @@ mod tests {
     }
 
     #[test]
-    fn complete_last_line_without_newline_is_kept() {
-        let f = file(b"1,2\n3,4");
+    fn a_last_line_without_newline_is_cut_even_when_it_reads() {
+        // "3.14159" cut after "3.1" reads as a shorter number: the missing
+        // newline is the only sign, and it is enough.
+        for content in [&b"a,b\n1,2\n3,4"[..], b"a,b\n1,2\n3.1,4.1", b"1,2"] {
+            let f = file(content);
+            let r = TableReader::open(f.path()).unwrap().read(None);
+            let text = String::from_utf8_lossy(content);
+            let lines = text.lines().count() as u64;
+            match r {
+                Ok(t) => {
+                    assert_eq!(t.rows() as u64, lines - 2, "{text}");
+                    assert_eq!(t.problems.len(), 1);
+                    assert_eq!(t.problems[0].line, Some(lines));
+                    assert!(matches!(
+                        t.problems[0].kind,
+                        ReadErrorKind::TruncatedLastLine {
+                            expected: 2,
+                            found: 2
+                        }
+                    ));
+                }
+                // The only row was the cut one.
+                Err(e) => assert!(matches!(e.kind, ReadErrorKind::NoData) && lines == 1, "{e}"),
+            }
+        }
+        // A comment or a blank last line without newline loses nothing.
+        let f = file(b"1,2\n3,4\n# end");
         let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
-        assert_eq!(t.columns[1], vec![2.0, 4.0]);
+        assert_eq!((t.rows(), t.problems.len()), (2, 0));
     }
 
     #[test]
@@ -854,6 +1200,13 @@ mod tests {
         let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
         assert_eq!(t.rows(), rows);
         assert!(t.columns[0].iter().enumerate().all(|(i, &v)| v == i as f64));
+        // Cut after many blocks: the last row alone is dropped, at its line.
+        content.pop();
+        let f = file(&content);
+        let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+        assert_eq!(t.rows(), rows - 1);
+        assert_eq!(t.problems.len(), 1);
+        assert_eq!(t.problems[0].line, Some(rows as u64));
     }
 
     #[test]
@@ -863,5 +1216,141 @@ mod tests {
         let f = file(&gz.finish().unwrap());
         let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
         assert_eq!(t.columns[0], vec![1.0, 2.0]);
+    }
+
+    fn gzip(content: &[u8]) -> Vec<u8> {
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        gz.write_all(content).unwrap();
+        gz.finish().unwrap()
+    }
+
+    #[test]
+    fn gzip_members_and_zero_padding_read_as_gzip_reads_them() {
+        let mut bytes = gzip(b"v\n1\n");
+        bytes.extend(gzip(b"2\n"));
+        bytes.extend([0u8; 700]);
+        let f = file(&bytes);
+        let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+        assert_eq!(t.columns[0], vec![1.0, 2.0]);
+        // gzip -d cross-checks the same bytes when it is installed.
+        if let Ok(out) = std::process::Command::new("gzip")
+            .arg("-dc")
+            .arg(f.path())
+            .output()
+        {
+            assert!(out.status.success());
+            assert_eq!(out.stdout, b"v\n1\n2\n");
+        }
+        let mut garbage = gzip(b"v\n1\n");
+        garbage.extend(b"\0\0junk");
+        let f = file(&garbage);
+        let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
+        assert!(e.to_string().contains("zero padding"), "{e}");
+    }
+
+    #[test]
+    fn comments_before_the_first_row_are_bounded() {
+        let mut content = "#\n".repeat(MAX_HEADER_COMMENTS).into_bytes();
+        content.extend(b"v\n1\n");
+        let f = file(&content);
+        assert_eq!(
+            TableReader::open(f.path()).unwrap().comments().len(),
+            MAX_HEADER_COMMENTS
+        );
+        let mut content = "#\n".repeat(MAX_HEADER_COMMENTS + 1).into_bytes();
+        content.extend(b"v\n1\n");
+        let f = file(&content);
+        let e = TableReader::open(f.path()).unwrap_err();
+        assert!(matches!(e.kind, ReadErrorKind::TooManyComments { .. }), "{e}");
+        assert_eq!(e.line, Some(MAX_HEADER_COMMENTS as u64 + 1));
+    }
+
+    #[test]
+    fn cr_only_line_endings_are_refused_by_name() {
+        let f = file(b"a,b\r1,2\r3,4\r");
+        let e = TableReader::open(f.path()).unwrap_err();
+        assert!(matches!(e.kind, ReadErrorKind::CrLineEndings), "{e}");
+        assert_eq!(e.line, Some(1));
+        // From the second line on, short or beyond the line limit.
+        let mut long = b"a,b\n".to_vec();
+        long.extend("1,2\r".repeat(MAX_LINE_BYTES / 4 + 10).bytes());
+        for content in [&b"a,b\n1,2\r3,4\r"[..], &long] {
+            let f = file(content);
+            let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
+            assert!(matches!(e.kind, ReadErrorKind::CrLineEndings), "{e}");
+            assert_eq!(e.line, Some(2));
+        }
+    }
+
+    #[test]
+    fn duplicate_header_names_are_refused() {
+        let f = file(b"gyro_x,gyro_x,temp\n1,2,3\n");
+        let e = TableReader::open(f.path()).unwrap_err();
+        assert!(
+            matches!(&e.kind, ReadErrorKind::DuplicateColumn { name, first: 1, second: 2 } if name == "gyro_x"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn an_endless_line_stops_at_the_limit() {
+        // NUL bytes with no newline, first in the file and after rows.
+        let nul = vec![0u8; MAX_LINE_BYTES + 10];
+        let f = file(&nul);
+        let e = TableReader::open(f.path()).unwrap_err();
+        assert!(matches!(e.kind, ReadErrorKind::LineTooLong { .. }), "{e}");
+        let mut content = b"a\n1\n2\n".to_vec();
+        content.extend(&nul);
+        for bytes in [content.clone(), gzip(&content)] {
+            let f = file(&bytes);
+            let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
+            assert!(matches!(e.kind, ReadErrorKind::LineTooLong { .. }), "{e}");
+            assert_eq!(e.line, Some(4));
+        }
+    }
+
+    #[test]
+    fn blank_lines_cost_no_memory_per_line() {
+        let mut content = b"a\n1\n".to_vec();
+        content.extend(std::iter::repeat_n(b'\n', 3 * BLOCK_BYTES + 17));
+        content.extend(b"2\n");
+        let f = file(&gzip(&content));
+        let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+        assert_eq!(t.columns[0], vec![1.0, 2.0]);
+        assert_eq!(t.skipped_lines.runs.len(), 1);
+        assert_eq!(t.skipped_lines.len(), 3 * BLOCK_BYTES as u64 + 17);
+        assert_eq!(t.line_of_row(1), 3 * BLOCK_BYTES as u64 + 17 + 3);
+        assert!(t.skipped_lines.contains(3) && !t.skipped_lines.contains(2));
+    }
+
+    #[test]
+    fn the_trailer_comes_from_the_stream_tail_of_any_input() {
+        let mut content = b"v\n".to_vec();
+        for i in 0..20_000 {
+            writeln!(content, "{i}").unwrap();
+        }
+        writeln!(content, "# trailer: samples=20000 gaps=0").unwrap();
+        let want = Some("samples=20000 gaps=0".to_string());
+        for bytes in [content.clone(), gzip(&content)] {
+            let f = file(&bytes);
+            let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+            assert_eq!(t.trailer, want);
+        }
+        // A FIFO is read once: every value arrives, the trailer too.
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("fifo");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if !made.is_ok_and(|s| s.success()) {
+            return;
+        }
+        let writer = {
+            let (fifo, content) = (fifo.clone(), content.clone());
+            std::thread::spawn(move || std::fs::write(fifo, content).unwrap())
+        };
+        let t = TableReader::open(&fifo).unwrap().read(None).unwrap();
+        writer.join().unwrap();
+        assert_eq!(t.trailer, want);
+        assert_eq!(t.rows(), 20_000);
+        assert!(t.columns[0].iter().enumerate().all(|(i, &v)| v == i as f64));
     }
 }

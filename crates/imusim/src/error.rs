@@ -24,7 +24,8 @@ pub enum SimError {
     /// A configuration file that does not parse.
     #[error("configuration: {0}")]
     Config(String),
-    /// Writing the output failed.
-    #[error("{0}")]
+    /// Writing the output failed. Transparent: the system's message is
+    /// printed once, not once as this error and once as its source.
+    #[error(transparent)]
     Io(#[from] std::io::Error),
 }

@@ -119,9 +119,28 @@ fn to_png(
     size: (u32, u32),
     draw: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> Result<(), PlotError>,
 ) -> Result<(), PlotError> {
-    let root = BitMapBackend::new(path, size).into_drawing_area();
-    draw(&root)?;
-    root.present().map_err(err)
+    // Drawn beside the file and renamed onto it once complete, so a
+    // failed or interrupted plot never leaves a broken PNG under the
+    // name of the previous one. The name keeps `.png` last: the backend
+    // picks the format from it.
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let temp = path.with_file_name(format!("{stem}.partial.png"));
+    let drawn = (|| {
+        let root = BitMapBackend::new(&temp, size).into_drawing_area();
+        draw(&root)?;
+        root.present().map_err(err)
+    })();
+    let done = drawn.and_then(|()| {
+        std::fs::rename(&temp, path)
+            .map_err(|e| PlotError(format!("renaming {} to {}: {e}", temp.display(), path.display())))
+    });
+    if done.is_err() {
+        let _ = std::fs::remove_file(&temp);
+    }
+    done
 }
 
 /// Allan deviation curves on log-log axes, each with its confidence band.

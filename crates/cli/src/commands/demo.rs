@@ -1,7 +1,5 @@
 //! `imutherm demo`: the thesis's whole experiment on simulated data.
 
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -11,6 +9,7 @@ use rayon::prelude::*;
 
 use allan::noise_terms::Term;
 use imu::RecordingOptions;
+use imu::output::{AtomicFile, OutputPolicy, write_file};
 use imusim::thermal::Profile;
 use imusim::{Simulator, presets};
 use report::html::Page;
@@ -20,10 +19,18 @@ use thermal::tcal::{FitOptions, Run, fit};
 
 use crate::args::DemoArgs;
 use crate::commands::experiment::{
-    Analysed, PngDir, adev_figures, analyse_run, command_section, deg, noise_tables, time_figures,
+    Analysed, LOG_MARK, PAGE_MARK, PngDir, adev_figures, analyse_run, command_section, deg, noise_tables,
+    refuse_foreign_files, time_figures,
 };
 use crate::commands::selection::read_channels;
 use crate::commands::tcal::{BinMean, bin_means, spread};
+
+/// The demo writes only its own files, into its own directory: replacing
+/// them is what running it again means.
+const OWN_FILE: OutputPolicy<'static> = OutputPolicy {
+    overwrite: true,
+    inputs: &[],
+};
 
 /// The thesis's constant-temperature runs, °C.
 const TEMPERATURES: [f64; 4] = [34.0, 43.0, 62.0, 82.0];
@@ -42,13 +49,15 @@ fn simulate(
     cfg.seed = seed;
     cfg.profile = profile;
     let sim = Simulator::new(cfg)?;
-    let file = File::create(path).with_context(|| format!("creating {}", path.display()))?;
+    // The demo's directory is its own: its files are replaced, each
+    // atomically, and nothing else in it is touched.
+    let mut file = AtomicFile::create(path, &OWN_FILE)?;
     let base = bar.position();
-    sim.write_log(
-        BufWriter::new(file),
-        &sim.metadata(Some("mpu9250-thesis")),
-        |done, _| bar.set_position(base + done),
-    )?;
+    sim.write_log(&mut file, &sim.metadata(Some("mpu9250-thesis")), |done, _| {
+        bar.set_position(base + done)
+    })
+    .with_context(|| format!("writing {}", path.display()))?;
+    file.commit()?;
     Ok(())
 }
 
@@ -61,6 +70,15 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     } else {
         (3600.0, 3.0 * 3600.0)
     };
+    let runs_named: Vec<String> = TEMPERATURES.iter().map(|t| format!("run_{t:.0}C.txt")).collect();
+    let mut own: Vec<(&str, &str)> = runs_named.iter().map(|n| (n.as_str(), LOG_MARK)).collect();
+    own.extend([
+        ("cooling_100_to_20C.txt", LOG_MARK),
+        ("heating_25_to_95C.txt", LOG_MARK),
+        ("tcal_model.json", "\"schema\": \"imutherm.tcal/1\""),
+        ("report.html", PAGE_MARK),
+    ]);
+    refuse_foreign_files(&a.out, &own)?;
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let png = PngDir::new(&a.format, &a.out)?;
     let file = |name: &str| a.out.join(name);
@@ -75,7 +93,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     bar.set_message("simulating the runs");
     let mut runs: Vec<PathBuf> = Vec::new();
     for (i, t) in TEMPERATURES.iter().enumerate() {
-        let p = file(&format!("run_{t:.0}C.txt"));
+        let p = file(&runs_named[i]);
         let profile = Profile::Constant {
             temp_c: *t,
             fluctuation_c: 0.05,
@@ -148,9 +166,10 @@ pub fn run(a: &DemoArgs) -> Result<()> {
         },
     )?;
     model.fitted_on = vec![cooling.display().to_string()];
-    std::fs::write(
-        file("tcal_model.json"),
-        serde_json::to_string_pretty(&model)? + "\n",
+    write_file(
+        &file("tcal_model.json"),
+        (serde_json::to_string_pretty(&model)? + "\n").as_bytes(),
+        &OWN_FILE,
     )?;
     let heat = read_channels(&heating, &[], &RecordingOptions::default())?;
     let heat_temp = heat
@@ -283,7 +302,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     );
     let html = page.finish();
     let report_path = file("report.html");
-    std::fs::write(&report_path, &html).with_context(|| format!("writing {}", report_path.display()))?;
+    write_file(&report_path, html.as_bytes(), &OWN_FILE)?;
 
     // 6. Summary.
     println!("report: {}", report_path.display());

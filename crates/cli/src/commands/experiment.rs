@@ -15,6 +15,35 @@ use report::plots::{Asymptote, Curve, adev_plot, temperature_colour};
 
 use crate::commands::selection::{Channel, read_channels};
 
+/// The mark near the start of a log imutherm wrote.
+pub const LOG_MARK: &str = "# format: imutherm-log/1";
+/// The mark near the start of a page imutherm wrote.
+pub const PAGE_MARK: &str = "<title>imutherm";
+
+/// Refuses an output directory in which one of the names a command writes
+/// (`(name, mark)`) holds a file imutherm did not write, before any work:
+/// the command replaces its own files, never someone else's under the same
+/// name. A file is imutherm's when `mark` is in its first 4 KiB.
+pub fn refuse_foreign_files(dir: &Path, own: &[(&str, &str)]) -> Result<()> {
+    use std::io::Read;
+    for (name, mark) in own {
+        let path = dir.join(name);
+        let Ok(file) = std::fs::File::open(&path) else {
+            continue;
+        };
+        let mut head = Vec::new();
+        // A directory under the name, or an unreadable file, is not ours.
+        let _ = file.take(4096).read_to_end(&mut head);
+        if !String::from_utf8_lossy(&head).contains(mark) {
+            anyhow::bail!(
+                "{} exists and was not written by imutherm: move it, or choose another --out",
+                path.display()
+            );
+        }
+    }
+    Ok(())
+}
+
 /// One channel of one run, analysed.
 pub struct Analysed {
     /// The channel.

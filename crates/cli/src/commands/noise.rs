@@ -97,6 +97,16 @@ struct Analysed {
 }
 
 pub fn run(a: &NoiseArgs) -> Result<()> {
+    // Refused before the analysis, not after it.
+    if let Some(path) = &a.kalibr {
+        imu::output::check_output(
+            path,
+            &imu::output::OutputPolicy {
+                overwrite: a.overwrite,
+                inputs: &a.files,
+            },
+        )?;
+    }
     let units = match a.units.to_ascii_lowercase().as_str() {
         "si" => Units::Si,
         "datasheet" => Units::Datasheet,
@@ -166,7 +176,7 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
     }
     out.flush()?;
     if let Some(path) = &a.kalibr {
-        write_kalibr(path, &analysed, &rates, &a.files, confidence)?;
+        write_kalibr(path, &analysed, &rates, &a.files, confidence, a.overwrite)?;
         eprintln!("wrote {}", path.display());
     }
     Ok(())
@@ -851,6 +861,7 @@ fn write_kalibr(
     rates: &[f64],
     files: &[std::path::PathBuf],
     confidence: f64,
+    overwrite: bool,
 ) -> Result<()> {
     let mut text = String::new();
     let _ = writeln!(
@@ -933,6 +944,13 @@ fn write_kalibr(
         "rostopic: /imu0  # check: the topic your IMU publishes on\nupdate_rate: {}  # Hz, the recording's",
         imu::log::round_rate(rate)
     );
-    std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?;
+    imu::output::write_file(
+        path,
+        text.as_bytes(),
+        &imu::output::OutputPolicy {
+            overwrite,
+            inputs: files,
+        },
+    )?;
     Ok(())
 }

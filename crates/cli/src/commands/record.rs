@@ -105,9 +105,13 @@ pub fn run(a: &RecordArgs) -> Result<()> {
     }
     // Refused before the sensor is touched; created once it is configured,
     // so that a sensor that fails leaves no empty file behind.
-    if !a.overwrite && a.output.exists() {
-        return Err(exists_error(&a.output));
-    }
+    imu::output::check_output(
+        &a.output,
+        &imu::output::OutputPolicy {
+            overwrite: a.overwrite,
+            inputs: &[],
+        },
+    )?;
     match kind {
         "sim" => {
             let preset = if rest.is_empty() { "mpu9250-thesis" } else { rest };
@@ -447,31 +451,12 @@ fn say(args: std::fmt::Arguments<'_>) {
 
 /// The output file, created once the sensor is configured (its existence
 /// was checked before the sensor was touched). A recording is hours of
-/// work: an existing file is only replaced with `--overwrite`.
+/// work: an existing file is only replaced with `--overwrite`. It is
+/// written in place, so that a kill or a power cut leaves every row synced
+/// so far at its name, and locked while the run lasts: a second recorder
+/// onto the same file is refused instead of interleaving its rows.
 fn create_output(path: &std::path::Path, overwrite: bool) -> Result<File> {
-    let opened = if overwrite {
-        File::create(path)
-    } else {
-        std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(path)
-    };
-    opened.map_err(|e| {
-        if e.kind() == std::io::ErrorKind::AlreadyExists {
-            exists_error(path)
-        } else {
-            anyhow::Error::new(e).context(format!("creating {}", path.display()))
-        }
-    })
-}
-
-fn exists_error(path: &std::path::Path) -> anyhow::Error {
-    let size = std::fs::metadata(path).map_or(0, |m| m.len());
-    anyhow::anyhow!(
-        "{} already exists ({size} bytes): choose another name, or pass --overwrite to replace it",
-        path.display()
-    )
+    Ok(imu::output::create_in_place(path, overwrite)?)
 }
 
 #[allow(clippy::too_many_arguments)]

@@ -1,6 +1,8 @@
 //! `imutherm report`: one HTML page for a set of recordings.
 
-use anyhow::{Context, Result};
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
 
 use imu::read_recording_with_report;
 use report::html::Page;
@@ -9,7 +11,8 @@ use thermal::surface::{Slicing, surface};
 
 use crate::args::ReportArgs;
 use crate::commands::experiment::{
-    PngDir, adev_figures, analyse_run, command_section, noise_tables, time_figures,
+    PAGE_MARK, PngDir, adev_figures, analyse_run, command_section, noise_tables, refuse_foreign_files,
+    time_figures,
 };
 use crate::commands::info::recording_options;
 
@@ -18,6 +21,27 @@ const SURFACE_SPAN_C: f64 = 5.0;
 
 pub fn run(a: &ReportArgs) -> Result<()> {
     let read = recording_options(&a.read)?;
+    // The report reads each recording several times (inventory, noise
+    // terms, surfaces): a stream can be read only once.
+    for f in &a.files {
+        let stream = f == Path::new("-") || std::fs::metadata(f).is_ok_and(|m| !m.is_file() && !m.is_dir());
+        if stream {
+            bail!(
+                "{}: the report reads each recording more than once, which a pipe or standard input cannot give; save it to a file first",
+                f.display()
+            );
+        }
+    }
+    // Before any work: the page is never one of the inputs, nor a file
+    // imutherm did not write.
+    imu::output::check_output(
+        &a.out.join("report.html"),
+        &imu::output::OutputPolicy {
+            overwrite: true,
+            inputs: &a.files,
+        },
+    )?;
+    refuse_foreign_files(&a.out, &[("report.html", PAGE_MARK)])?;
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let png = PngDir::new(&a.format, &a.out)?;
     let mut page = Page::new("imutherm report");
@@ -113,7 +137,16 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     }
 
     let path = a.out.join("report.html");
-    std::fs::write(&path, page.finish()).with_context(|| format!("writing {}", path.display()))?;
+    // DIR is the report's own: its report.html is replaced (atomically),
+    // unless it is one of the inputs.
+    imu::output::write_file(
+        &path,
+        page.finish().as_bytes(),
+        &imu::output::OutputPolicy {
+            overwrite: true,
+            inputs: &a.files,
+        },
+    )?;
     println!("report: {}", path.display());
     Ok(())
 }

@@ -4,10 +4,9 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Result, bail};
 
-use imu::Quantity;
-use imu::log::{ColumnKind, classify_with_overrides};
+use imu::log::{ColumnKind, classify_with_overrides, read_recording_from};
 use imu::table::TableReader;
-use imu::{RecordingOptions, read_recording_with_report};
+use imu::{Quantity, RecordingOptions};
 
 /// One column to analyse.
 pub struct Channel {
@@ -100,8 +99,8 @@ pub fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) ->
             }
         }
     }
-    drop(reader);
-    let (mut rec, report) = read_recording_with_report(file, read)?;
+    // The same reader goes on to the body: a pipe or `-` is read once.
+    let (mut rec, report) = read_recording_from(reader, read)?;
     for p in &report.problems {
         match p.line {
             Some(line) => eprintln!("warning: {}:{line}: {}", file.display(), p.message),

@@ -1,12 +1,12 @@
 //! `imutherm simulate`: a recording whose truth is known.
 
-use std::fs::File;
-use std::io::BufWriter;
-use std::path::{Path, PathBuf};
+use std::io::Write;
+use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 
+use imu::output::{AtomicFile, OutputPolicy};
 use imusim::thermal::Profile;
 use imusim::{SimConfig, Simulator, presets};
 
@@ -76,7 +76,11 @@ fn configuration(a: &SimulateArgs) -> Result<(SimConfig, String)> {
 pub fn run(a: &SimulateArgs) -> Result<()> {
     let (cfg, source) = configuration(a)?;
     if a.print_config {
-        print!("{}", toml::to_string(&cfg).context("writing the configuration")?);
+        let text = toml::to_string(&cfg).context("writing the configuration")?;
+        let mut out = std::io::stdout().lock();
+        out.write_all(text.as_bytes())
+            .and_then(|()| out.flush())
+            .context("writing the configuration to standard output")?;
         return Ok(());
     }
     let Some(out) = &a.output else {
@@ -90,39 +94,27 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
             .progress_chars("=> "),
     );
     let started = std::time::Instant::now();
-    // A file is written under a temporary name and renamed at the end, so
-    // that an interrupted run never leaves a log that looks complete. A
-    // device or pipe (/dev/null, a FIFO) is written as it is: renaming onto
-    // it would replace it.
-    let special = std::fs::metadata(out).is_ok_and(|m| !m.is_file());
-    let target = if special {
-        out.to_path_buf()
-    } else {
-        let mut name = out.as_os_str().to_os_string();
-        name.push(".partial");
-        PathBuf::from(name)
-    };
-    let file = File::create(&target).with_context(|| format!("creating {}", target.display()))?;
+    // The configuration file and a profile file are the inputs.
+    let mut inputs: Vec<PathBuf> = a.config.iter().cloned().collect();
+    if let Profile::File { path } = &sim.config().profile {
+        inputs.push(path.clone());
+    }
+    // Written under FILE.partial and renamed at the end, so that an
+    // interrupted run never leaves a log that looks complete.
+    let mut file = AtomicFile::create(
+        out,
+        &OutputPolicy {
+            overwrite: a.overwrite,
+            inputs: &inputs,
+        },
+    )?;
     let meta = sim.metadata(Some(&source));
     let written = sim
-        .write_log(BufWriter::with_capacity(1 << 20, file), &meta, |done, _| {
-            bar.set_position(done)
-        })
-        .with_context(|| format!("writing {}", target.display()));
+        .write_log(&mut file, &meta, |done, _| bar.set_position(done))
+        .with_context(|| format!("writing {}", out.display()));
     bar.finish_and_clear();
-    let rows = match written {
-        Ok(rows) => rows,
-        Err(e) => {
-            if !special {
-                // Best effort: the error above is the one that matters.
-                let _ = std::fs::remove_file(&target);
-            }
-            return Err(e);
-        }
-    };
-    if !special {
-        rename(&target, out)?;
-    }
+    let rows = written?;
+    file.commit()?;
     let c = sim.config();
     eprintln!(
         "wrote {}: {rows} samples, {} s at {} Hz, {} ({}), in {:.2} s",
@@ -134,10 +126,6 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
         started.elapsed().as_secs_f64()
     );
     Ok(())
-}
-
-fn rename(from: &Path, to: &Path) -> Result<()> {
-    std::fs::rename(from, to).with_context(|| format!("renaming {} to {}", from.display(), to.display()))
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use serde_json::json;
 
+use imu::output::{AtomicFile, OutputPolicy, check_output, write_file};
 use imu::{LogFormat, RecordingOptions, read_recording, write_recording};
 use thermal::firmware::{self, Calibration, Firmware, Target, sensor_axis};
 use thermal::surface::{Slicing, surface};
@@ -50,6 +51,11 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
         ));
     }
     let read = recording_options(&a.read)?;
+    let policy = OutputPolicy {
+        overwrite: a.overwrite,
+        inputs: &a.files,
+    };
+    check_output(&a.output, &policy)?;
     let runs: Vec<(Selection, Vec<f64>)> = a
         .files
         .iter()
@@ -118,7 +124,7 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
         .filter(|w| !w.contains("placeholder"))
         .collect();
     let text = serde_json::to_string_pretty(&model)?;
-    std::fs::write(&a.output, text + "\n").with_context(|| format!("writing {}", a.output.display()))?;
+    write_file(&a.output, (text + "\n").as_bytes(), &policy)?;
     eprintln!(
         "wrote {}: {:.1}…{:.1} °C, T_ref {:.2} °C",
         a.output.display(),
@@ -165,6 +171,14 @@ pub(crate) fn load(path: &Path) -> Result<Model> {
 }
 
 pub fn apply(a: &TcalApplyArgs) -> Result<()> {
+    // Checked before anything is read: the recording and the model are
+    // never replaced, an existing file only with --overwrite.
+    let inputs = [a.model.clone(), a.file.clone()];
+    let policy = OutputPolicy {
+        overwrite: a.overwrite,
+        inputs: &inputs,
+    };
+    check_output(&a.output, &policy)?;
     let model = load(&a.model)?;
     let read = recording_options(&a.read)?;
     let mut rec = read_recording(&a.file, &read)?;
@@ -198,10 +212,10 @@ pub fn apply(a: &TcalApplyArgs) -> Result<()> {
     }
     rec.meta
         .set("temperature_compensated_with", a.model.display().to_string());
-    let file =
-        std::fs::File::create(&a.output).with_context(|| format!("creating {}", a.output.display()))?;
-    write_recording(std::io::BufWriter::new(file), &rec, LogFormat::Imutherm)
+    let mut file = AtomicFile::create(&a.output, &policy)?;
+    write_recording(&mut file, &rec, LogFormat::Imutherm)
         .with_context(|| format!("writing {}", a.output.display()))?;
+    file.commit()?;
     eprintln!("wrote {}", a.output.display());
     Ok(())
 }

@@ -1,9 +1,8 @@
 //! `imutherm tcal export`: a model as a flight stack's parameter file.
 
 use std::io::Write;
-use std::path::Path;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::CommandFactory;
 use clap::error::ErrorKind;
 
@@ -63,7 +62,14 @@ pub fn run(a: &TcalExportArgs) -> Result<()> {
     }
     match &a.output {
         Some(path) => {
-            write_new_file(path, exported.text.as_bytes(), a.overwrite)?;
+            imu::output::write_file(
+                path,
+                exported.text.as_bytes(),
+                &imu::output::OutputPolicy {
+                    overwrite: a.overwrite,
+                    inputs: std::slice::from_ref(&a.model),
+                },
+            )?;
             eprintln!("wrote {} ({} parameters)", path.display(), firmware.name());
         }
         None => {
@@ -73,72 +79,4 @@ pub fn run(a: &TcalExportArgs) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// Writes `bytes` to `path` whole or not at all: into a temporary file
-/// beside it, synced, then moved into place. An existing `path` is refused
-/// unless `overwrite`; without it the final step is a hard link, which
-/// fails rather than replace a file that appeared meanwhile.
-fn write_new_file(path: &Path, bytes: &[u8], overwrite: bool) -> Result<()> {
-    if !overwrite && path.exists() {
-        bail!("{}: exists (--overwrite to replace it)", path.display());
-    }
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let name = path
-        .file_name()
-        .with_context(|| format!("{}: not a file name", path.display()))?;
-    let tmp = dir.join(format!(
-        ".{}.{}.partial",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| -> std::io::Result<()> {
-        let mut f = std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        if overwrite {
-            std::fs::rename(&tmp, path)
-        } else {
-            std::fs::hard_link(&tmp, path)?;
-            std::fs::remove_file(&tmp)
-        }
-    })();
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(e).with_context(|| format!("writing {}", path.display()));
-    }
-    Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn an_existing_file_is_kept_unless_overwrite() {
-        let dir = tempfile::tempdir().unwrap();
-        let p = dir.path().join("x.params");
-        write_new_file(&p, b"one\n", false).unwrap();
-        let e = write_new_file(&p, b"two\n", false).unwrap_err();
-        assert!(e.to_string().contains("exists"), "{e}");
-        assert_eq!(std::fs::read_to_string(&p).unwrap(), "one\n");
-        write_new_file(&p, b"two\n", true).unwrap();
-        assert_eq!(std::fs::read_to_string(&p).unwrap(), "two\n");
-        // No temporary file is left beside it.
-        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
-    }
-
-    #[test]
-    fn a_failed_write_leaves_nothing() {
-        let dir = tempfile::tempdir().unwrap();
-        let p = dir.path().join("missing-dir").join("x.params");
-        assert!(write_new_file(&p, b"one\n", false).is_err());
-        assert!(!p.exists());
-    }
 }

@@ -1,0 +1,498 @@
+//! What imutherm guarantees about files: outputs never replace an input or
+//! an existing file unasked, never end up half-written or interleaved;
+//! inputs are read once, whatever they are; a closed output ends the
+//! program quietly.
+
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command as Process, Stdio};
+
+use assert_cmd::Command;
+use assert_cmd::cargo::CommandCargoExt;
+use predicates::prelude::*;
+
+fn imutherm() -> Command {
+    Command::cargo_bin("imutherm").unwrap()
+}
+
+/// A short simulated run: 20 s at 100 Hz, or a temperature ramp to fit.
+fn simulate(dir: &Path, name: &str, profile: &str) -> PathBuf {
+    let p = dir.join(name);
+    imutherm()
+        .args([
+            "simulate",
+            "--profile",
+            profile,
+            "--duration",
+            "20m",
+            "--rate",
+            "2",
+            "-o",
+        ])
+        .arg(&p)
+        .assert()
+        .success();
+    p
+}
+
+fn stderr_of(out: &std::process::Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+#[test]
+fn simulate_refuses_an_existing_file_unless_overwrite() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run.txt");
+    std::fs::write(&out, "precious\n").unwrap();
+    let args = ["simulate", "--duration", "10", "-o"];
+    imutherm().args(args).arg(&out).assert().code(1).stderr(
+        predicate::str::contains("already exists (9 bytes)").and(predicate::str::contains("--overwrite")),
+    );
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "precious\n");
+    imutherm()
+        .args(args)
+        .arg(&out)
+        .arg("--overwrite")
+        .assert()
+        .success();
+    assert!(
+        std::fs::read_to_string(&out)
+            .unwrap()
+            .starts_with("# format: imutherm-log/1")
+    );
+    assert!(!dir.path().join("run.txt.partial").exists());
+}
+
+#[test]
+fn tcal_never_writes_onto_its_inputs_by_any_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = simulate(dir.path(), "ramp.txt", "ramp:25:70:1200");
+    let model = dir.path().join("model.json");
+    imutherm()
+        .args(["tcal", "fit", "--order", "2"])
+        .arg(&run)
+        .arg("-o")
+        .arg(&model)
+        .assert()
+        .success();
+    let before = std::fs::read(&run).unwrap();
+    let hard = dir.path().join("hard.txt");
+    std::fs::hard_link(&run, &hard).unwrap();
+    let sym = dir.path().join("sym.txt");
+    std::os::unix::fs::symlink(&run, &sym).unwrap();
+    let dotted = dir.path().join(".").join("ramp.txt");
+    for target in [&run, &hard, &sym, &dotted, &model] {
+        let out = imutherm()
+            .args(["tcal", "apply"])
+            .arg(&model)
+            .arg(&run)
+            .arg("-o")
+            .arg(target)
+            .arg("--overwrite")
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1), "{}", target.display());
+        assert!(
+            stderr_of(&out).contains("destroy the data being read"),
+            "{}",
+            stderr_of(&out)
+        );
+    }
+    assert_eq!(std::fs::read(&run).unwrap(), before);
+    // Fitting onto a run, and the --kalibr file onto a run, are refused too.
+    imutherm()
+        .args(["tcal", "fit", "--overwrite"])
+        .arg(&run)
+        .arg("-o")
+        .arg(&hard)
+        .assert()
+        .code(1);
+    imutherm()
+        .args(["noise", "--overwrite"])
+        .arg(&run)
+        .arg("--kalibr")
+        .arg(&sym)
+        .assert()
+        .code(1);
+    assert_eq!(std::fs::read(&run).unwrap(), before);
+
+    // Without --overwrite an existing model stays; with it, it is replaced.
+    let old_model = std::fs::read(&model).unwrap();
+    imutherm()
+        .args(["tcal", "fit", "--order", "1"])
+        .arg(&run)
+        .arg("-o")
+        .arg(&model)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("already exists"));
+    assert_eq!(std::fs::read(&model).unwrap(), old_model);
+    // Reading the input from standard input (`- < ramp.txt`) does not
+    // hide it either.
+    let out = Process::cargo_bin("imutherm")
+        .unwrap()
+        .args(["tcal", "apply"])
+        .arg(&model)
+        .arg("-")
+        .arg("-o")
+        .arg(&hard)
+        .arg("--overwrite")
+        .stdin(std::fs::File::open(&run).unwrap())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1), "{}", stderr_of(&out));
+    assert_eq!(std::fs::read(&run).unwrap(), before);
+}
+
+#[test]
+fn a_full_device_is_named_once_and_exits_1() {
+    let out = imutherm()
+        .args(["simulate", "--duration", "60", "-o", "/dev/full"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr_of(&out);
+    assert!(err.contains("writing /dev/full"), "{err}");
+    assert_eq!(err.matches("No space left on device").count(), 1, "{err}");
+
+    let full = std::fs::OpenOptions::new().write(true).open("/dev/full").unwrap();
+    let out = Process::cargo_bin("imutherm")
+        .unwrap()
+        .args(["simulate", "--print-config"])
+        .stdout(full)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr_of(&out);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("standard output") && err.contains("No space left"),
+        "{err}"
+    );
+
+    // A missing input: the system's reason once, not twice.
+    let out = imutherm()
+        .args(["info", "/nonexistent/run.txt"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        stderr_of(&out).matches("No such file").count(),
+        1,
+        "{}",
+        stderr_of(&out)
+    );
+}
+
+#[test]
+fn a_full_filesystem_keeps_the_old_file() {
+    // A 64 KiB tmpfs, where one can be mounted (root, Linux); elsewhere
+    // the /dev/full case above is the check.
+    let dir = tempfile::tempdir().unwrap();
+    let mounted = Process::new("mount")
+        .args(["-t", "tmpfs", "-o", "size=64k", "tmpfs"])
+        .arg(dir.path())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if !mounted {
+        eprintln!("no tmpfs could be mounted: skipped");
+        return;
+    }
+    let out = dir.path().join("run.txt");
+    std::fs::write(&out, "the old run\n").unwrap();
+    let result = imutherm()
+        .args(["simulate", "--duration", "60", "--overwrite", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let kept = std::fs::read_to_string(&out).unwrap();
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    let _ = Process::new("umount").arg(dir.path()).status();
+    assert_eq!(result.status.code(), Some(1));
+    let err = stderr_of(&result);
+    assert!(err.contains(&format!("writing {}", out.display())), "{err}");
+    assert_eq!(err.matches("No space left on device").count(), 1, "{err}");
+    assert_eq!(kept, "the old run\n");
+    assert_eq!(leftovers, [std::ffi::OsString::from("run.txt")]);
+}
+
+#[test]
+fn two_recorders_never_share_one_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("rec.txt");
+    let mut first = Process::cargo_bin("imutherm")
+        .unwrap()
+        .args([
+            "record",
+            "--device",
+            "sim",
+            "--rate",
+            "100",
+            "--duration",
+            "3s",
+            "-o",
+        ])
+        .arg(&out)
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    // Until the first has its file (it configures the chip first).
+    let t0 = std::time::Instant::now();
+    while !std::fs::read_to_string(&out).is_ok_and(|t| t.contains("mpu_accel_1")) {
+        assert!(t0.elapsed().as_secs() < 20, "the first recorder never wrote");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    for args in [
+        &[
+            "record",
+            "--device",
+            "sim",
+            "--duration",
+            "1s",
+            "--overwrite",
+            "-o",
+        ][..],
+        &["simulate", "--duration", "5", "--overwrite", "-o"],
+    ] {
+        imutherm()
+            .args(args)
+            .arg(&out)
+            .assert()
+            .code(1)
+            .stderr(predicate::str::contains("being written by another process"));
+    }
+    assert!(first.wait().unwrap().success());
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(text.matches("# format:").count(), 1);
+    assert!(text.contains("# trailer: samples=300 "), "{text}");
+}
+
+#[test]
+fn standard_input_and_fifos_are_read_once_with_their_trailer() {
+    let dir = tempfile::tempdir().unwrap();
+    let rec = dir.path().join("rec.txt");
+    imutherm()
+        .args([
+            "record",
+            "--device",
+            "sim",
+            "--rate",
+            "200",
+            "--duration",
+            "1s",
+            "-o",
+        ])
+        .arg(&rec)
+        .assert()
+        .success();
+    let direct = imutherm().args(["info", "--json"]).arg(&rec).output().unwrap();
+    let direct: serde_json::Value = serde_json::from_slice(&direct.stdout).unwrap();
+    let direct = &direct["files"][0];
+    assert_eq!(direct["logger"]["samples"], 200, "{direct}");
+
+    let piped = imutherm()
+        .args(["info", "--json", "-"])
+        .pipe_stdin(&rec)
+        .unwrap()
+        .output()
+        .unwrap();
+    assert!(piped.status.success(), "{}", stderr_of(&piped));
+    let piped: serde_json::Value = serde_json::from_slice(&piped.stdout).unwrap();
+    let piped = &piped["files"][0];
+    for key in ["logger", "samples", "channels"] {
+        assert_eq!(piped[key], direct[key], "{key}");
+    }
+
+    // adev through a FIFO gives the file's numbers exactly.
+    let fifo = dir.path().join("fifo");
+    assert!(Process::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let writer = {
+        let (fifo, rec) = (fifo.clone(), rec.clone());
+        std::thread::spawn(move || std::fs::write(fifo, std::fs::read(rec).unwrap()).unwrap())
+    };
+    let through_fifo = imutherm().args(["adev", "--json"]).arg(&fifo).output().unwrap();
+    writer.join().unwrap();
+    let from_file = imutherm().args(["adev", "--json"]).arg(&rec).output().unwrap();
+    assert!(through_fifo.status.success(), "{}", stderr_of(&through_fifo));
+    let (mut a, mut b): (serde_json::Value, serde_json::Value) = (
+        serde_json::from_slice(&through_fifo.stdout).unwrap(),
+        serde_json::from_slice(&from_file.stdout).unwrap(),
+    );
+    // The same numbers; only the file's name differs.
+    for doc in [&mut a, &mut b] {
+        for c in doc["channels"].as_array_mut().unwrap() {
+            c.as_object_mut().unwrap().remove("file");
+        }
+    }
+    assert_eq!(a["channels"].as_array().unwrap().len(), 6);
+    assert_eq!(a["channels"], b["channels"]);
+}
+
+#[test]
+fn a_cut_last_line_is_named_and_dropped() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("cut.txt");
+    // 3.14159 cut to 3.1 by a power loss: a number still, but no newline.
+    std::fs::write(&p, "# sample_rate_hz: 10\ngyro_x,gyro_y\n1,2\n3,4\n5,3.1").unwrap();
+    let out = imutherm().args(["info", "--json"]).arg(&p).output().unwrap();
+    assert!(out.status.success());
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = &doc["files"][0];
+    assert_eq!(doc["samples"], 2);
+    let problems = doc["problems"].to_string();
+    assert!(
+        problems.contains("truncated_last_line") && problems.contains("\"line\":5"),
+        "{problems}"
+    );
+}
+
+#[test]
+fn a_duplicated_column_name_never_picks_the_wrong_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("dup.txt");
+    std::fs::write(&p, "# sample_rate_hz: 10\ngyro_x,gyro_x\n1,2\n3,4\n").unwrap();
+    for channel in ["2", "gyro_x"] {
+        imutherm()
+            .args(["adev", "--channels", channel])
+            .arg(&p)
+            .assert()
+            .code(1)
+            .stderr(predicate::str::contains(
+                "columns 1 and 2 are both named 'gyro_x'",
+            ));
+    }
+}
+
+/// Runs `imutherm ARGS` with its standard output closed before it writes:
+/// the reader has gone, as `| head -1` leaves it.
+fn with_closed_stdout(args: &[&str]) -> (Option<i32>, String) {
+    let mut child = Process::cargo_bin("imutherm")
+        .unwrap()
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let mut err = String::new();
+    child.stderr.take().unwrap().read_to_string(&mut err).unwrap();
+    (child.wait().unwrap().code(), err)
+}
+
+#[test]
+fn a_closed_standard_output_ends_quietly_with_status_0() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("run.txt");
+    imutherm()
+        .args(["simulate", "--duration", "30", "-o"])
+        .arg(&run)
+        .assert()
+        .success();
+    let run = run.to_str().unwrap();
+    for args in [
+        &["adev", run][..],
+        &["info", run, "--json"],
+        &["info", run],
+        &["simulate", "--print-config"],
+    ] {
+        let (code, err) = with_closed_stdout(args);
+        assert_eq!(code, Some(0), "{args:?}: {err}");
+        assert!(
+            !err.contains("panicked") && !err.contains("error"),
+            "{args:?}: {err}"
+        );
+    }
+    // And the usual `| head -1`, where the reader leaves after a line.
+    let mut child = Process::cargo_bin("imutherm")
+        .unwrap()
+        .args(["adev", run])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = [0u8; 1];
+    child.stdout.as_mut().unwrap().read_exact(&mut first).unwrap();
+    drop(child.stdout.take());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(0));
+}
+
+#[test]
+fn report_never_replaces_an_input_in_its_directory() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("rep");
+    std::fs::create_dir(&out).unwrap();
+    // A recording that happens to be called report.html in DIR.
+    let input = simulate(&out, "report.html", "constant:30");
+    let before = std::fs::read(&input).unwrap();
+    let mut stray = std::fs::File::create(out.join("notes.txt")).unwrap();
+    stray.write_all(b"mine").unwrap();
+    imutherm()
+        .arg("report")
+        .arg(&input)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("destroy the data being read"));
+    assert_eq!(std::fs::read(&input).unwrap(), before);
+    assert_eq!(std::fs::read(out.join("notes.txt")).unwrap(), b"mine");
+    // It reads each recording several times: a stream is refused, not
+    // waited on forever.
+    imutherm()
+        .args(["report", "-", "--out"])
+        .arg(&out)
+        .pipe_stdin(&input)
+        .unwrap()
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("save it to a file first"));
+}
+
+#[test]
+fn output_directories_replace_only_imutherms_own_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = simulate(dir.path(), "run.txt", "constant:30");
+    let out = dir.path().join("rep");
+    for _ in 0..2 {
+        // Run again into the same directory: its own report is replaced.
+        imutherm()
+            .arg("report")
+            .arg(&run)
+            .arg("--out")
+            .arg(&out)
+            .assert()
+            .success();
+    }
+    let page = out.join("report.html");
+    std::fs::write(&page, "my notes\n").unwrap();
+    imutherm()
+        .arg("report")
+        .arg(&run)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("was not written by imutherm"));
+    assert_eq!(std::fs::read_to_string(&page).unwrap(), "my notes\n");
+
+    // The demo checks all its names before simulating anything.
+    let demo = dir.path().join("demo");
+    std::fs::create_dir(&demo).unwrap();
+    std::fs::write(demo.join("run_62C.txt"), "a run of my own\n").unwrap();
+    let t0 = std::time::Instant::now();
+    imutherm()
+        .args(["demo", "--quick", "--out"])
+        .arg(&demo)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains(
+            "run_62C.txt exists and was not written by imutherm",
+        ));
+    assert!(t0.elapsed().as_secs_f64() < 5.0);
+    assert_eq!(std::fs::read_dir(&demo).unwrap().count(), 1);
+}

@@ -1,0 +1,503 @@
+//! Writing output files so that nothing is destroyed or mixed.
+//!
+//! Every file imutherm writes goes through here:
+//! - an existing file is refused unless the caller allows replacing it
+//!   (`--overwrite`);
+//! - a file that is one of the command's own inputs — by any path: a
+//!   symlink, a hard link, `./x` for `x` — is refused even then, since
+//!   replacing it would destroy the data being read;
+//! - the data go to `FILE.partial` beside the target, which is synced and
+//!   renamed onto the target only once complete, so a full disk, an error
+//!   or a kill leaves the previous file as it was;
+//! - the `.partial` file is locked while written (`flock`), so two writers
+//!   never share one output: the second is refused. A `.partial` left by a
+//!   killed run holds no lock and is reused.
+//!
+//! Devices and pipes (`/dev/null`, a FIFO) are written in place: renaming
+//! onto them would replace them.
+
+use std::fs::{File, OpenOptions};
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// Why an output cannot be written.
+#[derive(Debug, thiserror::Error)]
+pub enum WriteError {
+    /// The output exists and replacing it was not asked for.
+    #[error(
+        "{} already exists ({size} bytes): choose another name, or pass --overwrite to replace it",
+        path.display()
+    )]
+    Exists {
+        /// The output.
+        path: PathBuf,
+        /// Its size, so the user sees what would be lost.
+        size: u64,
+    },
+    /// The output is one of the inputs.
+    #[error(
+        "{} is the input {}: writing it would destroy the data being read (even with --overwrite); choose another name",
+        path.display(),
+        input.display()
+    )]
+    IsInput {
+        /// The output.
+        path: PathBuf,
+        /// The input it is, as the user named it.
+        input: PathBuf,
+    },
+    /// Another process holds the output's lock.
+    #[error("{} is being written by another process right now; wait for it to finish or choose another name", path.display())]
+    Busy {
+        /// The output.
+        path: PathBuf,
+    },
+    /// The output is a directory.
+    #[error("{} is a directory, not a file", path.display())]
+    IsDirectory {
+        /// The output.
+        path: PathBuf,
+    },
+    /// The system refused.
+    #[error("{action} {}", path.display())]
+    Io {
+        /// What was being done: `creating`, `writing`, `renaming … to`.
+        action: String,
+        /// The file.
+        path: PathBuf,
+        /// The system's error (printed once, as this error's source).
+        #[source]
+        source: io::Error,
+    },
+}
+
+impl WriteError {
+    fn io(action: impl Into<String>, path: &Path, source: io::Error) -> WriteError {
+        WriteError::Io {
+            action: action.into(),
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+}
+
+/// What a command may do to its output.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct OutputPolicy<'a> {
+    /// Replace an existing output (`--overwrite`).
+    pub overwrite: bool,
+    /// The command's inputs (`-` is standard input): never written.
+    pub inputs: &'a [PathBuf],
+}
+
+/// Checks that `target` may be written under `policy`, before any work is
+/// done: a command refuses at once rather than after an hour of simulation.
+/// [`AtomicFile::create`] checks again.
+pub fn check_output(target: &Path, policy: &OutputPolicy<'_>) -> Result<(), WriteError> {
+    let meta = match std::fs::metadata(target) {
+        Ok(m) => m,
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(WriteError::io("checking", target, e)),
+    };
+    if meta.is_dir() {
+        return Err(WriteError::IsDirectory {
+            path: target.to_path_buf(),
+        });
+    }
+    // A terminal is everyone's input and output at once.
+    #[cfg(unix)]
+    let terminal = {
+        use std::os::unix::fs::FileTypeExt;
+        meta.file_type().is_char_device()
+    };
+    #[cfg(not(unix))]
+    let terminal = false;
+    for input in policy.inputs.iter().filter(|_| !terminal) {
+        if is_same_file(target, &meta, input) {
+            return Err(WriteError::IsInput {
+                path: target.to_path_buf(),
+                input: input.clone(),
+            });
+        }
+    }
+    if meta.is_file() && !policy.overwrite {
+        return Err(WriteError::Exists {
+            path: target.to_path_buf(),
+            size: meta.len(),
+        });
+    }
+    // A running writer of the target itself (`imutherm record`) holds its
+    // lock: replacing the file under it would lose its data.
+    if meta.is_file()
+        && let Ok(existing) = File::open(target)
+        && let Err(std::fs::TryLockError::WouldBlock) = existing.try_lock_shared()
+    {
+        return Err(WriteError::Busy {
+            path: target.to_path_buf(),
+        });
+    }
+    Ok(())
+}
+
+/// Whether `input` names the file `target` (whose metadata is `meta`).
+fn is_same_file(target: &Path, meta: &std::fs::Metadata, input: &Path) -> bool {
+    // Standard input is whatever file descriptor 0 is: a redirected file
+    // (`< x.txt`) must not be written either.
+    let input_meta = if input == Path::new("-") {
+        std::fs::metadata("/dev/stdin")
+    } else {
+        std::fs::metadata(input)
+    };
+    let Ok(input_meta) = input_meta else {
+        return false;
+    };
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let _ = target;
+        // Device and inode: the same file under any name, hard links included.
+        meta.dev() == input_meta.dev() && meta.ino() == input_meta.ino()
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = (meta, input_meta);
+        match (std::fs::canonicalize(target), std::fs::canonicalize(input)) {
+            (Ok(a), Ok(b)) => a == b,
+            _ => false,
+        }
+    }
+}
+
+/// An output being written: to `FILE.partial`, renamed onto `FILE` by
+/// [`AtomicFile::commit`]. Dropped without a commit, it removes the
+/// `.partial` file and leaves `FILE` as it was.
+#[derive(Debug)]
+pub struct AtomicFile {
+    target: PathBuf,
+    /// The `.partial` file, or `None` for a device or pipe written in place.
+    temp: Option<PathBuf>,
+    out: BufWriter<File>,
+    committed: bool,
+}
+
+impl AtomicFile {
+    /// Checks `target` under `policy` ([`check_output`]) and opens its
+    /// `.partial` file, locked. A symlink is followed: the file it points
+    /// to is replaced, the link kept.
+    pub fn create(target: &Path, policy: &OutputPolicy<'_>) -> Result<AtomicFile, WriteError> {
+        check_output(target, policy)?;
+        let special = std::fs::metadata(target).is_ok_and(|m| !m.is_file());
+        if special {
+            let file = OpenOptions::new()
+                .write(true)
+                .open(target)
+                .map_err(|e| WriteError::io("opening", target, e))?;
+            return Ok(AtomicFile {
+                target: target.to_path_buf(),
+                temp: None,
+                out: BufWriter::with_capacity(1 << 20, file),
+                committed: false,
+            });
+        }
+        let real = match std::fs::symlink_metadata(target) {
+            Ok(m) if m.file_type().is_symlink() => {
+                std::fs::canonicalize(target).map_err(|e| WriteError::io("resolving", target, e))?
+            }
+            _ => target.to_path_buf(),
+        };
+        let temp = partial_path(&real);
+        let file = open_locked(&temp, true).map_err(|e| match e {
+            LockedOpenError::Busy => WriteError::Busy {
+                path: target.to_path_buf(),
+            },
+            LockedOpenError::Io(e) => WriteError::io("creating", &temp, e),
+        })?;
+        // A replaced file keeps its permissions (a shared log stays shared).
+        if let Ok(m) = std::fs::metadata(&real) {
+            let _ = file.set_permissions(m.permissions());
+        }
+        Ok(AtomicFile {
+            target: real,
+            temp: Some(temp),
+            out: BufWriter::with_capacity(1 << 20, file),
+            committed: false,
+        })
+    }
+
+    /// The file the data will end up in.
+    pub fn target(&self) -> &Path {
+        &self.target
+    }
+
+    /// Flushes, syncs and renames the `.partial` file onto the target. On
+    /// error the target is left as it was.
+    pub fn commit(mut self) -> Result<(), WriteError> {
+        // Errors name the file the user asked for, not its `.partial`.
+        let target = self.target.clone();
+        self.out
+            .flush()
+            .map_err(|e| WriteError::io("writing", &target, e))?;
+        let Some(temp) = self.temp.clone() else {
+            self.committed = true;
+            return Ok(());
+        };
+        // Synced before the rename: after a power cut the target is the
+        // old file or the whole new one, never a renamed empty file.
+        self.out
+            .get_ref()
+            .sync_all()
+            .map_err(|e| WriteError::io("writing", &target, e))?;
+        std::fs::rename(&temp, &self.target)
+            .map_err(|e| WriteError::io(format!("renaming {} to", temp.display()), &self.target, e))?;
+        self.committed = true;
+        // The rename itself reaches the disk with the directory; a
+        // filesystem that cannot sync a directory has nothing more to offer.
+        if let Some(dir) = self.target.parent() {
+            let dir = if dir.as_os_str().is_empty() {
+                Path::new(".")
+            } else {
+                dir
+            };
+            if let Ok(d) = File::open(dir) {
+                let _ = d.sync_all();
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.out.write(buf)
+    }
+
+    fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
+        self.out.write_all(buf)
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.out.flush()
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if !self.committed
+            && let Some(temp) = &self.temp
+        {
+            // Nothing to report from a drop: the error that caused it is
+            // the one the user sees.
+            let _ = std::fs::remove_file(temp);
+        }
+    }
+}
+
+/// `FILE.partial`, beside `FILE`.
+pub fn partial_path(target: &Path) -> PathBuf {
+    let mut name = target.as_os_str().to_os_string();
+    name.push(".partial");
+    PathBuf::from(name)
+}
+
+enum LockedOpenError {
+    Busy,
+    Io(io::Error),
+}
+
+/// Opens `path` for writing under an exclusive lock, creating it, and
+/// empties it once the lock is held (never before: that would destroy what
+/// the lock holder is writing).
+fn open_locked(path: &Path, create: bool) -> Result<File, LockedOpenError> {
+    let file = OpenOptions::new()
+        .write(true)
+        .create(create)
+        .truncate(false)
+        .open(path)
+        .map_err(LockedOpenError::Io)?;
+    match file.try_lock() {
+        Ok(()) => {}
+        Err(std::fs::TryLockError::WouldBlock) => return Err(LockedOpenError::Busy),
+        Err(std::fs::TryLockError::Error(e)) => return Err(LockedOpenError::Io(e)),
+    }
+    file.set_len(0).map_err(LockedOpenError::Io)?;
+    Ok(file)
+}
+
+/// Opens a file written in place, record by record, so that a kill or a
+/// power cut leaves everything written so far at its name (the recorder's
+/// log): an existing file is refused unless `overwrite`, and the file is
+/// locked for as long as the returned handle lives, so a second writer is
+/// refused instead of interleaving its rows. The lock is taken before the
+/// file is emptied.
+pub fn create_in_place(target: &Path, overwrite: bool) -> Result<File, WriteError> {
+    check_output(
+        target,
+        &OutputPolicy {
+            overwrite,
+            inputs: &[],
+        },
+    )?;
+    let created = if overwrite {
+        open_locked(target, true)
+    } else {
+        match OpenOptions::new().write(true).create_new(true).open(target) {
+            Ok(f) => match f.try_lock() {
+                Ok(()) => Ok(f),
+                Err(std::fs::TryLockError::WouldBlock) => Err(LockedOpenError::Busy),
+                Err(std::fs::TryLockError::Error(e)) => Err(LockedOpenError::Io(e)),
+            },
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {
+                return Err(WriteError::Exists {
+                    path: target.to_path_buf(),
+                    size: std::fs::metadata(target).map_or(0, |m| m.len()),
+                });
+            }
+            Err(e) => Err(LockedOpenError::Io(e)),
+        }
+    };
+    created.map_err(|e| match e {
+        LockedOpenError::Busy => WriteError::Busy {
+            path: target.to_path_buf(),
+        },
+        LockedOpenError::Io(e) => WriteError::io("creating", target, e),
+    })
+}
+
+/// Writes `bytes` to `target` through an [`AtomicFile`].
+pub fn write_file(target: &Path, bytes: &[u8], policy: &OutputPolicy<'_>) -> Result<(), WriteError> {
+    let mut f = AtomicFile::create(target, policy)?;
+    f.write_all(bytes)
+        .map_err(|e| WriteError::io("writing", target, e))?;
+    f.commit()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn policy(overwrite: bool, inputs: &[PathBuf]) -> OutputPolicy<'_> {
+        OutputPolicy { overwrite, inputs }
+    }
+
+    #[test]
+    fn an_existing_file_is_replaced_only_when_asked() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("out.txt");
+        write_file(&p, b"first\n", &policy(false, &[])).unwrap();
+        let e = write_file(&p, b"second\n", &policy(false, &[])).unwrap_err();
+        assert!(matches!(e, WriteError::Exists { size: 6, .. }), "{e}");
+        assert!(e.to_string().contains("--overwrite"), "{e}");
+        assert_eq!(std::fs::read(&p).unwrap(), b"first\n");
+        write_file(&p, b"second\n", &policy(true, &[])).unwrap();
+        assert_eq!(std::fs::read(&p).unwrap(), b"second\n");
+        assert!(!partial_path(&p).exists());
+    }
+
+    #[test]
+    fn an_input_is_never_written_by_any_of_its_names() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("in.txt");
+        std::fs::write(&input, b"data\n").unwrap();
+        let hard = dir.path().join("hard.txt");
+        std::fs::hard_link(&input, &hard).unwrap();
+        let sym = dir.path().join("sym.txt");
+        std::os::unix::fs::symlink(&input, &sym).unwrap();
+        let dotted = dir.path().join(".").join("in.txt");
+        let inputs = [input.clone()];
+        for target in [&input, &hard, &sym, &dotted] {
+            let e = write_file(target, b"x", &policy(true, &inputs)).unwrap_err();
+            assert!(
+                matches!(e, WriteError::IsInput { .. }),
+                "{}: {e}",
+                target.display()
+            );
+        }
+        assert_eq!(std::fs::read(&input).unwrap(), b"data\n");
+    }
+
+    #[test]
+    fn a_symlinked_output_replaces_the_file_it_points_to() {
+        let dir = tempfile::tempdir().unwrap();
+        let real = dir.path().join("real.txt");
+        std::fs::write(&real, b"old").unwrap();
+        let link = dir.path().join("link.txt");
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        write_file(&link, b"new", &policy(true, &[])).unwrap();
+        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read(&real).unwrap(), b"new");
+    }
+
+    #[test]
+    fn an_unfinished_write_leaves_the_old_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("out.txt");
+        std::fs::write(&p, b"old").unwrap();
+        {
+            let mut f = AtomicFile::create(&p, &policy(true, &[])).unwrap();
+            f.write_all(b"half of the new").unwrap();
+            // Dropped without commit: an error in the middle.
+        }
+        assert_eq!(std::fs::read(&p).unwrap(), b"old");
+        assert!(!partial_path(&p).exists());
+    }
+
+    #[test]
+    fn two_writers_of_one_output_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("out.txt");
+        let mut first = AtomicFile::create(&p, &policy(true, &[])).unwrap();
+        first.write_all(b"one").unwrap();
+        let e = AtomicFile::create(&p, &policy(true, &[])).unwrap_err();
+        assert!(matches!(e, WriteError::Busy { .. }), "{e}");
+        first.commit().unwrap();
+        assert_eq!(std::fs::read(&p).unwrap(), b"one");
+
+        // In place: the second --overwrite is refused and the first's data kept.
+        let rec = dir.path().join("rec.txt");
+        let mut a = create_in_place(&rec, false).unwrap();
+        a.write_all(b"rows\n").unwrap();
+        let e = create_in_place(&rec, true).unwrap_err();
+        assert!(matches!(e, WriteError::Busy { .. }), "{e}");
+        let e = write_file(&rec, b"x", &policy(true, &[])).unwrap_err();
+        assert!(matches!(e, WriteError::Busy { .. }), "{e}");
+        assert_eq!(std::fs::read(&rec).unwrap(), b"rows\n");
+        drop(a);
+        create_in_place(&rec, true).unwrap();
+    }
+
+    #[test]
+    fn a_stale_partial_file_from_a_killed_run_is_reused() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("out.txt");
+        std::fs::write(
+            partial_path(&p),
+            b"left by a killed run, longer than the new data",
+        )
+        .unwrap();
+        write_file(&p, b"new", &policy(false, &[])).unwrap();
+        assert_eq!(std::fs::read(&p).unwrap(), b"new");
+    }
+
+    #[test]
+    fn a_full_disk_names_the_file_and_keeps_the_old_one() {
+        // /dev/full fails every write with ENOSPC: written in place (it is
+        // a device), the error must name it.
+        let full = Path::new("/dev/full");
+        if !full.exists() {
+            return;
+        }
+        let e = write_file(full, &[b'x'; 1 << 21], &policy(false, &[])).unwrap_err();
+        let WriteError::Io { path, source, .. } = &e else {
+            panic!("{e}");
+        };
+        assert_eq!(path, full);
+        assert_eq!(source.raw_os_error(), Some(28), "{e}");
+    }
+
+    #[test]
+    fn a_directory_is_not_a_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let e = write_file(dir.path(), b"x", &policy(true, &[])).unwrap_err();
+        assert!(matches!(e, WriteError::IsDirectory { .. }), "{e}");
+    }
+}
