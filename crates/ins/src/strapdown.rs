@@ -227,7 +227,7 @@ impl Navigator {
         let dv: [f64; 3] = accel.map(|a| a * dt);
         let rot = cross(dth, dv);
         let dv_body: [f64; 3] = std::array::from_fn(|k| dv[k] + 0.5 * rot[k]);
-        let dv_level = self.attitude.rotate(dv_body);
+        let mut dv_level = self.attitude.rotate(dv_body);
         let mut q = self.attitude.compose(Quat::from_rotation_vector(phi));
         let v = self.velocity;
         let mut acc = [0.0, 0.0, -self.gravity];
@@ -240,7 +240,17 @@ impl Navigator {
                 -v[1] * e.tan_lat / e.prime_radius,
             ];
             let w_in: [f64; 3] = std::array::from_fn(|k| e.rate[k] + rho[k]);
-            q = Quat::from_rotation_vector(w_in.map(|w| -w * dt)).compose(q);
+            let zeta = w_in.map(|w| w * dt);
+            q = Quat::from_rotation_vector(zeta.map(|z| -z)).compose(q);
+            // The level frame turns during the interval too: the velocity
+            // increment, resolved at its start, is brought to its middle
+            // (Savage §7.2.2.2, the −½·ζ × Δv term). On a sensor at rest
+            // it cancels the rotation term above, which would otherwise
+            // read the Earth's rate as a 3e-6 m/s² acceleration.
+            let turn = cross(zeta, dv_level);
+            for k in 0..3 {
+                dv_level[k] -= 0.5 * turn[k];
+            }
             let c = cross(std::array::from_fn(|k| 2.0 * e.rate[k] + rho[k]), v);
             for k in 0..3 {
                 acc[k] -= c[k];
