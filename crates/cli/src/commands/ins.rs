@@ -18,13 +18,13 @@ use thermal::tcal::Model;
 
 use crate::args::InsArgs;
 use crate::commands::info::recording_options;
-use crate::commands::selection::read_channels;
+use crate::commands::selection::{Selection, read_channels};
 use crate::commands::tcal::load;
 
 const SCHEMA: &str = "imutherm.ins/1";
 
 /// The six channels, in the order ins takes them.
-const CHANNELS: [&str; 6] = ["accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z"];
+pub(crate) const CHANNELS: [&str; 6] = ["accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z"];
 
 /// Simulated runs of the Monte Carlo, and its seed (fixed: the same file
 /// gives the same figures).
@@ -33,17 +33,17 @@ const MONTE_CARLO_SEED: u64 = 1;
 
 /// One recording navigated: the measured curve, the prediction and the
 /// Monte Carlo at each time.
-struct Navigated {
-    windows: usize,
-    windows_with_gaps: usize,
-    noise: NoiseModel,
-    rows: Vec<Row>,
+pub(crate) struct Navigated {
+    pub(crate) windows: usize,
+    pub(crate) windows_with_gaps: usize,
+    pub(crate) noise: NoiseModel,
+    pub(crate) rows: Vec<Row>,
 }
 
-struct Row {
-    measured: CurvePoint,
-    predicted: Prediction,
-    monte_carlo: Spread,
+pub(crate) struct Row {
+    pub(crate) measured: CurvePoint,
+    pub(crate) predicted: Prediction,
+    pub(crate) monte_carlo: Spread,
 }
 
 pub fn run(a: &InsArgs) -> Result<()> {
@@ -61,27 +61,7 @@ pub fn run(a: &InsArgs) -> Result<()> {
     for file in &a.files {
         let sel = read_channels(file, &[], &read)?;
         let rate = sel.rate_hz;
-        let mut six: Vec<Vec<f64>> = Vec::with_capacity(6);
-        for name in CHANNELS {
-            let ch = sel.channels.iter().find(|c| c.name == name).with_context(|| {
-                format!(
-                    "{}: no {name} channel; ins needs the three accelerometer and three gyroscope axes",
-                    file.display()
-                )
-            })?;
-            six.push(ch.data.clone());
-        }
-        let raw = navigate(file, &six, rate, &opts, a.every, &times)?;
-        let compensated = match &model {
-            Some(m) => {
-                let temp = sel.temperature.as_deref().with_context(|| {
-                    format!("{}: no temperature channel to compensate with", file.display())
-                })?;
-                let comp = compensate(file, m, &six, temp, rate)?;
-                Some(navigate(file, &comp, rate, &opts, a.every, &times)?)
-            }
-            None => None,
-        };
+        let (raw, compensated) = raw_and_compensated(file, &sel, model.as_ref(), &opts, a.every, &times)?;
         if a.json {
             let mut doc = file_json(&raw, a, rate);
             doc["file"] = json!(file.display().to_string());
@@ -105,6 +85,61 @@ pub fn run(a: &InsArgs) -> Result<()> {
         writeln!(out)?;
     }
     Ok(())
+}
+
+/// The six channels of a selection, in the order ins takes them.
+pub(crate) fn six_channels(file: &Path, sel: &Selection) -> Result<Vec<Vec<f64>>> {
+    CHANNELS
+        .iter()
+        .map(|name| {
+            sel.channels
+                .iter()
+                .find(|c| c.name == *name)
+                .map(|c| c.data.clone())
+                .with_context(|| {
+                    format!(
+                        "{}: no {name} channel; ins needs the three accelerometer and three gyroscope axes",
+                        file.display()
+                    )
+                })
+        })
+        .collect()
+}
+
+/// A recording navigated as it is and, with a model, compensated.
+pub(crate) fn raw_and_compensated(
+    file: &Path,
+    sel: &Selection,
+    model: Option<&Model>,
+    opts: &NavOptions,
+    every: f64,
+    times: &[f64],
+) -> Result<(Navigated, Option<Navigated>)> {
+    let six = six_channels(file, sel)?;
+    let raw = navigate(file, &six, sel.rate_hz, opts, every, times)?;
+    let compensated = match model {
+        Some(m) => {
+            let comp = compensated_channels(file, sel, m, &six)?;
+            Some(navigate(file, &comp, sel.rate_hz, opts, every, times)?)
+        }
+        None => None,
+    };
+    Ok((raw, compensated))
+}
+
+/// The six channels compensated with `model`, from the selection's
+/// temperature.
+pub(crate) fn compensated_channels(
+    file: &Path,
+    sel: &Selection,
+    model: &Model,
+    six: &[Vec<f64>],
+) -> Result<Vec<Vec<f64>>> {
+    let temp = sel
+        .temperature
+        .as_deref()
+        .with_context(|| format!("{}: no temperature channel to compensate with", file.display()))?;
+    compensate(file, model, six, temp, sel.rate_hz)
 }
 
 /// The recording with the model's correction applied to the channels it
@@ -154,7 +189,7 @@ fn axis_noise(file: &Path, name: &str, data: &[f64], rate: f64) -> Result<AxisNo
     })
 }
 
-fn navigate(
+pub(crate) fn navigate(
     file: &Path,
     six: &[Vec<f64>],
     rate: f64,
