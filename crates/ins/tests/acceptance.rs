@@ -267,3 +267,20 @@ fn the_monte_carlo_of_the_model_agrees_with_its_prediction() {
         "{got} m against the bound {bound} m"
     );
 }
+
+#[test]
+fn windows_across_a_gap_are_left_out_and_counted() {
+    let mut c = quiet(100 * 100);
+    // One NaN sample at 45 s: windows of 10 + 20 s starting every 10 s
+    // begin at 0, 10, …, 70 s; those starting at 20, 30 and 40 s hold it.
+    c[4][4500] = f64::NAN;
+    let d = drift_over_windows(&imu(&c), &NavOptions::default(), 10.0, &[20.0]).unwrap();
+    assert_eq!((d.windows, d.windows_with_gaps), (5, 3));
+    for v in &mut c[4] {
+        *v = f64::NAN;
+    }
+    assert!(matches!(
+        drift_over_windows(&imu(&c), &NavOptions::default(), 10.0, &[20.0]),
+        Err(ins::InsError::NoWindow)
+    ));
+}
