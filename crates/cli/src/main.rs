@@ -27,6 +27,7 @@ fn main() -> ExitCode {
         args::Command::Tcal(args::TcalCommand::Apply(a)) => commands::tcal::apply(&a),
         args::Command::Tcal(args::TcalCommand::Eval(a)) => commands::tcal::eval(&a),
         args::Command::Tcal(args::TcalCommand::Export(a)) => commands::tcal_export::run(&a),
+        args::Command::Ins(a) => commands::ins::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -22,6 +22,15 @@ fn quick_demo_writes_a_complete_report() {
     assert!(html.contains("Angle random walk N [°/√s]"));
     assert!(html.contains("34 °C") && html.contains("82 °C"));
     assert!(html.contains("residual bias over temperature on the held-out heating run"));
+    // Navigation without GNSS on the cooling run: compensated drifts less.
+    assert!(html.contains("Navigation without GNSS: the cooling run, raw and compensated"));
+    assert!(html.contains("60 s without GNSS, by alignment window"));
+    let metres = |after: &str| -> f64 {
+        let i = html.find(after).unwrap_or_else(|| panic!("{after}")) + after.len();
+        html[i..].split(" m").next().unwrap().parse().unwrap()
+    };
+    let (raw, comp) = (metres("60 s without GNSS: raw "), metres(" m, compensated "));
+    assert!(comp < raw, "compensated {comp} m, raw {raw} m");
     // Self-contained: nothing is fetched (the SVG namespace URI is a name,
     // not a download).
     for fetch in ["src=\"http", "href=\"http", "<link", "<script src", "url(http"] {

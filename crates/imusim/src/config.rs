@@ -20,6 +20,8 @@
 //! quantize = true         # 16-bit LSB rounding and clipping, temperature sensor too
 //! roll_deg = 0.0          # static orientation: gravity on the accelerometers
 //! pitch_deg = 0.0
+//! # heading_deg = 0.0     # clockwise from north; with latitude_deg, the Earth
+//! # latitude_deg = 48.0   # rotates: gyros read its rate, accels normal gravity
 //!
 //! [gyro]                  # per axis x, y, z; rad/s
 //! # IEEE 952 terms: q rad, n rad/√s, b rad/s, k rad/s/√s, r rad/s²
@@ -87,6 +89,19 @@ pub struct SensorConfig {
     /// Static pitch, degrees.
     #[serde(default)]
     pub pitch_deg: f64,
+    /// Static heading, degrees clockwise from north (only matters with a
+    /// latitude: it decides where the Earth's rotation shows).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub heading_deg: f64,
+    /// Geodetic latitude, degrees. When given, the Earth rotates: the gyros
+    /// read its rate for the latitude and attitude, and the accelerometers
+    /// read the normal gravity there instead of standard gravity.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub latitude_deg: Option<f64>,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 impl Default for SensorConfig {
@@ -97,6 +112,8 @@ impl Default for SensorConfig {
             quantize: true,
             roll_deg: 0.0,
             pitch_deg: 0.0,
+            heading_deg: 0.0,
+            latitude_deg: None,
         }
     }
 }
@@ -233,6 +250,7 @@ impl SimConfig {
             ("t_ref_c", self.t_ref_c),
             ("sensor.roll_deg", self.sensor.roll_deg),
             ("sensor.pitch_deg", self.sensor.pitch_deg),
+            ("sensor.heading_deg", self.sensor.heading_deg),
         ] {
             if !v.is_finite() {
                 return Err(SimError::InvalidParameter {
@@ -241,6 +259,15 @@ impl SimConfig {
                     why: "must be a finite number",
                 });
             }
+        }
+        if let Some(lat) = self.sensor.latitude_deg
+            && !(lat.is_finite() && lat.abs() <= 90.0)
+        {
+            return Err(SimError::InvalidParameter {
+                name: "sensor.latitude_deg".into(),
+                value: lat,
+                why: "must be a latitude from −90 to 90 degrees",
+            });
         }
         if !(self.sensor_lag_s.is_finite() && self.sensor_lag_s >= 0.0) {
             return Err(SimError::InvalidParameter {

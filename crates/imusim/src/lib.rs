@@ -24,8 +24,13 @@
 //! every true parameter in its `true.*` metadata (listed in [`simulate`]),
 //! so an analysis can be checked against the truth.
 //!
+//! With a latitude ([`config::SensorConfig::latitude_deg`], off by default)
+//! the Earth rotates under the static sensor: its gyros read the Earth's
+//! rate for the latitude and heading and its accelerometers the normal
+//! gravity there ([`earth`]).
+//!
 //! **What it is not:** not a motion simulator (the sensor is static: no
-//! trajectories, no Earth rotation, no vibration), not a register-level
+//! trajectories, no vibration), not a register-level
 //! chip (that is `mpu9250::sim`, which uses this generator), and it does not
 //! print: the `imutherm simulate` command adds the progress bar and the
 //! messages.
@@ -52,6 +57,7 @@
 mod error;
 
 pub mod config;
+pub mod earth;
 pub mod flicker;
 pub mod presets;
 pub mod sensor;

@@ -137,6 +137,7 @@ fn thesis() -> SimConfig {
             quantize: true,
             roll_deg: 1.23,
             pitch_deg: -5.14,
+            ..SensorConfig::default()
         },
         gyro: GroupConfig {
             terms: thesis_terms(THESIS_GYRO_34C, DEG),

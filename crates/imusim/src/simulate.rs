@@ -9,7 +9,8 @@
 //!
 //! then rounded to the full scale's LSB and clipped (the output stage);
 //! `input` is gravity for the static orientation (accelerometers) or zero
-//! (gyroscopes), `T` the die temperature, `bias` the configured polynomial,
+//! (gyroscopes; the Earth's rotation when a latitude is configured, see
+//! [`crate::earth`]), `T` the die temperature, `bias` the configured polynomial,
 //! `s(T)` the noise factor, and the random walk's steps are scaled by
 //! `s(T)` as they are taken.
 //!
@@ -19,6 +20,7 @@
 //! | --- | --- |
 //! | `seed`, `quantized`, `gyro_full_scale_dps`, `accel_full_scale_g` | the run |
 //! | `true.profile`, `true.sensor_lag_s`, `true.t_ref_c`, `true.orientation_deg` | temperature and attitude |
+//! | `true.latitude_deg`, `true.heading_deg` | only when the Earth rotates (a configured latitude) |
 //! | `true.{accel,gyro}.unit` | `m/s^2` or `rad/s`: the unit of every value below (times s^-½, s, … as the term needs) |
 //! | `true.{accel,gyro}.noise_scale` | `°C:factor` pairs, interpolated |
 //! | `true.{accel,gyro}.flicker_tau_s` | the τ range where bias instability is flat |
@@ -41,6 +43,7 @@ use imu::{Axis, Channel, LogFormat, LogWriter, Metadata, Quantity, Recording};
 
 use crate::SimError;
 use crate::config::{GroupConfig, SimConfig};
+use crate::earth;
 use crate::flicker::FlickerBank;
 use crate::sensor;
 use crate::terms::NoiseTerms;
@@ -141,7 +144,14 @@ impl Simulator {
             "true.orientation_deg",
             format!("roll {} pitch {}", c.sensor.roll_deg, c.sensor.pitch_deg),
         );
+        // Written only for a rotating Earth, so that the default output is
+        // as it always was.
+        if let Some(lat) = c.sensor.latitude_deg {
+            m.set("true.latitude_deg", lat.to_string());
+            m.set("true.heading_deg", c.sensor.heading_deg.to_string());
+        }
         let gravity = self.gravity();
+        let earth = self.earth_rate();
         for (g, name, unit) in [(0, "accel", "m/s^2"), (1, "gyro", "rad/s")] {
             let gc = self.group(g);
             m.set(format!("true.{name}.unit"), unit);
@@ -167,16 +177,37 @@ impl Simulator {
                 let poly: Vec<String> = gc.bias[i].iter().map(|v| v.to_string()).collect();
                 m.set(key("bias_poly"), poly.join(" "));
                 m.set(key("scale_factor"), gc.scale_factor[i].to_string());
-                let input = if g == 0 { gravity[i] } else { 0.0 };
+                let input = if g == 0 { gravity[i] } else { earth[i] };
                 m.set(key("input"), input.to_string());
             }
         }
         m
     }
 
+    /// The specific force on the static sensor: standard gravity, or the
+    /// normal gravity of the latitude when the Earth rotates.
     fn gravity(&self) -> [f64; 3] {
         let s = &self.cfg.sensor;
-        sensor::gravity(s.roll_deg.to_radians(), s.pitch_deg.to_radians())
+        let f = sensor::gravity(s.roll_deg.to_radians(), s.pitch_deg.to_radians());
+        match s.latitude_deg {
+            Some(lat) => f.map(|v| v / sensor::G * earth::normal_gravity(lat.to_radians())),
+            None => f,
+        }
+    }
+
+    /// What the static gyros read: the Earth's rotation when a latitude is
+    /// configured, else nothing.
+    fn earth_rate(&self) -> [f64; 3] {
+        let s = &self.cfg.sensor;
+        match s.latitude_deg {
+            Some(lat) => earth::earth_rate_body(
+                lat.to_radians(),
+                s.roll_deg.to_radians(),
+                s.pitch_deg.to_radians(),
+                s.heading_deg.to_radians(),
+            ),
+            None => [0.0; 3],
+        }
     }
 
     /// A generator at the first sample: chunks on demand, without end (the
@@ -187,6 +218,7 @@ impl Simulator {
         let tau0 = 1.0 / c.rate_hz;
         let base = Xoshiro256PlusPlus::seed_from_u64(c.seed);
         let gravity = self.gravity();
+        let earth = self.earth_rate();
         // The temperature draws from the seed's own stream. Axis k's white
         // noise draws from that stream jumped k+1 times (2^128 steps each);
         // its other terms from the stream long-jumped k+1 times (2^192
@@ -228,7 +260,7 @@ impl Simulator {
                     flicker,
                     walk: 0.0,
                     previous_q: 0.0,
-                    truth: if group == 0 { gravity[axis] } else { 0.0 },
+                    truth: if group == 0 { gravity[axis] } else { earth[axis] },
                     scale_factor: g.scale_factor[axis],
                     group,
                     axis,

@@ -5,6 +5,7 @@ pub mod confidence;
 pub mod demo;
 pub mod experiment;
 pub mod info;
+pub mod ins;
 pub mod noise;
 pub mod record;
 pub mod report;

@@ -1,0 +1,254 @@
+//! `imutherm ins` end to end on simulated recordings: the truth is read
+//! from the recordings' `true.*` metadata and the closed forms are written
+//! out here, not taken from imutherm's code.
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+use serde_json::Value;
+
+fn imutherm() -> Command {
+    Command::cargo_bin("imutherm").unwrap()
+}
+
+/// A `true.*` value of a simulated recording.
+fn truth(path: &Path, key: &str) -> f64 {
+    let text = std::fs::read_to_string(path).unwrap();
+    let prefix = format!("# {key}: ");
+    text.lines()
+        .find_map(|l| l.strip_prefix(&prefix))
+        .unwrap_or_else(|| panic!("{key} not in {}", path.display()))
+        .trim()
+        .parse()
+        .unwrap()
+}
+
+fn json_of(args: &[&str], files: &[&Path]) -> Value {
+    let out = imutherm()
+        .arg("ins")
+        .args(files)
+        .args(args)
+        .arg("--json")
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    serde_json::from_slice(&out).unwrap()
+}
+
+fn simulate(dir: &Path, name: &str, args: &[&str]) -> PathBuf {
+    let p = dir.join(name);
+    imutherm()
+        .arg("simulate")
+        .args(args)
+        .arg("-o")
+        .arg(&p)
+        .assert()
+        .success();
+    p
+}
+
+#[test]
+fn white_noise_prediction_is_the_closed_form_and_the_measurement_follows_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = simulate(
+        dir.path(),
+        "white.txt",
+        &["--preset", "white", "--duration", "30m"],
+    );
+    let ng = truth(&f, "true.gyro_x.n");
+    let na = truth(&f, "true.accel_x.n");
+    let g: f64 = 9.80665; // standard gravity: no --latitude
+    let ta: f64 = 10.0;
+    let doc = json_of(&["--horizon", "60", "--every", "5"], &[&f]);
+    assert_eq!(doc["schema"], "imutherm.ins/1");
+    let file = &doc["files"][0];
+    assert_eq!(file["align_s"], 10.0);
+    assert!(file["windows"].as_u64().unwrap() > 300);
+    let curve = file["curve"].as_array().unwrap();
+    let ts: Vec<f64> = curve.iter().map(|p| p["t_s"].as_f64().unwrap()).collect();
+    assert_eq!(ts, vec![1.0, 10.0, 30.0, 60.0]);
+    for p in curve {
+        let t = p["t_s"].as_f64().unwrap();
+        // Per axis: gyro g·N·t^{5/2}/√20, accelerometer N·t^{3/2}/√3,
+        // levelling ½·N·t²/√T_a, and the gyro bias the alignment window's
+        // mean leaves, g·N·t³/(6·√T_a); two axes.
+        let axis = (g * ng * t.powf(2.5) / 20f64.sqrt()).powi(2)
+            + (na * t.powf(1.5) / 3f64.sqrt()).powi(2)
+            + (0.5 * na * t * t / ta.sqrt()).powi(2)
+            + (g * ng * t.powi(3) / (6.0 * ta.sqrt())).powi(2);
+        let closed = (2.0 * axis).sqrt();
+        let predicted = p["predicted_horizontal_position_1sigma_m"].as_f64().unwrap();
+        assert!(
+            (predicted / closed - 1.0).abs() < 0.02,
+            "t = {t}: predicted {predicted}, closed form {closed}"
+        );
+        if t >= 10.0 {
+            let rms = p["horizontal_position_m"]["rms"].as_f64().unwrap();
+            assert!(
+                (rms / closed - 1.0).abs() < 0.15,
+                "t = {t}: measured {rms}, closed form {closed}"
+            );
+        }
+        for key in [
+            "horizontal_position_m",
+            "horizontal_velocity_m_s",
+            "tilt_deg",
+            "heading_deg",
+        ] {
+            let s = &p[key];
+            let (rms, p50, p95) = (
+                s["rms"].as_f64().unwrap(),
+                s["p50"].as_f64().unwrap(),
+                s["p95"].as_f64().unwrap(),
+            );
+            assert!(p50 > 0.0 && p50 <= p95 && rms > 0.0, "{key} at {t}: {s}");
+        }
+    }
+    assert!(file.get("compensated").is_none());
+}
+
+#[test]
+fn the_rotating_earth_leaves_no_drift_with_the_latitude() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = String::from_utf8(
+        imutherm()
+            .args(["simulate", "--preset", "white", "--print-config"])
+            .output()
+            .unwrap()
+            .stdout,
+    )
+    .unwrap();
+    // Noise-free, tilted, facing north at 48° N.
+    let config: String = config
+        .lines()
+        .map(|l| match l {
+            l if l.starts_with("n = ") => "n = 0.0".to_string(),
+            l if l.starts_with("duration_s") => "duration_s = 140.0".to_string(),
+            "roll_deg = 0.0" => "roll_deg = 1.23".to_string(),
+            "pitch_deg = 0.0" => "pitch_deg = -5.14\nheading_deg = 0.0\nlatitude_deg = 48.0".to_string(),
+            l => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let toml = dir.path().join("earth.toml");
+    std::fs::write(&toml, config).unwrap();
+    let f = dir.path().join("earth.txt");
+    imutherm()
+        .args(["simulate", "--config"])
+        .arg(&toml)
+        .arg("-o")
+        .arg(&f)
+        .assert()
+        .success();
+    assert_eq!(truth(&f, "true.latitude_deg"), 48.0);
+    // The gyros read the Earth's rate: |ω| = 7.292115e-5 rad/s (WGS-84).
+    let w: f64 = ["x", "y", "z"]
+        .iter()
+        .map(|a| truth(&f, &format!("true.gyro_{a}.input")).powi(2))
+        .sum::<f64>()
+        .sqrt();
+    assert!((w - 7.292_115e-5).abs() < 1e-12, "{w}");
+    let doc = json_of(&["--latitude", "48", "--every", "5"], &[&f]);
+    let curve = doc["files"][0]["curve"].as_array().unwrap();
+    assert_eq!(curve.last().unwrap()["t_s"], 120.0);
+    for p in curve {
+        let e = p["horizontal_position_m"]["p95"].as_f64().unwrap();
+        assert!(e < 0.1, "{e} m at {}", p["t_s"]);
+    }
+}
+
+#[test]
+fn a_model_navigates_the_compensated_run_beside_the_raw_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = simulate(
+        dir.path(),
+        "cooling.txt",
+        &[
+            "--profile",
+            "cooling:100:20:600",
+            "--duration",
+            "15m",
+            "--rate",
+            "50",
+        ],
+    );
+    let model = dir.path().join("model.json");
+    imutherm()
+        .args(["tcal", "fit"])
+        .arg(&f)
+        .arg("-o")
+        .arg(&model)
+        .assert()
+        .success();
+    imutherm()
+        .arg("ins")
+        .arg(&f)
+        .arg("--model")
+        .arg(&model)
+        .args(["--horizon", "60", "--every", "20"])
+        .assert()
+        .success()
+        .stdout(
+            predicate::str::is_match(r"60 s without GNSS: raw [0-9.]+ m, compensated [0-9.]+ m").unwrap(),
+        );
+    let doc = json_of(
+        &[
+            "--model",
+            model.to_str().unwrap(),
+            "--horizon",
+            "60",
+            "--every",
+            "20",
+        ],
+        &[&f],
+    );
+    let file = &doc["files"][0];
+    let c = &file["compensated"];
+    assert_eq!(c["align_s"], 10.0);
+    assert_eq!(c["windows"], file["windows"]);
+    let at60 = |v: &Value| v["curve"][3]["horizontal_position_m"]["rms"].as_f64().unwrap();
+    assert_eq!(file["curve"][3]["t_s"], 60.0);
+    // The cooling run's bias follows its temperature: compensated, it drifts less.
+    assert!(
+        at60(c) < at60(file),
+        "compensated {} m, raw {} m",
+        at60(c),
+        at60(file)
+    );
+}
+
+#[test]
+fn bad_values_are_usage_errors_and_short_files_runtime_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = simulate(
+        dir.path(),
+        "short.txt",
+        &["--preset", "white", "--duration", "60"],
+    );
+    for bad in [
+        &["--align", "0"][..],
+        &["--horizon", "-5"],
+        &["--every", "abc"],
+        &["--latitude", "91"],
+        &["--latitude", "north"],
+    ] {
+        imutherm().arg("ins").arg(&f).args(bad).assert().code(2);
+    }
+    // Sixty seconds cannot hold 10 s of alignment and 120 s of navigation.
+    imutherm()
+        .arg("ins")
+        .arg(&f)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("130.0 s are needed"));
+    imutherm()
+        .args(["ins", "--help"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains(
+            "imutherm ins cooling.txt --model model.json",
+        ));
+}

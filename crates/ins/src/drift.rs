@@ -1,0 +1,184 @@
+//! Navigation from many start points of one recording, and the error
+//! statistics over them at each time since alignment.
+
+use rayon::prelude::*;
+
+use crate::InsError;
+use crate::strapdown::{ImuData, NavOptions, StaticError, align_samples, navigate_window};
+
+/// The times since alignment imutherm reports, s, before the horizon.
+pub const STANDARD_TIMES_S: [f64; 5] = [1.0, 10.0, 30.0, 60.0, 120.0];
+
+/// The standard times up to `horizon_s`, and the horizon itself, ascending.
+pub fn report_times(horizon_s: f64) -> Vec<f64> {
+    let mut t: Vec<f64> = STANDARD_TIMES_S
+        .iter()
+        .copied()
+        .filter(|&t| t < horizon_s)
+        .collect();
+    t.push(horizon_s);
+    t
+}
+
+/// RMS, median and 95th percentile of one error over the windows.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Spread {
+    pub rms: f64,
+    pub p50: f64,
+    pub p95: f64,
+}
+
+impl Spread {
+    /// Of `values` (non-empty); percentiles interpolate linearly between
+    /// order statistics (Hyndman & Fan's type 7, numpy's default).
+    pub fn of(values: &mut [f64]) -> Spread {
+        if values.is_empty() {
+            return Spread::default();
+        }
+        values.sort_by(f64::total_cmp);
+        let rms = (values.iter().map(|v| v * v).sum::<f64>() / values.len() as f64).sqrt();
+        Spread {
+            rms,
+            p50: percentile(values, 0.5),
+            p95: percentile(values, 0.95),
+        }
+    }
+
+    /// Every figure times `k` (a change of unit).
+    pub fn scaled(self, k: f64) -> Spread {
+        Spread {
+            rms: self.rms * k,
+            p50: self.p50 * k,
+            p95: self.p95 * k,
+        }
+    }
+}
+
+fn percentile(sorted: &[f64], p: f64) -> f64 {
+    let h = (sorted.len() - 1) as f64 * p;
+    let (lo, frac) = (h.floor() as usize, h - h.floor());
+    match sorted.get(lo + 1) {
+        Some(&hi) => sorted[lo] + frac * (hi - sorted[lo]),
+        None => sorted[lo],
+    }
+}
+
+/// The errors at one time since alignment, over the windows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CurvePoint {
+    /// Time since alignment, s.
+    pub t_s: f64,
+    pub horizontal_position_m: Spread,
+    pub horizontal_velocity_m_s: Spread,
+    pub tilt_rad: Spread,
+    pub heading_rad: Spread,
+}
+
+/// The error growth of a recording over its windows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Drift {
+    /// Windows navigated.
+    pub windows: usize,
+    /// Windows left out because they crossed a gap.
+    pub windows_with_gaps: usize,
+    /// One point per time asked for.
+    pub curve: Vec<CurvePoint>,
+}
+
+/// Navigates one window every `every_s` seconds, each aligned on its own
+/// first `opts.align_s` seconds and run for the largest of `times_s`, and
+/// gathers the errors at each time. Windows run in parallel.
+pub fn drift_over_windows(
+    imu: &ImuData,
+    opts: &NavOptions,
+    every_s: f64,
+    times_s: &[f64],
+) -> Result<Drift, InsError> {
+    opts.validate()?;
+    if !(imu.rate_hz.is_finite() && imu.rate_hz > 0.0) {
+        return Err(InsError::Invalid(format!(
+            "sample rate {} Hz: must be positive",
+            imu.rate_hz
+        )));
+    }
+    if !(every_s.is_finite() && every_s > 0.0) {
+        return Err(InsError::Invalid(format!(
+            "window step {every_s} s: must be a positive number of seconds"
+        )));
+    }
+    let mut times: Vec<f64> = times_s.to_vec();
+    if times.iter().any(|t| !(t.is_finite() && *t > 0.0)) || times.is_empty() {
+        return Err(InsError::Invalid(
+            "times since alignment must be positive numbers of seconds".into(),
+        ));
+    }
+    times.sort_by(f64::total_cmp);
+    let horizon_s = times[times.len() - 1];
+    let span = align_samples(opts.align_s, imu.rate_hz) + (horizon_s * imu.rate_hz).round() as usize;
+    let n = imu.len();
+    if span > n {
+        return Err(InsError::TooShort {
+            needed_s: span as f64 / imu.rate_hz,
+            align_s: opts.align_s,
+            horizon_s,
+            have_s: n as f64 / imu.rate_hz,
+        });
+    }
+    let step = ((every_s * imu.rate_hz).round() as usize).max(1);
+    let starts: Vec<usize> = (0..=n - span).step_by(step).collect();
+    let results: Vec<Option<Vec<StaticError>>> = starts
+        .par_iter()
+        .map(|&s| navigate_window(imu, s, opts, &times))
+        .collect();
+    let total = results.len();
+    let runs: Vec<Vec<StaticError>> = results.into_iter().flatten().collect();
+    if runs.is_empty() {
+        return Err(InsError::NoWindow);
+    }
+    Ok(Drift {
+        windows: runs.len(),
+        windows_with_gaps: total - runs.len(),
+        curve: curve_of(&runs, &times),
+    })
+}
+
+/// The spreads at each time of a set of runs (each with one error per time).
+pub fn curve_of(runs: &[Vec<StaticError>], times: &[f64]) -> Vec<CurvePoint> {
+    (0..times.len())
+        .map(|j| {
+            let col = |f: fn(&StaticError) -> f64| -> Spread {
+                let mut v: Vec<f64> = runs.iter().map(|r| f(&r[j])).collect();
+                Spread::of(&mut v)
+            };
+            CurvePoint {
+                t_s: times[j],
+                horizontal_position_m: col(|e| e.horizontal_position_m),
+                horizontal_velocity_m_s: col(|e| e.horizontal_velocity_m_s),
+                tilt_rad: col(|e| e.tilt_rad),
+                heading_rad: col(|e| e.heading_rad),
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentiles_interpolate_as_numpy_does() {
+        // numpy.percentile([1, 2, 3, 4, 10], [50, 95]) = [3.0, 8.8].
+        let mut v = vec![10.0, 2.0, 4.0, 1.0, 3.0];
+        let s = Spread::of(&mut v);
+        assert_eq!(s.p50, 3.0);
+        assert!((s.p95 - 8.8).abs() < 1e-12);
+        assert!((s.rms - (130.0f64 / 5.0).sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn report_times_stop_at_the_horizon() {
+        assert_eq!(report_times(45.0), vec![1.0, 10.0, 30.0, 45.0]);
+        assert_eq!(report_times(120.0), vec![1.0, 10.0, 30.0, 60.0, 120.0]);
+        assert_eq!(report_times(300.0), vec![1.0, 10.0, 30.0, 60.0, 120.0, 300.0]);
+    }
+}

@@ -1,0 +1,25 @@
+use thiserror::Error;
+
+/// What can go wrong navigating a recording.
+#[derive(Debug, Error)]
+pub enum InsError {
+    /// A parameter out of its domain; the message names it.
+    #[error("{0}")]
+    Invalid(String),
+    /// The recording is shorter than one alignment window and the horizon.
+    #[error(
+        "{needed_s:.1} s are needed (alignment {align_s} s + horizon {horizon_s} s), the recording has {have_s:.1} s"
+    )]
+    TooShort {
+        needed_s: f64,
+        align_s: f64,
+        horizon_s: f64,
+        have_s: f64,
+    },
+    /// Every window held a gap.
+    #[error("every window crosses a gap (NaN samples): none could be navigated")]
+    NoWindow,
+    /// The Monte Carlo's simulator refused the model.
+    #[error("simulating the identified model: {0}")]
+    Simulation(#[from] imusim::SimError),
+}

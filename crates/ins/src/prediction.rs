@@ -1,0 +1,221 @@
+//! The closed-form growth of the horizontal position error of a static,
+//! levelled IMU from its IEEE 952 noise terms, per term, for horizons well
+//! below the Schuler period (84 min), where the tilt feeds the position
+//! through gravity without the Schuler loop closing:
+//!
+//! | term | horizontal position 1σ, per axis |
+//! | --- | --- |
+//! | gyro white noise N_g | g·N_g·t^{5/2}/√20 |
+//! | accelerometer white noise N_a | N_a·t^{3/2}/√3 |
+//! | levelling on N_a over the window T_a | ½·N_a·t²/√T_a |
+//! | gyro rate random walk K_g | g·K_g·t^{7/2}/√252 |
+//! | gyro bias ε left after alignment | g·ε·t³/6 |
+//! | gyro bias taken as the window's mean, from N_g | g·N_g·t³/(6·√T_a) |
+//! | accelerometer rate random walk K_a | K_a·t^{5/2}/√20 |
+//! | bias instability B (no closed form) | bounded as a bias B: g·B_g·t³/6, ½·B_a·t² |
+//!
+//! (Titterton & Weston, *Strapdown Inertial Navigation Technology*, 2nd
+//! ed., §12.3: the error equations of a static system; the integrals of a
+//! white rate and a random walk, ∫∫∫ of white noise having variance t⁵/20
+//! and of a random walk t⁷/252.) The gyro terms act through the tilt about
+//! the other horizontal axis, so each axis's noise is projected onto the
+//! local-level frame with the aligned attitude. The terms are independent
+//! and are summed in quadrature, over the terms and the two axes.
+
+use crate::strapdown::Alignment;
+
+/// The noise terms of one sensor axis, SI (the gyro's in rad/s, the
+/// accelerometer's in m/s²); zero where a term was not identified.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct AxisNoise {
+    /// White noise N, unit·√s.
+    pub n: f64,
+    /// Bias instability B, unit.
+    pub b: f64,
+    /// Rate random walk K, unit/√s.
+    pub k: f64,
+}
+
+/// The identified model of the six axes.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct NoiseModel {
+    pub gyro: [AxisNoise; 3],
+    pub accel: [AxisNoise; 3],
+}
+
+/// One term of the prediction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum PredictedTerm {
+    GyroWhiteNoise,
+    AccelWhiteNoise,
+    Levelling,
+    GyroRateRandomWalk,
+    GyroBiasFromAlignment,
+    AccelRateRandomWalk,
+    GyroBiasInstability,
+    AccelBiasInstability,
+}
+
+impl PredictedTerm {
+    pub const ALL: [PredictedTerm; 8] = [
+        PredictedTerm::GyroWhiteNoise,
+        PredictedTerm::AccelWhiteNoise,
+        PredictedTerm::Levelling,
+        PredictedTerm::GyroRateRandomWalk,
+        PredictedTerm::GyroBiasFromAlignment,
+        PredictedTerm::AccelRateRandomWalk,
+        PredictedTerm::GyroBiasInstability,
+        PredictedTerm::AccelBiasInstability,
+    ];
+
+    /// Its key in imutherm's JSON.
+    pub fn key(self) -> &'static str {
+        match self {
+            PredictedTerm::GyroWhiteNoise => "gyro_white_noise",
+            PredictedTerm::AccelWhiteNoise => "accel_white_noise",
+            PredictedTerm::Levelling => "levelling",
+            PredictedTerm::GyroRateRandomWalk => "gyro_rate_random_walk",
+            PredictedTerm::GyroBiasFromAlignment => "gyro_bias_from_alignment",
+            PredictedTerm::AccelRateRandomWalk => "accel_rate_random_walk",
+            PredictedTerm::GyroBiasInstability => "gyro_bias_instability_bound",
+            PredictedTerm::AccelBiasInstability => "accel_bias_instability_bound",
+        }
+    }
+}
+
+/// The prediction at one time since alignment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Prediction {
+    pub t_s: f64,
+    /// Horizontal position 1σ of each term (both axes in quadrature), m.
+    pub terms: Vec<(PredictedTerm, f64)>,
+    /// All the terms in quadrature, m.
+    pub total_m: f64,
+}
+
+/// What the prediction needs besides the noise.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PredictionSetup {
+    /// The gravity navigated with, m/s².
+    pub gravity: f64,
+    /// Alignment window, s.
+    pub align_s: f64,
+    /// Whether the gyro's window mean was taken out (then its white noise
+    /// leaves a bias, the `gyro_bias_from_alignment` term).
+    pub gyro_bias_removed: bool,
+    /// The sensor-to-level rotation (row-major) the noise is projected with.
+    pub attitude: [[f64; 3]; 3],
+}
+
+impl PredictionSetup {
+    /// For an alignment (its roll and pitch).
+    pub fn from_alignment(a: &Alignment, gravity: f64, align_s: f64, gyro_bias_removed: bool) -> Self {
+        PredictionSetup {
+            gravity,
+            align_s,
+            gyro_bias_removed,
+            attitude: imusim::earth::body_to_level(a.roll, a.pitch, 0.0),
+        }
+    }
+
+    /// Level, for a model with the same noise on x and y.
+    pub fn level(gravity: f64, align_s: f64, gyro_bias_removed: bool) -> Self {
+        PredictionSetup {
+            gravity,
+            align_s,
+            gyro_bias_removed,
+            attitude: imusim::earth::body_to_level(0.0, 0.0, 0.0),
+        }
+    }
+}
+
+/// The horizontal position 1σ at `t` seconds since alignment, per term.
+pub fn predict(model: &NoiseModel, setup: &PredictionSetup, t: f64) -> Prediction {
+    let c = setup.attitude;
+    // The noise of the sensor's axes seen along level axis `i`.
+    let along = |axes: &[AxisNoise; 3], i: usize, f: fn(&AxisNoise) -> f64| -> f64 {
+        (0..3)
+            .map(|j| (c[i][j] * f(&axes[j])).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let g = setup.gravity;
+    let ta = setup.align_s;
+    let mut terms = Vec::with_capacity(PredictedTerm::ALL.len());
+    for term in PredictedTerm::ALL {
+        // Position along level x comes from the tilt about y and the
+        // specific force along x; along y, from the tilt about x.
+        let per_axis = |pos: usize| -> f64 {
+            let tilt_axis = 1 - pos;
+            let ng = along(&model.gyro, tilt_axis, |a| a.n);
+            let na = along(&model.accel, pos, |a| a.n);
+            match term {
+                PredictedTerm::GyroWhiteNoise => g * ng * t.powf(2.5) / 20f64.sqrt(),
+                PredictedTerm::AccelWhiteNoise => na * t.powf(1.5) / 3f64.sqrt(),
+                PredictedTerm::Levelling => 0.5 * na * t * t / ta.sqrt(),
+                PredictedTerm::GyroRateRandomWalk => {
+                    g * along(&model.gyro, tilt_axis, |a| a.k) * t.powf(3.5) / 252f64.sqrt()
+                }
+                PredictedTerm::GyroBiasFromAlignment if setup.gyro_bias_removed => {
+                    g * ng * t.powi(3) / (6.0 * ta.sqrt())
+                }
+                PredictedTerm::GyroBiasFromAlignment => 0.0,
+                PredictedTerm::AccelRateRandomWalk => {
+                    along(&model.accel, pos, |a| a.k) * t.powf(2.5) / 20f64.sqrt()
+                }
+                PredictedTerm::GyroBiasInstability => {
+                    g * along(&model.gyro, tilt_axis, |a| a.b) * t.powi(3) / 6.0
+                }
+                PredictedTerm::AccelBiasInstability => 0.5 * along(&model.accel, pos, |a| a.b) * t * t,
+            }
+        };
+        terms.push((term, per_axis(0).hypot(per_axis(1))));
+    }
+    let total_m = terms.iter().map(|(_, v)| v * v).sum::<f64>().sqrt();
+    Prediction {
+        t_s: t,
+        terms,
+        total_m,
+    }
+}
+
+/// A gyro bias ε (rad/s) constant after alignment moves the position by
+/// g·ε·t³/6 along the axis it tilts: the deterministic law, m.
+pub fn gyro_bias_drift(gravity: f64, bias: f64, t: f64) -> f64 {
+    gravity * bias * t.powi(3) / 6.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn level_white_noise_is_the_closed_form_on_two_axes() {
+        let n = AxisNoise {
+            n: 2e-4,
+            b: 0.0,
+            k: 0.0,
+        };
+        let a = AxisNoise {
+            n: 3e-3,
+            b: 0.0,
+            k: 0.0,
+        };
+        let model = NoiseModel {
+            gyro: [n; 3],
+            accel: [a; 3],
+        };
+        let setup = PredictionSetup::level(9.8, 10.0, false);
+        let p = predict(&model, &setup, 60.0);
+        // Written out by hand from the table, per axis, then √2 for two.
+        let axis = ((9.8 * 2e-4 * 60f64.powf(2.5) / 20f64.sqrt()).powi(2)
+            + (3e-3 * 60f64.powf(1.5) / 3f64.sqrt()).powi(2)
+            + (0.5 * 3e-3 * 3600.0 / 10f64.sqrt()).powi(2))
+        .sqrt();
+        assert!((p.total_m - axis * 2f64.sqrt()).abs() < 1e-12 * axis);
+        // A rotation about the vertical leaves the level prediction as it was.
+        let mut turned = setup;
+        turned.attitude = imusim::earth::body_to_level(0.0, 0.0, 0.7);
+        assert!((predict(&model, &turned, 60.0).total_m - p.total_m).abs() < 1e-9 * axis);
+    }
+}
