@@ -45,4 +45,37 @@ fn report_escapes_file_names_and_draws_every_figure() {
     // whose temperature changes two raw-data plots and six heat maps.
     assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 18);
     assert!(html.contains("Velocity random walk N"));
+    // Each run navigated without aiding, measured beside its prediction.
+    assert!(html.contains("Navigation without GNSS"));
+    let nav = &html[html.find("Navigation without GNSS").unwrap()..];
+    for run in [
+        "script&gt;.txt: horizontal position error",
+        "cooling.txt: horizontal position error",
+    ] {
+        assert!(nav.contains(run), "{run} missing from the navigation section");
+    }
+    assert!(!nav.contains("not navigated"));
+}
+
+#[test]
+fn a_recording_too_short_to_navigate_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let short = dir.path().join("short.txt");
+    Command::cargo_bin("imutherm")
+        .unwrap()
+        .args(["simulate", "--duration", "60", "--rate", "20", "-o"])
+        .arg(&short)
+        .assert()
+        .success();
+    let out = dir.path().join("rep");
+    Command::cargo_bin("imutherm")
+        .unwrap()
+        .arg("report")
+        .arg(&short)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success();
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("short.txt: not navigated"), "no reason given");
 }

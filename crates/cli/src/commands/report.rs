@@ -15,6 +15,7 @@ use crate::commands::experiment::{
     time_figures,
 };
 use crate::commands::info::recording_options;
+use crate::commands::ins::{navigate, six_channels};
 
 /// Temperature span from which a run gets its ADEV-over-temperature maps, °C.
 const SURFACE_SPAN_C: f64 = 5.0;
@@ -136,6 +137,8 @@ pub fn run(a: &ReportArgs) -> Result<()> {
         }
     }
 
+    navigation_section(&mut page, &a.files, &read)?;
+
     let path = a.out.join("report.html");
     // DIR is the report's own: its report.html is replaced (atomically),
     // unless it is one of the inputs.
@@ -148,5 +151,65 @@ pub fn run(a: &ReportArgs) -> Result<()> {
         },
     )?;
     println!("report: {}", path.display());
+    Ok(())
+}
+
+/// What each recording's noise costs in metres: navigated without aiding
+/// from a start point every 10 s, measured beside the closed-form
+/// prediction from its own noise terms (`imutherm ins` with its defaults).
+/// A recording that cannot be navigated (no six inertial axes, shorter than
+/// an alignment and a horizon) says why instead.
+fn navigation_section(
+    page: &mut Page,
+    files: &[std::path::PathBuf],
+    read: &imu::RecordingOptions,
+) -> Result<()> {
+    use ins::drift::report_times;
+    use ins::strapdown::NavOptions;
+
+    let every = 10.0;
+    let opts = NavOptions::default();
+    let times = report_times(120.0);
+    page.heading("Navigation without GNSS");
+    page.paragraph(&format!(
+        "Strapdown navigation of each static recording from a start point every {every} s, each levelled on \
+         its first {} s (heading 0: a MEMS gyro cannot gyrocompass) and navigated without aiding, so every \
+         metre is error. Predicted: the horizontal position 1σ from the recording's own noise terms (closed \
+         form per term, summed in quadrature). A temperature drift is in no prediction: on a run whose \
+         temperature changes, the measured error above the predicted is the temperature's.",
+        opts.align_s
+    ));
+    for f in files {
+        let sel = crate::commands::selection::read_channels(f, &[], read)?;
+        let navigated =
+            six_channels(f, &sel).and_then(|six| navigate(f, &six, sel.rate_hz, &opts, every, &times));
+        match navigated {
+            Ok(n) => {
+                let rows: Vec<Vec<String>> = n
+                    .rows
+                    .iter()
+                    .map(|r| {
+                        vec![
+                            format!("{}", r.measured.t_s),
+                            format!("{:.3}", r.measured.horizontal_position_m.rms),
+                            format!("{:.3}", r.measured.horizontal_position_m.p50),
+                            format!("{:.3}", r.measured.horizontal_position_m.p95),
+                            format!("{:.3}", r.predicted.total_m),
+                        ]
+                    })
+                    .collect();
+                page.table(
+                    &format!(
+                        "{}: horizontal position error against time since alignment, m ({} windows)",
+                        f.display(),
+                        n.windows
+                    ),
+                    &["t [s]", "RMS", "median", "95th percentile", "predicted 1σ"].map(String::from),
+                    &rows,
+                );
+            }
+            Err(e) => page.paragraph(&format!("{}: not navigated: {e:#}", f.display())),
+        }
+    }
     Ok(())
 }
