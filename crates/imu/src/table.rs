@@ -85,6 +85,8 @@ pub struct TableReader {
     names: Vec<String>,
     has_header: bool,
     comments: Vec<String>,
+    /// The line of each comment, 1-based.
+    comment_lines: Vec<u64>,
     delimiter: Delimiter,
     /// The first data row when the file has no header (it was read to find out).
     pending: Option<(u64, String)>,
@@ -183,6 +185,7 @@ impl TableReader {
         };
 
         let mut comments = Vec::new();
+        let mut comment_lines = Vec::new();
         let mut line_no = 0u64;
         let mut raw = Vec::new();
         let first = loop {
@@ -198,6 +201,7 @@ impl TableReader {
             if is_skipped(text.as_bytes()) {
                 if let Some(c) = text.trim_start().strip_prefix('#') {
                     comments.push(c.trim().to_string());
+                    comment_lines.push(line_no);
                 }
                 continue;
             }
@@ -223,6 +227,7 @@ impl TableReader {
             names,
             has_header,
             comments,
+            comment_lines,
             delimiter,
             pending,
             line_no,
@@ -248,6 +253,11 @@ impl TableReader {
     /// The `#` comment lines before the header or first row.
     pub fn comments(&self) -> &[String] {
         &self.comments
+    }
+
+    /// The line (1-based) of the `i`-th of [`TableReader::comments`].
+    pub fn comment_line(&self, i: usize) -> Option<u64> {
+        self.comment_lines.get(i).copied()
     }
 
     /// Finds a column by name (exact, then case-insensitive, then without its
