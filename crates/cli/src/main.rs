@@ -6,6 +6,7 @@
 
 mod args;
 mod commands;
+mod flags;
 
 use std::process::ExitCode;
 
@@ -30,7 +31,7 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
-            ExitCode::from(1)
+            ExitCode::from(if e.is::<flags::UsageError>() { 2 } else { 1 })
         }
     }
 }

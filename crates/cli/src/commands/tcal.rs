@@ -9,7 +9,7 @@ use serde_json::json;
 
 use imu::{LogFormat, RecordingOptions, read_recording, write_recording};
 use thermal::surface::{Slicing, surface};
-use thermal::tcal::{ChannelModel, FitOptions, Model, Order, Run, fit as fit_model};
+use thermal::tcal::{ChannelModel, FitOptions, Model, Run, fit as fit_model};
 
 use crate::args::{TcalApplyArgs, TcalEvalArgs, TcalFitArgs};
 use crate::commands::info::recording_options;
@@ -27,15 +27,7 @@ fn run_data(file: &Path, channels: &[String], read: &RecordingOptions) -> Result
 }
 
 pub fn fit(a: &TcalFitArgs) -> Result<()> {
-    let order = match a.order.to_ascii_lowercase().as_str() {
-        "auto" => Order::Auto,
-        n => Order::Fixed(
-            n.parse::<usize>()
-                .ok()
-                .filter(|&o| o <= 9)
-                .with_context(|| format!("--order {n}: expected auto or an order from 0 to 9"))?,
-        ),
-    };
+    let order = a.order;
     let read = recording_options(&a.read)?;
     let runs: Vec<(Selection, Vec<f64>)> = a
         .files
