@@ -461,4 +461,102 @@ mod tests {
         assert!(unit_override("gyro_x=furlong").is_err() && unit_override("=deg/s").is_err());
         assert!(time_unit("ms").is_ok() && time_unit("deg/s").is_err());
     }
+
+    /// The whole command line, its defaults included, is well formed
+    /// (clap's own consistency checks).
+    #[test]
+    fn the_command_line_is_consistent() {
+        use clap::CommandFactory;
+        crate::args::Cli::command().debug_assert();
+    }
+
+    /// Words the command line is made of, to build argument lists from.
+    const WORDS: &[&str] = &[
+        "adev",
+        "info",
+        "noise",
+        "thermal",
+        "tcal",
+        "fit",
+        "apply",
+        "eval",
+        "simulate",
+        "record",
+        "report",
+        "demo",
+        "--stat",
+        "--taus",
+        "--confidence",
+        "--rate",
+        "-r",
+        "--unit",
+        "--time-unit",
+        "--by",
+        "--bin-width",
+        "--window",
+        "--step",
+        "--order",
+        "--tref",
+        "--export",
+        "--device",
+        "--dlpf",
+        "--accel-range",
+        "--gyro-range",
+        "--duration",
+        "--sim-bus-errors",
+        "--sim-clock-ppm",
+        "--format",
+        "--units",
+        "--data-type",
+        "-o",
+        "--out",
+        "--json",
+        "--help",
+        "-h",
+        "--version",
+        "x.txt",
+        "1",
+        "0",
+        "-1",
+        "1e309",
+        "nan",
+        "68.3",
+        "0.683",
+        "auto",
+        "9",
+        "10",
+        "sim:counter",
+        "i2c@0x69",
+        "time",
+        "temp",
+        "oadev",
+        "many",
+        "1,2,3",
+        "gyro_x=deg/s",
+        "2h",
+        "=",
+        ",",
+        "",
+        "--",
+        "-",
+    ];
+
+    use proptest::strategy::Strategy as _;
+
+    proptest::proptest! {
+        /// Any argument list is parsed or refused, never a panic.
+        #[test]
+        fn any_arguments_are_parsed_or_refused(
+            args in proptest::collection::vec(
+                proptest::prop_oneof![
+                    proptest::sample::select(WORDS).prop_map(str::to_string),
+                    ".{0,12}",
+                ],
+                0..12,
+            )
+        ) {
+            use clap::Parser;
+            let _ = crate::args::Cli::try_parse_from(std::iter::once("imutherm".to_string()).chain(args));
+        }
+    }
 }
