@@ -467,3 +467,34 @@ fn absurd_slicings_of_a_recording_are_refused_before_the_analysis() {
         assert!(started.elapsed().as_secs_f64() < 5.0, "{args:?}");
     }
 }
+
+#[test]
+fn flags_that_cannot_go_together_are_usage_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.txt");
+    for (args, says) in [
+        (
+            &[
+                "--device",
+                "i2c:/dev/i2c-imutherm-none",
+                "--sim-bus-errors",
+                "0.01",
+            ][..],
+            "for --device sim only",
+        ),
+        (
+            &["--device", "sim", "--rate", "10", "--duration", "0.01"],
+            "less than one sample",
+        ),
+    ] {
+        imutherm()
+            .arg("record")
+            .args(args)
+            .arg("-o")
+            .arg(&out)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(says));
+    }
+    assert!(!out.exists());
+}

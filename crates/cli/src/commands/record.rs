@@ -19,7 +19,7 @@ use mpu9250::sim::{ADDRESS, SimChip, Source};
 use mpu9250::stream_clock::StreamClock;
 
 use crate::args::RecordArgs;
-use crate::flags::DeviceKind;
+use crate::flags::{DeviceKind, UsageError};
 
 /// The longest pause between FIFO reads. The FIFO holds 36 frames: 36 ms
 /// at 1 kHz, so reads come at least twice in that time at every rate.
@@ -77,7 +77,11 @@ pub fn run(a: &RecordArgs) -> Result<()> {
     if let Some(d) = duration
         && (d * rate).round() < 1.0
     {
-        bail!("--duration {d} s: less than one sample at {} Hz", hz(rate));
+        return Err(UsageError(format!(
+            "--duration {d} s: less than one sample at {} Hz",
+            hz(rate)
+        ))
+        .into());
     }
     let is_sim = matches!(a.device.kind, DeviceKind::Sim { .. });
     if !is_sim
@@ -86,10 +90,12 @@ pub fn run(a: &RecordArgs) -> Result<()> {
             || a.sim_clock_ppm != 0.0
             || a.sim_brownout_at.is_some())
     {
-        bail!(
+        return Err(UsageError(
             "--sim-bus-errors, --sim-stall-every, --sim-clock-ppm and --sim-brownout-at are for \
              --device sim only"
-        );
+                .to_string(),
+        )
+        .into());
     }
     // Refused before the sensor is touched; created once it is configured,
     // so that a sensor that fails leaves no empty file behind.
