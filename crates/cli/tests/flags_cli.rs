@@ -466,6 +466,18 @@ fn absurd_slicings_of_a_recording_are_refused_before_the_analysis() {
         // Refused, not attempted: the whole run, reading included, is quick.
         assert!(started.elapsed().as_secs_f64() < 5.0, "{args:?}");
     }
+    let model = dir.path().join("m.json");
+    let started = std::time::Instant::now();
+    imutherm()
+        .args(["tcal", "fit", "--bin-width", "1e-4"])
+        .arg(&run)
+        .arg("-o")
+        .arg(&model)
+        .assert()
+        .code(1)
+        .stderr(predicate::str::contains("at most 1000 are fitted"));
+    assert!(started.elapsed().as_secs_f64() < 5.0);
+    assert!(!model.exists());
 }
 
 #[test]
