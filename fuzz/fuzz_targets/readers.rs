@@ -22,13 +22,26 @@ fuzz_target!(|bytes: &[u8]| {
         if let Ok(r) = TableReader::open(&path) {
             let _ = r.read_with(None, &ReadPolicy { skip_bad_lines });
         }
-        let opts = RecordingOptions {
+        // As read by default, and with the overrides of the command line:
+        // a unit, a named time column and its unit.
+        let overrides = RecordingOptions {
+            rate_hz: Some(200.0),
+            units: vec![("gyro_x".into(), "deg/s".into()), ("2".into(), "mg".into())],
+            time_column: Some("t".into()),
+            time_unit: Some("ms".into()),
             skip_bad_lines,
-            ..RecordingOptions::default()
         };
-        if let Ok((rec, _)) = read_recording_with_report(&path, &opts) {
-            let n = rec.len();
-            assert!(rec.channels.iter().all(|c| c.data.len() == n));
+        for opts in [
+            RecordingOptions {
+                skip_bad_lines,
+                ..RecordingOptions::default()
+            },
+            overrides,
+        ] {
+            if let Ok((rec, _)) = read_recording_with_report(&path, &opts) {
+                let n = rec.len();
+                assert!(rec.channels.iter().all(|c| c.data.len() == n));
+            }
         }
     }
 });
