@@ -2,7 +2,13 @@
 
 use std::path::PathBuf;
 
+use clap::builder::PossibleValue;
 use clap::{Args, Parser, Subcommand};
+
+use allan::{DataType, Stat, TauSpec};
+use thermal::tcal::Order;
+
+use crate::flags::{self, Device};
 
 /// imutherm — tells the truth about low-cost MEMS IMUs and their temperature
 /// dependency: Allan statistics, noise terms, temperature compensation.
@@ -91,28 +97,28 @@ Status: a line on stderr, redrawn every second on a terminal, once a minute othe
 #[derive(Debug, Args)]
 pub struct RecordArgs {
     /// The sensor: i2c:/dev/i2c-1[@0x68], spi:/dev/spidev0.0 or sim[:PRESET].
-    #[arg(long, value_name = "DEVICE")]
-    pub device: String,
+    #[arg(long, value_name = "DEVICE", value_parser = flags::device)]
+    pub device: Device,
 
     /// Output rate, Hz (1 kHz / (1 + divider)).
-    #[arg(long, default_value_t = 200.0, value_name = "HZ")]
+    #[arg(long, default_value_t = 200.0, value_name = "HZ", value_parser = flags::chip_rate)]
     pub rate: f64,
 
     /// Accelerometer full scale, g (2, 4, 8, 16).
-    #[arg(long, default_value_t = 2.0, value_name = "G")]
+    #[arg(long, default_value_t = 2.0, value_name = "G", value_parser = flags::accel_range())]
     pub accel_range: f64,
 
     /// Gyroscope full scale, °/s (250, 500, 1000, 2000).
-    #[arg(long, default_value_t = 250.0, value_name = "DPS")]
+    #[arg(long, default_value_t = 250.0, value_name = "DPS", value_parser = flags::gyro_range())]
     pub gyro_range: f64,
 
     /// Gyro low-pass bandwidth, Hz (default: the widest below half the rate).
-    #[arg(long, value_name = "HZ")]
+    #[arg(long, value_name = "HZ", value_parser = flags::dlpf())]
     pub dlpf: Option<f64>,
 
     /// Stop after this long (3600, 90m, 2h…); default: until Ctrl-C.
-    #[arg(long, value_name = "D")]
-    pub duration: Option<String>,
+    #[arg(long, value_name = "D", value_parser = flags::duration)]
+    pub duration: Option<f64>,
 
     /// Output file (imutherm log).
     #[arg(long, short = 'o', value_name = "FILE")]
@@ -130,25 +136,31 @@ pub struct RecordArgs {
     pub host_time: bool,
 
     /// Simulated device only: fail this fraction of bus transfers (0.01 = 1 %).
-    #[arg(long, default_value_t = 0.0, value_name = "RATE")]
+    #[arg(long, default_value_t = 0.0, value_name = "RATE", value_parser = flags::error_fraction)]
     pub sim_bus_errors: f64,
 
     /// Simulated device only: pause reading for 0.5 s every this many
     /// seconds, as a slow host would, so that the FIFO overflows.
-    #[arg(long, value_name = "S")]
+    #[arg(long, value_name = "S", value_parser = flags::positive)]
     pub sim_stall_every: Option<f64>,
 
     /// Simulated device only: a brown-out this many seconds into the run
     /// (the chip's registers return to power-on values and it stops
     /// delivering until configured again).
-    #[arg(long, value_name = "S")]
+    #[arg(long, value_name = "S", value_parser = flags::brownout_at)]
     pub sim_brownout_at: Option<f64>,
 
     /// Simulated device only: the chip's clock error, ppm (a real
     /// MPU-9250 clocked from its gyro varies by ±1 % over temperature,
     /// PS-MPU-9250A-01 §4.15), which the logger measures and reports as
     /// rate_measured_hz.
-    #[arg(long, default_value_t = 0.0, value_name = "PPM", allow_hyphen_values = true)]
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        value_name = "PPM",
+        allow_hyphen_values = true,
+        value_parser = flags::clock_ppm
+    )]
     pub sim_clock_ppm: f64,
 }
 
@@ -164,7 +176,7 @@ pub struct ReportArgs {
 
     /// svg (the plots inline in report.html) or png (also every plot as a
     /// PNG file in DIR/figures).
-    #[arg(long, default_value = "svg", value_name = "svg|png")]
+    #[arg(long, default_value = "svg", value_name = "svg|png", value_parser = ["svg", "png"], ignore_case = true)]
     pub format: String,
 
     #[command(flatten)]
@@ -188,19 +200,25 @@ pub struct ThermalArgs {
     pub file: PathBuf,
 
     /// Slice by temperature bins or by sliding time windows.
-    #[arg(long, default_value = "temperature", value_name = "temperature|time")]
+    #[arg(
+        long,
+        default_value = "temperature",
+        value_name = "temperature|time",
+        value_parser = [PossibleValue::new("temperature").alias("temp"), PossibleValue::new("time")],
+        ignore_case = true
+    )]
     pub by: String,
 
     /// Width of a temperature bin, °C.
-    #[arg(long, default_value_t = 5.0, value_name = "C")]
+    #[arg(long, default_value_t = 5.0, value_name = "C", value_parser = flags::positive)]
     pub bin_width: f64,
 
     /// Length of a time window, s.
-    #[arg(long, default_value_t = 600.0, value_name = "S")]
+    #[arg(long, default_value_t = 600.0, value_name = "S", value_parser = flags::positive)]
     pub window: f64,
 
     /// Step between time windows, s (default: half a window).
-    #[arg(long, value_name = "S")]
+    #[arg(long, value_name = "S", value_parser = flags::positive)]
     pub step: Option<f64>,
 
     /// Channels, as for `adev` (default: the six inertial channels).
@@ -211,7 +229,7 @@ pub struct ThermalArgs {
     pub read: ReadArgs,
 
     /// Confidence level of the intervals.
-    #[arg(long, default_value_t = 0.683, value_name = "LEVEL")]
+    #[arg(long, default_value_t = 0.683, value_name = "LEVEL", value_parser = flags::confidence)]
     pub confidence: f64,
 
     /// Print one JSON document (schema imutherm.thermal/1).
@@ -231,7 +249,7 @@ pub struct DemoArgs {
 
     /// svg (the plots inline in report.html) or png (also every plot as a
     /// PNG file in DIR/figures).
-    #[arg(long, default_value = "svg", value_name = "svg|png")]
+    #[arg(long, default_value = "svg", value_name = "svg|png", value_parser = ["svg", "png"], ignore_case = true)]
     pub format: String,
 }
 
@@ -336,11 +354,11 @@ pub struct TcalFitArgs {
     pub files: Vec<PathBuf>,
 
     /// Polynomial order, or auto.
-    #[arg(long, default_value = "auto", value_name = "N|auto")]
-    pub order: String,
+    #[arg(long, default_value = "auto", value_name = "N|auto", value_parser = flags::order)]
+    pub order: Order,
 
     /// Reference temperature, °C (default: the middle of the fitted range).
-    #[arg(long, value_name = "C")]
+    #[arg(long, value_name = "C", value_parser = flags::finite)]
     pub tref: Option<f64>,
 
     /// Also fit a term in dT/dt (thermal lag: heating against cooling).
@@ -358,7 +376,7 @@ pub struct TcalFitArgs {
     pub for_firmware: Option<FirmwareArg>,
 
     /// Width of the averaging bins, °C.
-    #[arg(long, default_value_t = 1.0, value_name = "C")]
+    #[arg(long, default_value_t = 1.0, value_name = "C", value_parser = flags::positive)]
     pub bin_width: f64,
 
     /// Channels (default: the six inertial channels).
@@ -416,7 +434,7 @@ pub struct TcalEvalArgs {
 
     /// Also apply the exported parameters as the firmware does and show the
     /// bias left; print the parameter file, with the table as comments.
-    #[arg(long, value_enum, value_name = "px4|ardupilot")]
+    #[arg(long, value_enum, value_name = "px4|ardupilot", ignore_case = true)]
     pub export: Option<FirmwareArg>,
 
     /// With --export: apply this parameter file (a PX4 .params, an ArduPilot
@@ -458,11 +476,11 @@ pub struct SimulateArgs {
     pub profile: Option<String>,
 
     /// Duration (3600, 90m, 2h…), overriding the configuration's.
-    #[arg(long, value_name = "D")]
-    pub duration: Option<String>,
+    #[arg(long, value_name = "D", value_parser = flags::duration)]
+    pub duration: Option<f64>,
 
     /// Sample rate in Hz, overriding the configuration's.
-    #[arg(long, value_name = "HZ")]
+    #[arg(long, value_name = "HZ", value_parser = flags::positive)]
     pub rate: Option<f64>,
 
     /// Seed of the random streams, overriding the configuration's.
@@ -486,6 +504,11 @@ pub struct SimulateArgs {
     /// error; an input is never replaced).
     #[arg(long)]
     pub overwrite: bool,
+
+    /// Write a recording of more than 100 million values (rows × 7 columns,
+    /// about 2 GB), which is otherwise refused as a likely mistake.
+    #[arg(long)]
+    pub allow_large: bool,
 }
 
 const NOISE_EXAMPLES: &str = "\
@@ -522,11 +545,11 @@ pub struct NoiseArgs {
     /// Units of the printed terms: si (rad/√s, rad/s, rad/s/√s; m/s/√s, m/s²,
     /// m/s²/√s) or datasheet (°/√h, °/h, °/h/√h; m/s/√h, µg, µg/√s) — the thesis
     /// table uses °/√s and °/s for gyros in both.
-    #[arg(long, default_value = "si", value_name = "si|datasheet")]
+    #[arg(long, default_value = "si", value_name = "si|datasheet", value_parser = ["si", "datasheet"], ignore_case = true)]
     pub units: String,
 
     /// Confidence level of the intervals (fraction or percentage).
-    #[arg(long, default_value_t = 0.95, value_name = "LEVEL")]
+    #[arg(long, default_value_t = 0.95, value_name = "LEVEL", value_parser = flags::confidence)]
     pub confidence: f64,
 
     /// Also write Kalibr's imu.yaml (noise densities and random walks of the
@@ -566,12 +589,12 @@ unless --skip-bad-lines makes it a gap.";
 pub struct ReadArgs {
     /// Sample rate in Hz, overriding the file's metadata (`# sample_rate_hz:`)
     /// or time column. Without any of them: 1 Hz, with a note.
-    #[arg(long, short = 'r', value_name = "HZ")]
+    #[arg(long, short = 'r', value_name = "HZ", value_parser = flags::positive)]
     pub rate: Option<f64>,
 
     /// Unit of a column, overriding its header, converted to SI on reading:
     /// `--unit gyro_x=deg/s` (repeatable).
-    #[arg(long, value_name = "COL=UNIT")]
+    #[arg(long, value_name = "COL=UNIT", value_parser = flags::unit_override)]
     pub unit: Vec<String>,
 
     /// The time column (default: one named time, timestamp or t, or with a
@@ -580,7 +603,7 @@ pub struct ReadArgs {
     pub time_column: Option<String>,
 
     /// Unit of the time column when its header has none: s, ms, us or ns.
-    #[arg(long, value_name = "UNIT")]
+    #[arg(long, value_name = "UNIT", value_parser = flags::time_unit)]
     pub time_unit: Option<String>,
 
     /// Skip malformed rows instead of stopping: each becomes a gap and is
@@ -627,13 +650,13 @@ pub struct AdevArgs {
     /// Statistic: adev, oadev, mdev, tdev, hdev, ohdev, totdev, mtotdev,
     /// ttotdev, htotdev or theo1 (mtotdev/ttotdev/htotdev/theo1 without bias
     /// correction, as Stable32 and AllanTools print them).
-    #[arg(long, short = 's', default_value = "oadev", value_name = "S")]
-    pub stat: String,
+    #[arg(long, short = 's', default_value = "oadev", value_name = "S", value_parser = flags::stat())]
+    pub stat: Stat,
 
     /// Tau grid: octave, decade, all, many (log-spaced, 50 per decade), or a
     /// comma list of taus in seconds. Taus the data cannot support are dropped.
-    #[arg(long, short = 't', default_value = "octave", value_name = "T")]
-    pub taus: String,
+    #[arg(long, short = 't', default_value = "octave", value_name = "T", value_parser = flags::taus)]
+    pub taus: TauSpec,
 
     /// Channels to analyse, comma separated: imutherm names (gyro_x, accel_z),
     /// header names, 1-based column indices, or the groups gyro, accel,
@@ -647,12 +670,12 @@ pub struct AdevArgs {
 
     /// What the samples are: freq (rate samples, as an IMU gives) or phase
     /// (integrated samples).
-    #[arg(long, default_value = "freq", value_name = "freq|phase")]
-    pub data_type: String,
+    #[arg(long, default_value = "freq", value_name = "freq|phase", value_parser = flags::data_type())]
+    pub data_type: DataType,
 
     /// Confidence level of the intervals, as a fraction (0.683) or a
     /// percentage (68.3).
-    #[arg(long, default_value_t = 0.683, value_name = "LEVEL")]
+    #[arg(long, default_value_t = 0.683, value_name = "LEVEL", value_parser = flags::confidence)]
     pub confidence: f64,
 
     /// Print one JSON document (schema imutherm.adev/1) instead of tables.

@@ -6,6 +6,7 @@
 
 mod args;
 mod commands;
+mod flags;
 
 use std::process::ExitCode;
 
@@ -36,7 +37,7 @@ fn main() -> ExitCode {
         Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
-            ExitCode::from(1)
+            ExitCode::from(if e.is::<flags::UsageError>() { 2 } else { 1 })
         }
     }
 }

@@ -166,7 +166,7 @@ fn bad_input_names_file_line_and_column() {
 }
 
 #[test]
-fn usage_errors_exit_2_and_bad_values_exit_1() {
+fn usage_errors_and_bad_flag_values_exit_2() {
     imutherm().arg("adev").assert().code(2);
     imutherm().args(["adev", "--bogus", "x"]).assert().code(2);
     let (_d, p) = file("ok.txt", NBS14_10);
@@ -174,13 +174,13 @@ fn usage_errors_exit_2_and_bad_values_exit_1() {
         .args(["adev", "--stat", "fastdev"])
         .arg(&p)
         .assert()
-        .code(1)
+        .code(2)
         .stderr(predicate::str::contains("unknown statistic 'fastdev'"));
     imutherm()
         .args(["adev", "--rate", "0"])
         .arg(&p)
         .assert()
-        .code(1)
+        .code(2)
         .stderr(predicate::str::contains("--rate"));
     imutherm()
         .args(["adev", "--channels", "nope"])
@@ -243,7 +243,7 @@ fn imu_logs_default_to_the_inertial_channels_with_rate_from_metadata() {
         .args(["adev", "--unit", "gyro_x=furlong"])
         .arg(&p)
         .assert()
-        .code(1)
+        .code(2)
         .stderr(predicate::str::contains("unknown unit 'furlong'"));
 }
 

@@ -397,28 +397,33 @@ fn a_rate_the_chip_cannot_make_is_named_and_the_real_one_recorded() {
 #[test]
 fn a_missing_bus_is_a_clear_error() {
     let dir = tempfile::tempdir().unwrap();
-    for (device, says) in [
+    // A bus that is not there is found when opened (exit 1); a device the
+    // flag cannot name is a usage error (exit 2).
+    for (device, status, says) in [
         (
             "i2c:/dev/i2c-imutherm-none@0x68",
+            1,
             "opening /dev/i2c-imutherm-none",
         ),
         (
             "spi:/dev/spidev-imutherm-none",
+            1,
             "opening /dev/spidev-imutherm-none",
         ),
-        ("usb:0", "expected sim[:PRESET], i2c:"),
+        ("usb:0", 2, "expected sim[:PRESET], i2c:"),
         (
             "i2c:/dev/i2c-1@0x70",
+            2,
             "answers at 0x68 (AD0 low) or 0x69 (AD0 high), not 0x70",
         ),
-        ("i2c:/dev/i2c-1@68h", "'68h' is not an address like 0x68"),
+        ("i2c:/dev/i2c-1@68h", 2, "'68h' is not an address like 0x68"),
     ] {
         Command::cargo_bin("imutherm")
             .unwrap()
             .args(["record", "--device", device, "--duration", "1", "-o"])
             .arg(dir.path().join("x.txt"))
             .assert()
-            .code(1)
+            .code(status)
             .stderr(predicates::str::contains(says));
     }
 }

@@ -87,13 +87,15 @@ fn bad_configurations_exit_1_with_the_reason() {
         .args(["simulate", "--rate", "0", "-o"])
         .arg(&out)
         .assert()
-        .code(1)
-        .stderr(predicate::str::contains("rate_hz = 0"));
+        .code(2)
+        .stderr(predicate::str::contains(
+            "'--rate <HZ>': expected a positive number",
+        ));
     imutherm()
         .args(["simulate", "--duration", "ten minutes", "-o"])
         .arg(&out)
         .assert()
-        .code(1)
+        .code(2)
         .stderr(predicate::str::contains("duration 'ten minutes'"));
     let printed = imutherm()
         .args(["simulate", "--preset", "white", "--print-config"])

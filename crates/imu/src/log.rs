@@ -349,6 +349,28 @@ pub fn metadata_rate(meta: &Metadata) -> Option<f64> {
         .filter(|r| r.is_finite() && *r > 0.0)
 }
 
+/// A `# sample_rate_hz:` that is not a positive number of Hz, as a problem
+/// naming its line: ignored, it would otherwise leave the rate to a
+/// fallback without a word.
+fn bad_metadata_rate(reader: &TableReader, file_rate: Option<f64>) -> Option<Problem> {
+    if file_rate.is_some() {
+        return None;
+    }
+    // The last line with the key is the one parse_metadata kept.
+    let (i, value) = reader.comments().iter().enumerate().rev().find_map(|(i, c)| {
+        let (k, v) = c.split_once(':')?;
+        (k.trim() == KEY_RATE).then(|| (i, v.trim()))
+    })?;
+    Some(Problem {
+        kind: ProblemKind::BadMetadata,
+        line: reader.comment_line(i),
+        column: None,
+        channel: None,
+        count: 1,
+        message: format!("'# {KEY_RATE}: {value}' is not a positive number of Hz: ignored"),
+    })
+}
+
 fn classify(header: &str, unit_override: Option<(&str, UnitSource)>) -> ColumnKind {
     let (mut name, mut unit_text) = split_name_unit(header);
     // A number in brackets is an index, not a unit: PX4's ulog2csv writes
@@ -658,6 +680,7 @@ pub fn read_recording_from(
     let mut meta = parse_metadata(reader.comments());
     meta.source = Some(path.to_path_buf());
     let file_rate = metadata_rate(&meta);
+    let bad_rate = bad_metadata_rate(&reader, file_rate);
     let headers: Vec<String> = reader.names().to_vec();
     let from_meta = metadata_units(&meta);
     let kinds: Vec<ColumnKind> = headers
@@ -719,6 +742,9 @@ pub fn read_recording_from(
         rows,
         ..ReadReport::default()
     };
+    if let Some(p) = bad_rate {
+        report.push(p);
+    }
     for e in &table.problems {
         report.push(Problem::from_read_error(e));
     }
@@ -1195,5 +1221,42 @@ mod tests {
             assert!((g[slot] - f64::to_radians(deg)).abs() < 1e-15, "slot {slot}");
         }
         assert_eq!(rec.timestamps.as_ref().unwrap()[1], 0.01);
+    }
+
+    #[test]
+    fn an_unusable_rate_in_the_metadata_is_a_problem_naming_its_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("meta.txt");
+        for (value, bad) in [
+            ("abc", true),
+            ("-5", true),
+            ("nan", true),
+            ("", true),
+            ("200", false),
+        ] {
+            std::fs::write(
+                &p,
+                format!("# device: bench\n\n# sample_rate_hz: {value}\na,b\n1,2\n3,4\n"),
+            )
+            .unwrap();
+            let (rec, report) = read_recording_with_report(&p, &RecordingOptions::default()).unwrap();
+            let found = report
+                .problems
+                .iter()
+                .find(|p| p.kind == ProblemKind::BadMetadata);
+            if bad {
+                let found = found.unwrap_or_else(|| panic!("{value}: {:?}", report.problems));
+                assert_eq!(found.line, Some(3), "{value}");
+                assert!(
+                    found.message.contains(&format!("sample_rate_hz: {value}'")),
+                    "{}",
+                    found.message
+                );
+                assert_eq!(rec.rate_hz, None);
+            } else {
+                assert!(found.is_none(), "{:?}", report.problems);
+                assert_eq!(rec.rate_hz, Some(200.0));
+            }
+        }
     }
 }

@@ -26,6 +26,8 @@ pub enum ProblemKind {
     DuplicateTime,
     /// A timestamp earlier than the previous one; the sample is dropped.
     BackwardsTime,
+    /// A metadata line whose value cannot be used; it is ignored.
+    BadMetadata,
 }
 
 impl ProblemKind {
@@ -39,6 +41,7 @@ impl ProblemKind {
             ProblemKind::TimeGap => "time_gap",
             ProblemKind::DuplicateTime => "duplicate_time",
             ProblemKind::BackwardsTime => "backwards_time",
+            ProblemKind::BadMetadata => "bad_metadata",
         }
     }
 }

@@ -122,6 +122,8 @@ pub struct TableReader {
     names: Vec<String>,
     has_header: bool,
     comments: Vec<String>,
+    /// The line of each comment, 1-based.
+    comment_lines: Vec<u64>,
     delimiter: Delimiter,
     /// The first data row when the file has no header (it was read to find out).
     pending: Option<(u64, String)>,
@@ -290,6 +292,7 @@ impl TableReader {
         ));
 
         let mut comments = Vec::new();
+        let mut comment_lines = Vec::new();
         let mut line_no = 0u64;
         let mut raw = Vec::new();
         let (first, terminated) = loop {
@@ -332,6 +335,7 @@ impl TableReader {
                         .at(line_no, None));
                     }
                     comments.push(c.trim().to_string());
+                    comment_lines.push(line_no);
                 }
                 continue;
             }
@@ -372,6 +376,7 @@ impl TableReader {
             names,
             has_header,
             comments,
+            comment_lines,
             delimiter,
             pending,
             line_no,
@@ -404,6 +409,11 @@ impl TableReader {
     /// The `#` comment lines before the header or first row.
     pub fn comments(&self) -> &[String] {
         &self.comments
+    }
+
+    /// The line (1-based) of the `i`-th of [`TableReader::comments`].
+    pub fn comment_line(&self, i: usize) -> Option<u64> {
+        self.comment_lines.get(i).copied()
     }
 
     /// Finds a column by name (exact, then case-insensitive, then without its

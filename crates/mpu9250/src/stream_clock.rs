@@ -2,16 +2,23 @@
 //! when the FIFO had to be reset, the rate the chip really runs at, and a
 //! host timestamp for each sample.
 //!
-//! The chip's clock is its own (its internal oscillator, or the gyro's PLL),
-//! not the host's: counting samples from the start of a run by host time
-//! would be off by the clock's error times the run's length, and place every
-//! later gap wrongly. So every estimate here is local. A read at host time t
-//! that finds frames has its newest frame sampled within one period before
-//! t; a loss spans from the last good read to the first read with frames
-//! after the reset, and its size is that interval times the rate, less the
-//! frames the second read found. Both ends carry the same kind of lag, so
-//! the estimate is right to ±1 sample whatever the length of the run; the
-//! rate it uses is the one measured over the run's uninterrupted stretches.
+//! The stream has one clock: sample k of the run is taken at τ(k) = τ(0) +
+//! k/rate, on the chip's oscillator. A read at host time t that finds frames
+//! up to sample K says τ(K) ≤ t < τ(K) + 1/rate (the newest frame was
+//! sampled within one period before the read). The clock keeps the interval
+//! of host times that every read so far allows for the newest sample placed,
+//! carried forward by the rate and widened by the rate's uncertainty; reads
+//! with different lags narrow it to a fraction of a period. A loss (the FIFO
+//! reset) is sized from that absolute position: the newest sample at the
+//! first read after it is the last K with τ(K) ≤ t. So each gap is right to
+//! ±1 sample and, unlike sizing each from the host time between its two
+//! reads, the errors of successive gaps do not add up: the place of every
+//! sample stays tied to the stream's start.
+//!
+//! The chip's oscillator is its own (±1 % over temperature), so the rate is
+//! the one measured over the run's uninterrupted stretches, and the interval
+//! is carried only from read to read: the rate's error acts over the time
+//! between two reads, never over the whole run.
 //!
 //! ```
 //! use mpu9250::stream_clock::StreamClock;
@@ -27,6 +34,14 @@
 /// most 1/(5·rate), 0.1 % at 200 Hz, below the chip's clock tolerance.
 const MEASURED_AFTER_S: f64 = 5.0;
 
+/// Relative uncertainty of the nominal rate: the MPU-9250's clock varies by
+/// ±1 % over temperature (PS-MPU-9250A-01 §4.15), doubled for margin.
+const NOMINAL_UNCERTAINTY: f64 = 0.02;
+
+/// Floor of the measured rate's relative uncertainty: the chip's clock
+/// drifts with temperature during a run.
+const MEASURED_UNCERTAINTY_FLOOR: f64 = 1e-5;
+
 /// The clock model of one FIFO stream. Times are host seconds on any
 /// monotonic scale.
 #[derive(Debug, Clone)]
@@ -39,6 +54,18 @@ pub struct StreamClock {
     /// Frames and host time over uninterrupted stretches.
     clean_frames: u64,
     clean_s: f64,
+    /// Uninterrupted stretches so far: each of their ends lags by up to a
+    /// period, which bounds how well the rate is known.
+    stretches: u64,
+    /// Samples placed so far (rows: read and lost).
+    placed: u64,
+    /// Samples the stream has produced up to the newest one read, by its
+    /// clock; more than `placed` when a gap was judged short (the next gap
+    /// makes up for it), less when one was judged long.
+    produced: u64,
+    /// The host times (lo, hi] between which sample `produced` was taken.
+    lo_s: f64,
+    hi_s: f64,
 }
 
 impl StreamClock {
@@ -50,6 +77,13 @@ impl StreamClock {
             pending: false,
             clean_frames: 0,
             clean_s: 0.0,
+            stretches: 1,
+            placed: 0,
+            produced: 0,
+            // The first sample comes within one period after the start:
+            // the "sample before it" was taken within one period before.
+            lo_s: start_s - 1.0 / nominal_hz,
+            hi_s: start_s,
         }
     }
 
@@ -64,16 +98,86 @@ impl StreamClock {
         if n == 0 {
             return 0;
         }
-        if self.pending {
-            let span = (t_s - self.last_ok_s).max(0.0) * self.rate_hz();
+        let n = n as u64;
+        let lost = if self.pending {
             self.pending = false;
-            self.last_ok_s = t_s;
-            return (span.round() as u64).saturating_sub(n as u64);
-        }
-        self.clean_frames += n as u64;
-        self.clean_s += (t_s - self.last_ok_s).max(0.0);
+            // The frames just read are the newest; at least they came.
+            let j = self.newest_by(t_s).max(n);
+            self.advance(j, t_s);
+            self.stretches += 1;
+            // Where the stream is, less the rows written and read now.
+            self.produced.saturating_sub(self.placed + n)
+        } else {
+            self.clean_frames += n;
+            self.clean_s += (t_s - self.last_ok_s).max(0.0);
+            self.advance_clean(n, t_s);
+            0
+        };
+        self.placed += lost + n;
         self.last_ok_s = t_s;
-        0
+        lost
+    }
+
+    /// How many samples the stream has produced after the newest placed one
+    /// by host time `t_s`: the largest j with τ(placed − 1 + j) ≤ t_s, from
+    /// the middle of the interval carried forward.
+    fn newest_by(&self, t_s: f64) -> u64 {
+        let (lo, hi) = self.carried(0, t_s);
+        ((t_s - 0.5 * (lo + hi)) * self.rate_hz()).floor().max(0.0) as u64
+    }
+
+    /// The interval of the newest placed sample's time carried `j` samples
+    /// forward to a read at `t_s`, widened by the rate's uncertainty over
+    /// the time since the last read.
+    fn carried(&self, j: u64, t_s: f64) -> (f64, f64) {
+        let shift = j as f64 / self.rate_hz();
+        let widen = self.rate_uncertainty() * (t_s - self.last_ok_s).abs();
+        (self.lo_s + shift - widen, self.hi_s + shift + widen)
+    }
+
+    /// The stream produced `j` more samples, the newest of them read at
+    /// `t_s`: the interval narrows to what this read also allows (taken
+    /// within one period before it).
+    fn advance(&mut self, j: u64, t_s: f64) {
+        let (lo, hi) = self.carried(j, t_s);
+        let (read_lo, read_hi) = (t_s - 1.0 / self.rate_hz(), t_s);
+        let (lo, hi) = (lo.max(read_lo), hi.min(read_hi));
+        // Empty: the rate moved more than allowed. The read alone is what
+        // is known now.
+        (self.lo_s, self.hi_s) = if lo < hi { (lo, hi) } else { (read_lo, read_hi) };
+        self.produced += j;
+    }
+
+    /// `n` frames read with the FIFO intact since the last read. Should
+    /// the read put the newest of them a whole number of periods away from
+    /// where the clock expects it, the last gap was misjudged by that many
+    /// samples: the stream's count is corrected, and the next gap makes up
+    /// for it, so the error does not stay in the file for the rest of the
+    /// run.
+    fn advance_clean(&mut self, n: u64, t_s: f64) {
+        let rate = self.rate_hz();
+        let (lo, hi) = self.carried(n, t_s);
+        let (read_lo, read_hi) = (t_s - 1.0 / rate, t_s);
+        if lo.max(read_lo) >= hi.min(read_hi) {
+            let m = ((0.5 * (read_lo + read_hi) - 0.5 * (lo + hi)) * rate).round() as i64;
+            let (lo, hi) = (lo + m as f64 / rate, hi + m as f64 / rate);
+            if m != 0 && lo.max(read_lo) < hi.min(read_hi) && self.produced as i64 + m >= 0 {
+                self.produced = (self.produced as i64 + m) as u64;
+            }
+        }
+        self.advance(n, t_s);
+    }
+
+    /// Relative uncertainty of [`StreamClock::rate_hz`].
+    fn rate_uncertainty(&self) -> f64 {
+        if self.clean_s >= MEASURED_AFTER_S {
+            // The ends of each measuring stretch lag by up to a period, at
+            // random: the time they add up to errs by about √stretches
+            // periods (twice that for margin).
+            (2.0 * (self.stretches as f64).sqrt() / self.clean_frames as f64).max(MEASURED_UNCERTAINTY_FLOOR)
+        } else {
+            NOMINAL_UNCERTAINTY
+        }
     }
 
     /// The FIFO was reset (an overflow, or a read that broke off part-way):
@@ -91,7 +195,7 @@ impl StreamClock {
     /// pending.
     pub fn lost_until(&self, t_s: f64) -> u64 {
         if self.pending {
-            ((t_s - self.last_ok_s).max(0.0) * self.rate_hz()).round() as u64
+            (self.produced + self.newest_by(t_s)).saturating_sub(self.placed)
         } else {
             0
         }

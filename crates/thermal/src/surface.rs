@@ -53,6 +53,26 @@ pub struct SurfaceRow {
 /// Fewest samples a slice must hold to be analysed.
 pub const MIN_SLICE_SAMPLES: usize = 64;
 
+/// Most temperature bins a surface is cut into: 0.1 °C bins over 100 °C.
+/// Each bin costs a pass over the whole recording, so a finer request is
+/// refused before any work rather than left running for hours.
+pub const MAX_BINS: usize = 1000;
+
+/// Most time windows a surface is cut into; each is one OADEV curve.
+pub const MAX_WINDOWS: usize = 10_000;
+
+/// The temperature's resolution: the smallest step between two distinct
+/// finite values (the sensor's quantum, 1/333.87 °C for an MPU-9250,
+/// PS-MPU-9250A-01 Table 3). None for fewer than two distinct values.
+pub fn temperature_resolution(temp: &[f64]) -> Option<f64> {
+    let mut t: Vec<f64> = temp.iter().copied().filter(|t| t.is_finite()).collect();
+    t.par_sort_unstable_by(f64::total_cmp);
+    t.windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|&d| d > 0.0)
+        .min_by(f64::total_cmp)
+}
+
 /// The ADEV surface of `data` (rate samples at `rate_hz`) against the
 /// temperature `temp` (same length), sliced as asked.
 pub fn surface(
@@ -117,6 +137,20 @@ pub fn surface(
             if !lo.is_finite() {
                 return Err(ThermalError::NoTemperature);
             }
+            let bins = ((hi / bin_width_c).floor() - (lo / bin_width_c).floor()) + 1.0;
+            if bins > MAX_BINS as f64 {
+                return Err(ThermalError::Invalid(format!(
+                    "bins of {bin_width_c} °C over {lo:.2} to {hi:.2} °C would be {bins:.0} bins; \
+                     at most {MAX_BINS} are analysed: give a wider bin"
+                )));
+            }
+            if let Some(q) = temperature_resolution(temp)
+                && bin_width_c < q
+            {
+                return Err(ThermalError::Invalid(format!(
+                    "bins of {bin_width_c} °C are finer than the temperature's resolution, {q:.3e} °C"
+                )));
+            }
             let first = (lo / bin_width_c).floor() as i64;
             let last = (hi / bin_width_c).floor() as i64;
             Ok((first..=last)
@@ -138,12 +172,25 @@ pub fn surface(
                     "window {window_s} s and step {step_s} s must be positive"
                 )));
             }
+            if step_s * rate_hz < 1.0 {
+                return Err(ThermalError::Invalid(format!(
+                    "a step of {step_s} s is shorter than one sample ({:.3e} s at {rate_hz} Hz)",
+                    1.0 / rate_hz
+                )));
+            }
             let w = (window_s * rate_hz).round() as usize;
             let s = ((step_s * rate_hz).round() as usize).max(1);
             if w < MIN_SLICE_SAMPLES || w > data.len() {
                 return Err(ThermalError::Invalid(format!(
                     "a window of {window_s} s holds {w} samples; it must hold at least {MIN_SLICE_SAMPLES} and at most the {} of the recording",
                     data.len()
+                )));
+            }
+            let windows = (data.len() - w) / s + 1;
+            if windows > MAX_WINDOWS {
+                return Err(ThermalError::Invalid(format!(
+                    "a step of {step_s} s would cut {windows} windows; at most {MAX_WINDOWS} are analysed: \
+                     give a longer step"
                 )));
             }
             let starts: Vec<usize> = (0..=data.len() - w).step_by(s).collect();
@@ -159,5 +206,92 @@ pub fn surface(
                 })
                 .collect())
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A ramp from 20 to 80 °C quantized to the MPU-9250's 1/333.87 °C,
+    /// with white data.
+    fn ramp(n: usize) -> (Vec<f64>, Vec<f64>) {
+        let q = 1.0 / 333.87;
+        let temp = (0..n)
+            .map(|i| ((20.0 + 60.0 * i as f64 / n as f64) / q).round() * q)
+            .collect();
+        let data = (0..n).map(|i| ((i * 7919) % 101) as f64 - 50.0).collect();
+        (data, temp)
+    }
+
+    fn refused(slicing: Slicing, rate_hz: f64) -> String {
+        let (data, temp) = ramp(20_000);
+        match surface(&data, &temp, rate_hz, slicing, 0.683) {
+            Err(e) => e.to_string(),
+            Ok(rows) => panic!("{slicing:?}: {} rows, expected a refusal", rows.len()),
+        }
+    }
+
+    #[test]
+    fn the_resolution_is_the_sensors_quantum() {
+        let (_, temp) = ramp(20_000);
+        let q = temperature_resolution(&temp).unwrap();
+        assert!((q - 1.0 / 333.87).abs() < 1e-9, "{q}");
+        assert_eq!(temperature_resolution(&[25.0, 25.0, f64::NAN]), None);
+    }
+
+    #[test]
+    fn absurd_slicings_are_refused_before_any_work() {
+        let bins = refused(Slicing::Temperature { bin_width_c: 0.01 }, 100.0);
+        assert!(
+            bins.contains("6001 bins") && bins.contains("at most 1000"),
+            "{bins}"
+        );
+        // 0.06 °C bins over 60 °C are 1001; 0.061 °C fit the limit.
+        let (data, temp) = ramp(20_000);
+        let ok = surface(
+            &data,
+            &temp,
+            100.0,
+            Slicing::Temperature { bin_width_c: 0.061 },
+            0.683,
+        );
+        assert!(ok.is_ok());
+        let step = refused(
+            Slicing::Time {
+                window_s: 10.0,
+                step_s: 1e-6,
+            },
+            100.0,
+        );
+        assert!(step.contains("shorter than one sample"), "{step}");
+        let windows = refused(
+            Slicing::Time {
+                window_s: 1.0,
+                step_s: 0.01,
+            },
+            100.0,
+        );
+        assert!(windows.contains("19901 windows"), "{windows}");
+    }
+
+    #[test]
+    fn bins_finer_than_the_resolution_are_refused() {
+        // 0.1 °C of ramp: few bins, but narrower than the quantum.
+        let q = 1.0 / 333.87;
+        let temp: Vec<f64> = (0..2000)
+            .map(|i| (25.0 / q + (i / 100) as f64).round() * q)
+            .collect();
+        let data = vec![0.0; temp.len()];
+        let e = surface(
+            &data,
+            &temp,
+            100.0,
+            Slicing::Temperature { bin_width_c: 1e-4 },
+            0.683,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("finer than the temperature's resolution"), "{e}");
     }
 }

@@ -6,10 +6,9 @@ use anyhow::{Context, Result};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use allan::{Curve, DataType, Options, Stat, TauSpec};
+use allan::{Curve, DataType, Options, Stat};
 
 use crate::args::AdevArgs;
-use crate::commands::confidence::confidence_level;
 use crate::commands::info::recording_options;
 use crate::commands::info::unit_text;
 use crate::commands::selection::{Channel, read_channels};
@@ -71,16 +70,12 @@ pub fn run(a: &AdevArgs) -> Result<()> {
 }
 
 fn options(a: &AdevArgs) -> Result<Options> {
-    let stat: Stat = a.stat.parse()?;
-    let taus: TauSpec = a.taus.parse()?;
-    let data_type: DataType = a.data_type.parse()?;
-    let confidence = confidence_level(a.confidence)?;
     Ok(Options {
-        stat,
-        data_type,
+        stat: a.stat,
+        data_type: a.data_type,
         rate_hz: a.read.rate.unwrap_or(1.0),
-        taus,
-        confidence,
+        taus: a.taus.clone(),
+        confidence: a.confidence,
     })
 }
 

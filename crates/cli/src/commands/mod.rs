@@ -1,7 +1,6 @@
 //! One module per subcommand.
 
 pub mod adev;
-pub mod confidence;
 pub mod demo;
 pub mod experiment;
 pub mod info;

@@ -15,7 +15,6 @@ use imu::Quantity;
 use imu::units::STANDARD_GRAVITY;
 
 use crate::args::NoiseArgs;
-use crate::commands::confidence::confidence_level;
 use crate::commands::info::recording_options;
 use crate::commands::selection::{Channel, read_channels};
 
@@ -112,7 +111,7 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
         "datasheet" => Units::Datasheet,
         other => bail!("--units {other}: expected si or datasheet"),
     };
-    let confidence = confidence_level(a.confidence)?;
+    let confidence = a.confidence;
     let read = recording_options(&a.read)?;
     let mut temps = Vec::new();
     let mut rates = Vec::new();

@@ -19,7 +19,7 @@ use mpu9250::sim::{ADDRESS, SimChip, Source};
 use mpu9250::stream_clock::StreamClock;
 
 use crate::args::RecordArgs;
-use crate::commands::simulate::parse_duration;
+use crate::flags::{DeviceKind, UsageError};
 
 /// The longest pause between FIFO reads. The FIFO holds 36 frames: 36 ms
 /// at 1 kHz, so reads come at least twice in that time at every rate.
@@ -73,35 +73,29 @@ pub fn run(a: &RecordArgs) -> Result<()> {
             config.divider().unwrap_or(0)
         ));
     }
-    let duration = a.duration.as_deref().map(parse_duration).transpose()?;
-    if let (Some(d), Some(text)) = (duration, &a.duration)
+    let duration = a.duration;
+    if let Some(d) = duration
         && (d * rate).round() < 1.0
     {
-        bail!("--duration {text}: less than one sample at {} Hz", hz(rate));
+        return Err(UsageError(format!(
+            "--duration {d} s: less than one sample at {} Hz",
+            hz(rate)
+        ))
+        .into());
     }
-    let (kind, rest) = a.device.split_once(':').unwrap_or((a.device.as_str(), ""));
-    let is_sim = kind == "sim";
+    let is_sim = matches!(a.device.kind, DeviceKind::Sim { .. });
     if !is_sim
         && (a.sim_bus_errors > 0.0
             || a.sim_stall_every.is_some()
             || a.sim_clock_ppm != 0.0
             || a.sim_brownout_at.is_some())
     {
-        bail!(
+        return Err(UsageError(
             "--sim-bus-errors, --sim-stall-every, --sim-clock-ppm and --sim-brownout-at are for \
              --device sim only"
-        );
-    }
-    if let Some(at) = a.sim_brownout_at
-        && !(0.0..1e9).contains(&at)
-    {
-        bail!("--sim-brownout-at {at}: expected seconds from 0 to 1e9");
-    }
-    if a.sim_clock_ppm.is_nan() || a.sim_clock_ppm < -1e6 {
-        bail!(
-            "--sim-clock-ppm {}: a clock cannot run backwards (−1000000 stops it)",
-            a.sim_clock_ppm
-        );
+                .to_string(),
+        )
+        .into());
     }
     // Refused before the sensor is touched; created once it is configured,
     // so that a sensor that fails leaves no empty file behind.
@@ -112,9 +106,9 @@ pub fn run(a: &RecordArgs) -> Result<()> {
             inputs: &[],
         },
     )?;
-    match kind {
-        "sim" => {
-            let preset = if rest.is_empty() { "mpu9250-thesis" } else { rest };
+    match &a.device.kind {
+        DeviceKind::Sim { preset } => {
+            let preset = preset.as_str();
             let source = sim_source(preset, rate, &config)?;
             let imu = Mpu9250::new(I2cBus::new(SimChip::new(source), ADDRESS))
                 .map_err(|e| anyhow::anyhow!("{e}"))?;
@@ -158,37 +152,21 @@ pub fn run(a: &RecordArgs) -> Result<()> {
             )
         }
         #[cfg(target_os = "linux")]
-        "i2c" => {
+        DeviceKind::I2c { path, address } => {
             // i2c:/dev/i2c-1[@0x68]; `i2c` alone is the Pi's header bus.
-            let (path, address) = match rest.split_once('@') {
-                Some((p, addr)) => {
-                    let address =
-                        u8::from_str_radix(addr.trim_start_matches("0x"), 16).with_context(|| {
-                            format!("--device {}: '{addr}' is not an address like 0x68", a.device)
-                        })?;
-                    if !matches!(address, 0x68 | 0x69) {
-                        bail!(
-                            "--device {}: the MPU-9250 answers at 0x68 (AD0 low) or 0x69 (AD0 high), not 0x{address:02x}",
-                            a.device
-                        );
-                    }
-                    (p, address)
-                }
-                None => (rest, 0x68),
-            };
-            let path = if path.is_empty() { "/dev/i2c-1" } else { path };
+            let (path, address) = (path.as_str(), *address);
             let dev = linux_embedded_hal::I2cdev::new(path)
                 .with_context(|| format!("opening {path} (is I2C enabled, and may this user use it?)"))?;
             let imu = Mpu9250::new(I2cBus::new(dev, address))
                 .map_err(|e| anyhow::anyhow!("{path} @0x{address:02x}: {e}"))?;
-            record(imu, config, rate, duration, &a.device, a, |_| {})
+            record(imu, config, rate, duration, &a.device.text, a, |_| {})
         }
         #[cfg(target_os = "linux")]
-        "spi" => {
+        DeviceKind::Spi { path } => {
             use linux_embedded_hal::spidev::{SpiModeFlags, SpidevOptions};
             // spi:/dev/spidev0.0 (`spi` alone: CE0 of the Pi's header);
             // every register at ≤ 1 MHz (PS-MPU-9250A-01 §7.5).
-            let rest = if rest.is_empty() { "/dev/spidev0.0" } else { rest };
+            let rest = path.as_str();
             // The error's message already holds its cause: print it once.
             let mut dev = linux_embedded_hal::SpidevDevice::open(rest).map_err(|e| {
                 anyhow::anyhow!("opening {rest} (is SPI enabled, and may this user use it?): {e}")
@@ -202,11 +180,13 @@ pub fn run(a: &RecordArgs) -> Result<()> {
                 .with_context(|| format!("configuring {rest}"))?;
             let imu = Mpu9250::new(mpu9250::driver::SpiBus::new(dev))
                 .map_err(|e| anyhow::anyhow!("{rest}: {e}"))?;
-            record(imu, config, rate, duration, &a.device, a, |_| {})
+            record(imu, config, rate, duration, &a.device.text, a, |_| {})
         }
-        other => {
-            bail!("--device {other}: expected sim[:PRESET], i2c:/dev/i2c-N[@0x68] or spi:/dev/spidevB.C")
-        }
+        #[cfg(not(target_os = "linux"))]
+        _ => bail!(
+            "--device {}: I2C and SPI are read through Linux's i2c-dev and spidev",
+            a.device
+        ),
     }
 }
 

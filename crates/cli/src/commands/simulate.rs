@@ -11,30 +11,14 @@ use imusim::thermal::Profile;
 use imusim::{SimConfig, Simulator, presets};
 
 use crate::args::SimulateArgs;
+use crate::flags::UsageError;
 
-/// Parses a duration: plain seconds or a number with s, m or h.
-pub fn parse_duration(text: &str) -> Result<f64> {
-    let t = text.trim();
-    let (num, unit) = match t.char_indices().find(|(_, c)| c.is_ascii_alphabetic()) {
-        Some((i, _)) => (&t[..i], &t[i..]),
-        None => (t, "s"),
-    };
-    let factor = match unit {
-        "s" | "sec" => 1.0,
-        "m" | "min" => 60.0,
-        "h" => 3600.0,
-        "d" => 86400.0,
-        _ => bail!("duration '{text}': unit '{unit}' is not s, m, h or d"),
-    };
-    let v: f64 = num
-        .trim()
-        .parse()
-        .with_context(|| format!("duration '{text}': '{num}' is not a number"))?;
-    if !(v.is_finite() && v > 0.0) {
-        bail!("duration '{text}': must be positive");
-    }
-    Ok(v * factor)
-}
+/// Values a simulated recording may hold without `--allow-large`: at about
+/// 19 bytes a value, 2 GB of text (24 h at 100 Hz is 60 million). More is
+/// far more often a slip (`--rate 1e9`) than a wish, and would fill a disk.
+const MAX_VALUES: f64 = 1e8;
+/// Columns of a simulated log: ax, ay, az, gx, gy, gz, temperature.
+const LOG_COLUMNS: f64 = 7.0;
 
 fn configuration(a: &SimulateArgs) -> Result<(SimConfig, String)> {
     let (mut cfg, source) = match (&a.config, &a.preset) {
@@ -60,8 +44,8 @@ fn configuration(a: &SimulateArgs) -> Result<(SimConfig, String)> {
     if let Some(p) = &a.profile {
         cfg.profile = Profile::parse(p)?;
     }
-    if let Some(d) = &a.duration {
-        cfg.duration_s = parse_duration(d)?;
+    if let Some(d) = a.duration {
+        cfg.duration_s = d;
     }
     if let Some(r) = a.rate {
         cfg.rate_hz = r;
@@ -86,6 +70,18 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
     let Some(out) = &a.output else {
         bail!("give an output file with -o FILE");
     };
+    let values = cfg.duration_s * cfg.rate_hz * LOG_COLUMNS;
+    if values > MAX_VALUES && !a.allow_large {
+        return Err(UsageError(format!(
+            "{} s at {} Hz is {:.3e} samples × {LOG_COLUMNS} columns = {values:.3e} values (about {:.0} GB); \
+             more than {MAX_VALUES:.0e} is refused as a likely mistake: pass --allow-large to write it",
+            cfg.duration_s,
+            cfg.rate_hz,
+            cfg.duration_s * cfg.rate_hz,
+            values * 19e-9,
+        ))
+        .into());
+    }
     let sim = Simulator::new(cfg)?;
     let total = sim.config().samples();
     let bar = ProgressBar::new(total).with_style(
@@ -126,26 +122,4 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
         started.elapsed().as_secs_f64()
     );
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::parse_duration;
-
-    #[test]
-    fn durations() {
-        for (text, s) in [
-            ("2h", 7200.0),
-            ("90m", 5400.0),
-            ("3600s", 3600.0),
-            ("3600", 3600.0),
-            ("1.5h", 5400.0),
-            (" 10 min", 600.0),
-        ] {
-            assert_eq!(parse_duration(text).unwrap(), s, "{text}");
-        }
-        for bad in ["", "h", "ten minutes", "-5s", "0", "3 weeks", "nan", "inf"] {
-            assert!(parse_duration(bad).is_err(), "{bad}");
-        }
-    }
 }

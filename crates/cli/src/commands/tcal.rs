@@ -31,15 +31,7 @@ fn run_data(file: &Path, channels: &[String], read: &RecordingOptions) -> Result
 }
 
 pub fn fit(a: &TcalFitArgs) -> Result<()> {
-    let order = match a.order.to_ascii_lowercase().as_str() {
-        "auto" => Order::Auto,
-        n => Order::Fixed(
-            n.parse::<usize>()
-                .ok()
-                .filter(|&o| o <= 9)
-                .with_context(|| format!("--order {n}: expected auto or an order from 0 to 9"))?,
-        ),
-    };
+    let order = a.order;
     let firmware = a.for_firmware.map(Firmware::from);
     if let (Some(fw), Order::Fixed(n)) = (firmware, order)
         && n > Firmware::MAX_ORDER
@@ -75,6 +67,7 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
             ));
         }
     }
+    check_bins(runs.iter().map(|(_, t)| t.as_slice()), a.bin_width)?;
     let columns: Vec<Vec<(String, String, &[f64])>> = runs
         .iter()
         .map(|(sel, _)| {
@@ -217,6 +210,28 @@ pub fn apply(a: &TcalApplyArgs) -> Result<()> {
         .with_context(|| format!("writing {}", a.output.display()))?;
     file.commit()?;
     eprintln!("wrote {}", a.output.display());
+    Ok(())
+}
+
+/// Most averaging bins a fit is asked for: 0.1 °C bins over 100 °C. Finer
+/// bins hold a sample or two each, and the cross-validation over them would
+/// run for hours; refused before the fit starts.
+const MAX_FIT_BINS: f64 = 1000.0;
+
+fn check_bins<'a>(temps: impl Iterator<Item = &'a [f64]>, width: f64) -> Result<()> {
+    let (lo, hi) = temps
+        .flatten()
+        .filter(|t| t.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &t| {
+            (a.min(t), b.max(t))
+        });
+    let bins = ((hi - lo) / width).floor() + 1.0;
+    if bins > MAX_FIT_BINS {
+        bail!(
+            "--bin-width {width}: bins over {lo:.2} to {hi:.2} °C would be {bins:.0}; at most \
+             {MAX_FIT_BINS} are fitted: give a wider bin"
+        );
+    }
     Ok(())
 }
 

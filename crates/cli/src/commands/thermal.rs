@@ -10,14 +10,13 @@ use allan::noise_terms::{Term, TermEstimate};
 use thermal::surface::{Slicing, SurfaceRow, surface};
 
 use crate::args::ThermalArgs;
-use crate::commands::confidence::confidence_level;
 use crate::commands::info::recording_options;
 use crate::commands::selection::read_channels;
 
 const SCHEMA: &str = "imutherm.thermal/1";
 
 pub fn run(a: &ThermalArgs) -> Result<()> {
-    let confidence = confidence_level(a.confidence)?;
+    let confidence = a.confidence;
     let slicing = match a.by.to_ascii_lowercase().as_str() {
         "temperature" | "temp" => Slicing::Temperature {
             bin_width_c: a.bin_width,
