@@ -69,7 +69,11 @@
 //! relative precision: at N = 10^6 and m = 16, 2·10^14, leaving about
 //! two digits where the tests hold eleven against the straightforward sum
 //! and nine against AllanTools. Forming each window's differences before squaring,
-//! as here, is what keeps it, and costs O(m) per window.
+//! as here, is what keeps it, and costs O(m) per window. Regrouping the
+//! products of the phase or of the rates instead of the partial sums only
+//! moves the problem: it shrinks the factor for the noise whose
+//! differences are white, but for random-walk FM the rates themselves
+//! wander and their products again exceed the result by a power of N/m.
 
 use super::Estimate;
 
