@@ -156,7 +156,7 @@ pub fn analyze_series(series: &PhaseSeries, opts: &Options) -> Result<Vec<Point>
             if est.n < MIN_TERMS || !est.dev.is_finite() {
                 return None;
             }
-            Some((m, est, noise_id::identify(clean, m, stat)))
+            Some((m, est, noise_id::identify_finite(clean, m, stat)))
         })
         .collect();
     let mut ids: Vec<NoiseId> = found.iter().map(|f| f.2).collect();

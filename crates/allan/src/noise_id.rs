@@ -177,6 +177,24 @@ pub fn cap_by_shorter_tau(ids: &mut [NoiseId]) {
 /// The result is clamped to −2..=2 for the Allan family and −4..=2 for the
 /// Hadamard family. Never panics.
 pub fn identify(phase: &[f64], m: usize, stat: Stat) -> NoiseId {
+    identify_checked(phase, m, stat, false)
+}
+
+/// [`identify`] on a series expected to be finite throughout, such as the
+/// clean stretch of a [`crate::PhaseSeries`] (which refuses infinite
+/// samples and whose clean stretch holds no gap). It skips [`identify`]'s
+/// scan of every point before the B1 method, which with every τ on the
+/// grid made noise identification O(N) per τ, hence O(N²) per curve; the
+/// B1 method then checks only the decimated points it reads, and R(n) its
+/// own sums. On finite data the result is identical to [`identify`]'s
+/// (checked by a property test); the cost per τ is O(N/m) wherever the
+/// lag-1 ACF or the B1 ratio decides, and O(N) only where R(n) must split
+/// white from flicker PM.
+pub(crate) fn identify_finite(phase: &[f64], m: usize, stat: Stat) -> NoiseId {
+    identify_checked(phase, m, stat, true)
+}
+
+fn identify_checked(phase: &[f64], m: usize, stat: Stat, finite: bool) -> NoiseId {
     let (alpha_min, d_max) = family_limits(stat);
     if m == 0 {
         return NoiseId::assumed(DEFAULT_ALPHA);
@@ -194,7 +212,7 @@ pub fn identify(phase: &[f64], m: usize, stat: Stat) -> NoiseId {
     }
     // The ACF path checks the points it uses; this one scans them all, but
     // runs only at the largest factors, where too few points remain.
-    if phase.iter().any(|v| !v.is_finite()) {
+    if !finite && phase.iter().any(|v| !v.is_finite()) {
         return NoiseId::assumed(DEFAULT_ALPHA);
     }
     if let Some((alpha, b1, rn)) = b1_id(phase, m, alpha_min) {
@@ -331,6 +349,9 @@ fn b1_id(phase: &[f64], m: usize, alpha_min: i32) -> Option<(i32, f64, Option<f6
     }
     // Rate averages over m samples (any common scale cancels in the ratio).
     let y: Vec<f64> = (0..n_avg).map(|k| phase[(k + 1) * m] - phase[k * m]).collect();
+    if !y.iter().all(|v| v.is_finite()) {
+        return None;
+    }
     let n = n_avg as f64;
     let mean = y.iter().sum::<f64>() / n;
     let var = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
@@ -368,6 +389,12 @@ fn b1_id(phase: &[f64], m: usize, alpha_min: i32) -> Option<(i32, f64, Option<f6
 
 /// R(n) = MVAR/AVAR at averaging factor m, both overlapped estimators on the
 /// full phase series (SP 1065 eqs. 11 and 15; τ cancels).
+///
+/// O(N): the only part of the identification that reads the whole series,
+/// run where B1 cannot tell white from flicker PM. The AVAR sum, the
+/// running MVAR window and the MVAR sum are three dependency chains; one
+/// pass advances them together so they overlap in the pipeline, each
+/// summing in index order as before (the result is bit for bit the same).
 fn modified_to_allan_ratio(x: &[f64], m: usize) -> Option<f64> {
     let n = x.len();
     let terms_mod = n.checked_sub(3 * m)?.checked_add(1)?;
@@ -376,18 +403,26 @@ fn modified_to_allan_ratio(x: &[f64], m: usize) -> Option<f64> {
     }
     let second = |i: usize| x[i + 2 * m] - 2.0 * x[i + m] + x[i];
     let terms_avar = n - 2 * m;
-    let avar = (0..terms_avar).map(|i| second(i).powi(2)).sum::<f64>() / terms_avar as f64;
     // Running sum of m consecutive second differences.
     let mut window: f64 = (0..m).map(second).sum();
     let mut mvar = window * window;
-    for j in 1..terms_mod {
-        window += second(j + m - 1) - second(j - 1);
+    let mut avar = 0.0;
+    // MVAR window j = i + 1 drops second(i) and takes second(i + m).
+    for i in 0..terms_mod - 1 {
+        let s = second(i);
+        avar += s * s;
+        window += second(i + m) - s;
         mvar += window * window;
     }
+    for i in terms_mod - 1..terms_avar {
+        let s = second(i);
+        avar += s * s;
+    }
+    let avar = avar / terms_avar as f64;
     let mf = m as f64;
     let mvar = mvar / (terms_mod as f64 * mf * mf);
     let rn = mvar / avar;
-    (rn.is_finite() && avar > 0.0).then_some(rn)
+    (rn.is_finite() && avar.is_finite() && mvar.is_finite() && avar > 0.0).then_some(rn)
 }
 
 #[cfg(test)]
@@ -569,6 +604,27 @@ mod tests {
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(24))]
 
+        /// On finite data the identification without the full finiteness
+        /// scan gives the same result at every factor, through the ACF, the
+        /// B1 ratio (with and without R(n)) and the assumed default.
+        #[test]
+        fn identify_finite_equals_identify(seed in any::<u64>(), len in 5usize..400, kind in 0usize..3) {
+            let mut rng = SplitMix(seed);
+            let white = rng.white(len);
+            let data = match kind {
+                0 => white,             // white PM: B1 then R(n)
+                1 => cumsum(&white),    // white FM
+                _ => cumsum(&cumsum(&white)), // random-walk FM
+            };
+            for m in 1..=data.len() / 2 {
+                for stat in [Stat::Oadev, Stat::Hdev, Stat::Mtotdev] {
+                    let a = identify(&data, m, stat);
+                    let b = identify_finite(&data, m, stat);
+                    prop_assert_eq!(a, b, "m={} {}", m, stat);
+                }
+            }
+        }
+
         /// White FM: i.i.d. rate samples integrated to phase → α = 0.
         #[test]
         fn white_fm_is_identified(seed in any::<u64>()) {
@@ -649,6 +705,45 @@ mod tests {
         assert_eq!(mu_to_alpha(-1), 0);
         assert_eq!(mu_to_alpha(1), -2);
         assert_eq!(mu_to_alpha(3), -4);
+    }
+
+    /// R(n) as first written, one estimator after the other: the
+    /// reference for the fused pass.
+    fn modified_to_allan_ratio_in_turn(x: &[f64], m: usize) -> Option<f64> {
+        let n = x.len();
+        let terms_mod = n.checked_sub(3 * m)?.checked_add(1)?;
+        if terms_mod == 0 {
+            return None;
+        }
+        let second = |i: usize| x[i + 2 * m] - 2.0 * x[i + m] + x[i];
+        let terms_avar = n - 2 * m;
+        let avar = (0..terms_avar).map(|i| second(i).powi(2)).sum::<f64>() / terms_avar as f64;
+        let mut window: f64 = (0..m).map(second).sum();
+        let mut mvar = window * window;
+        for j in 1..terms_mod {
+            window += second(j + m - 1) - second(j - 1);
+            mvar += window * window;
+        }
+        let mf = m as f64;
+        let mvar = mvar / (terms_mod as f64 * mf * mf);
+        let rn = mvar / avar;
+        (rn.is_finite() && avar > 0.0).then_some(rn)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// The fused pass gives R(n) bit for bit, at every factor.
+        #[test]
+        fn fused_rn_equals_rn_in_turn(seed in any::<u64>(), len in 1usize..300, kind in 0usize..2) {
+            let white = SplitMix(seed).white(len);
+            let x = if kind == 0 { white } else { cumsum(&white) };
+            for m in 1..=len {
+                let a = modified_to_allan_ratio(&x, m);
+                let b = modified_to_allan_ratio_in_turn(&x, m);
+                prop_assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "m={}", m);
+            }
+        }
     }
 
     #[test]

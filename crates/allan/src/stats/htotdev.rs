@@ -37,6 +37,13 @@
 //! O((N − 3m)·m) time, about 2 ns per window and unit of m on one x86-64
 //! core, and O(1) scratch (3 × 256 per-window values). At m = 1 the OHDEV
 //! of the crate is used, which copies the series once (O(N)).
+//!
+//! HTOT is MTOT's folded sum on the rate windows, so it stays O(N·m) per τ
+//! for the reasons given in [`super::mtotdev`] ("Why not below O(N·m) per
+//! τ"): the reflection makes every window's sum a self-convolution about
+//! its own centre, which no running sum carries to the next window, and
+//! regrouping by lag squares partial sums before differencing them, which
+//! loses the digits the reference tests hold.
 
 use super::Estimate;
 use super::mtotdev::{Folds, Sum, valid_tau0};
@@ -265,6 +272,29 @@ mod tests {
             let want = htotvar_direct(&x, m, 0.25).sqrt();
             let got = htotdev(&x, m, 0.25).unwrap().dev;
             assert!(rel(got, want) < 1e-11, "m={m}: {got} vs {want}");
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+        /// The folded, blocked sum equals SP 1065 eq. 29 built out in full
+        /// on the rate values, on random lengths (one or several blocks of
+        /// windows), factors m ≥ 2, offsets and sampling intervals.
+        #[test]
+        fn folded_sum_equals_direct_on_random_lengths(
+            len in 7usize..420,
+            pick in 0.0f64..1.0,
+            seed in proptest::prelude::any::<u64>(),
+            offset in -1e3f64..1e3,
+            tau0 in 1e-3f64..10.0,
+        ) {
+            let x: Vec<f64> = walk(len, seed).iter().map(|v| v + offset).collect();
+            let m = 2 + (((len - 1) / 3 - 2) as f64 * pick) as usize;
+            let want = htotvar_direct(&x, m, tau0).sqrt();
+            let got = htotdev(&x, m, tau0).unwrap();
+            proptest::prop_assert!(rel(got.dev, want) < 1e-11, "len={} m={}: {} vs {}", len, m, got.dev, want);
+            proptest::prop_assert_eq!(got.n, len - 3 * m);
         }
     }
 

@@ -1,0 +1,125 @@
+//! Per-τ cost of the `allan` statistics engine, in-process, release build:
+//!
+//! - the total deviations and Thêo1 at a few averaging factors, as time per
+//!   window and unit of m (their cost is O((N − 3m)·m) per τ);
+//! - `analyze` with every τ (`TauSpec::All`) against the statistic alone,
+//!   the difference being noise identification, EDF and intervals.
+//!
+//! cargo run --release -p allan --example allan_per_tau [N]
+//!
+//! N defaults to 10^5 (the every-τ part runs only up to 2·10^5). The rate
+//! series is reproducible white noise (white FM) and its running sum
+//! (random-walk FM), so the lag-1 ACF, B1 and R(n) paths all run.
+
+use std::time::Instant;
+
+use allan::stats::{htotdev, mtotdev, theo1};
+use allan::{DataType, Options, PhaseSeries, Stat, TauSpec, analyze_series, stats, taus};
+
+/// xorshift64 uniform in [−0.5, 0.5): reproducible, no dependency.
+fn white(len: usize, seed: u64) -> Vec<f64> {
+    let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    (0..len)
+        .map(|_| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        })
+        .collect()
+}
+
+/// Best of `reps` runs of `f`, in seconds.
+fn best<T>(reps: usize, mut f: impl FnMut() -> T) -> f64 {
+    (0..reps)
+        .map(|_| {
+            let t0 = Instant::now();
+            std::hint::black_box(f());
+            t0.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+fn main() {
+    let n: usize = std::env::args()
+        .nth(1)
+        .map(|a| a.parse().expect("N is a positive integer"))
+        .unwrap_or(100_000);
+    let rate = white(n, 7);
+    let series = PhaseSeries::new(&rate, DataType::Freq, 1.0).expect("finite samples");
+    let phase = series.points();
+    println!("N = {n} rate samples ({} phase points)", phase.len());
+
+    println!("\n-- total deviations and Thêo1, one τ each --");
+    println!(
+        "{:<8} {:>8} {:>10} {:>14}",
+        "stat", "m", "time s", "ns/(window·m)"
+    );
+    for m in [16usize, 256, 4096] {
+        if 3 * m >= phase.len() {
+            continue;
+        }
+        let windows = (phase.len() - 3 * m) as f64;
+        let runs: [(&str, f64); 3] = [
+            ("mtotdev", best(1, || mtotdev::mtotdev(phase, m, 1.0))),
+            ("htotdev", best(1, || htotdev::htotdev(phase, m, 1.0))),
+            ("theo1", best(1, || theo1::theo1(phase, m, 1.0))),
+        ];
+        for (name, t) in runs {
+            let per = if name == "theo1" {
+                // (N − m)·m/2 terms.
+                t * 1e9 / ((phase.len() - m) as f64 * m as f64 / 2.0)
+            } else {
+                t * 1e9 / (windows * m as f64)
+            };
+            println!("{name:<8} {m:>8} {t:>10.4} {per:>14.3}");
+        }
+    }
+
+    if n > 200_000 {
+        // Every τ is O(N²) in all: minutes at 10^6 on a small machine.
+        println!("\n(analyze with every τ skipped above N = 200000)");
+        return;
+    }
+    println!("\n-- analyze with every τ: statistic alone against the whole curve --");
+    println!(
+        "{:<8} {:>6} {:>10} {:>10} {:>10} {:>9}",
+        "stat", "taus", "stat s", "curve s", "rest s", "rest/stat"
+    );
+    for (label, data) in [("wfm", rate.clone()), ("rwfm", integrate(&rate))] {
+        let s = PhaseSeries::new(&data, DataType::Freq, 1.0).expect("finite samples");
+        for stat in [Stat::Oadev, Stat::Hdev] {
+            let ms = taus::averaging_factors(&TauSpec::All, stat, s.len(), s.tau0());
+            let t_stat = best(3, || stats::compute_many(stat, &s, &ms));
+            let opts = Options {
+                stat,
+                taus: TauSpec::All,
+                ..Options::default()
+            };
+            let t_curve = best(3, || {
+                analyze_series(&s, &opts).expect("the series supports the grid")
+            });
+            let rest = t_curve - t_stat;
+            println!(
+                "{:<8} {:>6} {:>10.4} {:>10.4} {:>10.4} {:>9.3}   ({label})",
+                stat.name(),
+                ms.len(),
+                t_stat,
+                t_curve,
+                rest,
+                rest / t_stat
+            );
+        }
+    }
+}
+
+/// Running sum, a random-walk FM rate from a white FM one.
+fn integrate(y: &[f64]) -> Vec<f64> {
+    let mut acc = 0.0;
+    y.iter()
+        .map(|v| {
+            acc += v;
+            acc
+        })
+        .collect()
+}
