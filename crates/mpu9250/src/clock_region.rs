@@ -106,6 +106,14 @@ impl ClockRegion {
         while self.vertices.len() > MAX_VERTICES && self.drop_an_edge() {}
     }
 
+    /// Grows the polygon to hold `other` too (the convex hull of both).
+    pub(crate) fn merge(&mut self, other: &ClockRegion) {
+        let mut points = std::mem::take(&mut self.vertices);
+        points.extend_from_slice(&other.vertices);
+        self.vertices = hull(points);
+        while self.vertices.len() > MAX_VERTICES && self.drop_an_edge() {}
+    }
+
     /// Removes the edge whose removal grows the polygon least: its two
     /// neighbours are extended to where they meet, which keeps every point
     /// the polygon held. False when no edge can go (every pair of
@@ -195,6 +203,35 @@ impl ClockRegion {
     }
 }
 
+/// Convex hull, counter-clockwise (Andrew's monotone chain).
+fn hull(mut points: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    points.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.total_cmp(&y.1)));
+    points.dedup();
+    if points.len() < 3 {
+        return points;
+    }
+    let cross =
+        |o: (f64, f64), a: (f64, f64), b: (f64, f64)| (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0);
+    let mut lower: Vec<(f64, f64)> = Vec::new();
+    for &p in &points {
+        while lower.len() >= 2 && cross(lower[lower.len() - 2], lower[lower.len() - 1], p) <= 0.0 {
+            lower.pop();
+        }
+        lower.push(p);
+    }
+    let mut upper: Vec<(f64, f64)> = Vec::new();
+    for &p in points.iter().rev() {
+        while upper.len() >= 2 && cross(upper[upper.len() - 2], upper[upper.len() - 1], p) <= 0.0 {
+            upper.pop();
+        }
+        upper.push(p);
+    }
+    lower.pop();
+    upper.pop();
+    lower.extend(upper);
+    lower
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -239,5 +276,10 @@ mod tests {
         );
         let (lo, hi) = r.periods_to(10.0);
         assert!(lo < hi);
+        // Two apart: their hull.
+        let mut a = ClockRegion::rect(0.0, 1.0, 0.0, 1.0);
+        a.merge(&ClockRegion::rect(2.0, 3.0, 0.0, 1.0));
+        let (area, (b, p)) = a.area_centroid();
+        assert!((area - 3.0).abs() < 1e-12 && (b - 1.5).abs() < 1e-12 && (p - 0.5).abs() < 1e-12);
     }
 }

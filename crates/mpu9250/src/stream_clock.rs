@@ -7,7 +7,7 @@
 //! up to sample K says τ(K) ≤ t < τ(K) + 1/rate (the newest frame was
 //! sampled within one period before the read). Both bounds are linear in
 //! (τ(K), 1/rate), so what all reads allow together is a convex polygon of
-//! phase and period ([`crate::clock_region`]), narrowed by every read, the
+//! phase and period (`clock_region`), narrowed by every read, the
 //! reads across gaps included, from the first one on: the period is known
 //! to ±2 % at the start (the chip's tolerance, doubled), to 1 % after a
 //! hundred samples, and reads at different lags pin the phase to a fraction
@@ -155,11 +155,20 @@ impl StreamClock {
                 r.not_before(m as f64 + 1.0, t_s);
                 if !r.is_empty() {
                     r.shift(m);
-                    next.push(Hypothesis {
-                        newest: h.newest + m,
-                        area: r.area_centroid().0,
-                        region: r,
-                    });
+                    let newest = h.newest + m;
+                    // Accounts that agree on the count are one: their
+                    // clocks together (else they would crowd out the others).
+                    match next.iter_mut().find(|o: &&mut Hypothesis| o.newest == newest) {
+                        Some(o) => {
+                            o.region.merge(&r);
+                            o.area = o.region.area_centroid().0;
+                        }
+                        None => next.push(Hypothesis {
+                            newest,
+                            area: r.area_centroid().0,
+                            region: r,
+                        }),
+                    }
                 }
             }
         }
