@@ -51,6 +51,12 @@ impl ClockRegion {
         self.clip(-1.0, -m, -t + SLACK_S);
     }
 
+    /// Keeps the part where p_min ≤ p ≤ p_max.
+    pub(crate) fn periods_within(&mut self, p_min: f64, p_max: f64) {
+        self.clip(0.0, 1.0, p_max);
+        self.clip(0.0, -1.0, -p_min);
+    }
+
     /// Keeps the part where a·b + c·p ≤ k (Sutherland–Hodgman against one
     /// edge).
     fn clip(&mut self, a: f64, c: f64, k: f64) {
@@ -194,6 +200,7 @@ impl ClockRegion {
     }
 
     /// The smallest and largest period allowed.
+    #[cfg(test)]
     pub(crate) fn period_range(&self) -> (f64, f64) {
         self.vertices
             .iter()

@@ -61,6 +61,9 @@ const READ_LATENCY_S: f64 = 2e-4;
 /// tell them apart.
 const MAX_HYPOTHESES: usize = 8;
 
+/// Counts tried for one gap: ±1 % of 10 s at 1 kHz, twice over.
+const MAX_COUNTS: i64 = 400;
+
 /// One consistent account of the stream: the index of the newest sample
 /// (the first of the run is 0) and the clocks that put it where every read
 /// so far found it.
@@ -137,12 +140,22 @@ impl StreamClock {
             let mut region = h.region.clone();
             let (_, (_, p)) = region.area_centroid();
             region.widen_period(DRIFT_PER_S * dt * p);
+            let (p_min, p_max) = self.period_bounds();
+            region.periods_within(p_min, p_max);
             // The newest frame read is sample newest + m: exactly n on with
             // the FIFO intact; after a reset, any count the clock allows.
             let ms = if self.pending {
                 let (lo, hi) = region.periods_to(t_s + READ_LATENCY_S);
-                let lo = (lo - 1.0).floor().max(n as f64) as i64;
-                let hi = hi.floor().max(n as f64) as i64;
+                let mut lo = (lo - 1.0).floor().max(n as f64) as i64;
+                let mut hi = hi.floor().max(n as f64) as i64;
+                // A stall of many seconds before the period is known allows
+                // thousands of counts: those far from the likeliest cannot
+                // win anyway.
+                if hi - lo > MAX_COUNTS {
+                    let (_, (b, p)) = region.area_centroid();
+                    let mid = ((t_s - b) / p).floor() as i64;
+                    (lo, hi) = (lo.max(mid - MAX_COUNTS / 2), hi.min(mid + MAX_COUNTS / 2));
+                }
                 (lo..=hi).collect::<Vec<_>>()
             } else {
                 vec![n as i64]
@@ -181,16 +194,7 @@ impl StreamClock {
             } else {
                 self.hypotheses[0].newest + n as i64
             };
-            let (p_lo, p_hi) = self.hypotheses[0].region.period_range();
-            let (p_lo, p_hi) = if p_lo.is_finite() {
-                (
-                    p_lo * (1.0 - NOMINAL_UNCERTAINTY),
-                    p_hi * (1.0 + NOMINAL_UNCERTAINTY),
-                )
-            } else {
-                let p = 1.0 / self.nominal_hz;
-                (p / (1.0 + NOMINAL_UNCERTAINTY), p / (1.0 - NOMINAL_UNCERTAINTY))
-            };
+            let (p_lo, p_hi) = self.period_bounds();
             let region = ClockRegion::rect(t_s - p_hi, t_s + READ_LATENCY_S, p_lo, p_hi);
             next.push(Hypothesis {
                 newest,
@@ -215,6 +219,13 @@ impl StreamClock {
         self.placed += lost + n;
         self.last_ok_s = t_s;
         lost
+    }
+
+    /// The periods the chip can run at: its tolerance, which no drift
+    /// between reads goes beyond.
+    fn period_bounds(&self) -> (f64, f64) {
+        let p = 1.0 / self.nominal_hz;
+        (p / (1.0 + NOMINAL_UNCERTAINTY), p / (1.0 - NOMINAL_UNCERTAINTY))
     }
 
     /// The index of the newest sample taken by host time `t_s`, by the
@@ -350,6 +361,27 @@ mod tests {
         // The first frames after the reset, 0.1 s after it: 220 samples of
         // time since the last frames, 20 of them read.
         assert_eq!(clock.frames(11.1, 20), 200);
+    }
+
+    #[test]
+    fn an_hour_long_stall_is_sized_within_the_chip_tolerance() {
+        // 10 s at 200 Hz, then nothing for an hour: the period may have
+        // drifted anywhere within the chip's tolerance meanwhile.
+        let mut clock = StreamClock::new(200.0, 0.0);
+        let taken_by = |t: f64| (t * 200.0).floor() as u64;
+        let mut read = 0;
+        for k in 1..=500 {
+            let t = k as f64 * 0.02 + 0.0007 * (k % 7) as f64;
+            assert_eq!(clock.frames(t, (taken_by(t) - read) as usize), 0);
+            read = taken_by(t);
+        }
+        clock.lost();
+        let t = 10.0 + 3600.0;
+        let lost = clock.frames(t, 20) as f64;
+        let truth = (taken_by(t) - read - 20) as f64;
+        assert!((lost / truth - 1.0).abs() < NOMINAL_UNCERTAINTY, "{lost}");
+        // And the clock goes on from there.
+        assert_eq!(clock.frames(t + 0.1, 20), 0);
     }
 
     #[test]
