@@ -34,6 +34,7 @@
 //! assert!((si[2] - 9.80665).abs() < 1e-3 && (si[6] - 25.0).abs() < 0.01);
 //! ```
 
+mod clock_region;
 pub mod config;
 pub mod driver;
 pub mod regs;

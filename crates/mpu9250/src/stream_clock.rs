@@ -5,20 +5,28 @@
 //! The stream has one clock: sample k of the run is taken at τ(k) = τ(0) +
 //! k/rate, on the chip's oscillator. A read at host time t that finds frames
 //! up to sample K says τ(K) ≤ t < τ(K) + 1/rate (the newest frame was
-//! sampled within one period before the read). The clock keeps the interval
-//! of host times that every read so far allows for the newest sample placed,
-//! carried forward by the rate and widened by the rate's uncertainty; reads
-//! with different lags narrow it to a fraction of a period. A loss (the FIFO
-//! reset) is sized from that absolute position: the newest sample at the
-//! first read after it is the last K with τ(K) ≤ t. So each gap is right to
-//! ±1 sample and, unlike sizing each from the host time between its two
-//! reads, the errors of successive gaps do not add up: the place of every
-//! sample stays tied to the stream's start.
+//! sampled within one period before the read). Both bounds are linear in
+//! (τ(K), 1/rate), so what all reads allow together is a convex polygon of
+//! phase and period (`clock_region`), narrowed by every read, the
+//! reads across gaps included, from the first one on: the period is known
+//! to ±2 % at the start (the chip's tolerance, doubled), to 1 % after a
+//! hundred samples, and reads at different lags pin the phase to a fraction
+//! of a period.
 //!
-//! The chip's oscillator is its own (±1 % over temperature), so the rate is
-//! the one measured over the run's uninterrupted stretches, and the interval
-//! is carried only from read to read: the rate's error acts over the time
-//! between two reads, never over the whole run.
+//! A loss (the FIFO reset) is sized from that absolute clock: after it, the
+//! newest sample read is the K the polygon allows at the read's time. When
+//! it allows several K (early in the run, before the period is known), each
+//! is kept as an account of the stream with its own polygon, until later
+//! reads contradict it; the likeliest (the largest polygon: the most clocks
+//! left under a uniform prior) sizes the gap, and should a later read
+//! favour another, the next gap makes up the difference. So the errors of
+//! successive gaps do not add up: every sample's place stays tied to the
+//! stream's start.
+//!
+//! The chip's oscillator drifts with temperature, so the polygon is widened
+//! in period between reads by a bounded drift: old reads never pin the rate
+//! for ever. The rate reported ([`StreamClock::measured_hz`]) is the one
+//! measured over the run's uninterrupted stretches.
 //!
 //! ```
 //! use mpu9250::stream_clock::StreamClock;
@@ -29,6 +37,7 @@
 //! assert_eq!(clock.frames(1.2, 20), 200);
 //! ```
 
+use crate::clock_region::ClockRegion;
 /// Interrupted-free host time needed before the measured rate replaces the
 /// nominal one: over 5 s the ±1-period lag of the ends makes an error of at
 /// most 1/(5·rate), 0.1 % at 200 Hz, below the chip's clock tolerance.
@@ -38,52 +47,73 @@ const MEASURED_AFTER_S: f64 = 5.0;
 /// ±1 % over temperature (PS-MPU-9250A-01 §4.15), doubled for margin.
 const NOMINAL_UNCERTAINTY: f64 = 0.02;
 
-/// Floor of the measured rate's relative uncertainty: the chip's clock
-/// drifts with temperature during a run.
-const MEASURED_UNCERTAINTY_FLOOR: f64 = 1e-5;
+/// How fast the period may drift, relative, per second: ±1 % over the
+/// 125 °C range (PS-MPU-9250A-01 §4.15) is 8e-5 per °C, and 1e-5 per second
+/// lets the chip warm by 7 °C a minute, more than a thermal test does.
+const DRIFT_PER_S: f64 = 1e-5;
+
+/// Host time by which a frame may follow the time stamped on its read: the
+/// time is taken just before the FIFO count is read, a transfer of five
+/// bytes (0.1 ms at 400 kHz) and a system call.
+const READ_LATENCY_S: f64 = 2e-4;
+
+/// Hypotheses kept about the stream's sample count when reads cannot yet
+/// tell them apart.
+const MAX_HYPOTHESES: usize = 8;
+
+/// Counts tried for one gap: ±1 % of 10 s at 1 kHz, twice over.
+const MAX_COUNTS: i64 = 400;
+
+/// One consistent account of the stream: the index of the newest sample
+/// (the first of the run is 0) and the clocks that put it where every read
+/// so far found it.
+#[derive(Debug, Clone)]
+struct Hypothesis {
+    newest: i64,
+    /// (host time of sample `newest`, period).
+    region: ClockRegion,
+    area: f64,
+}
 
 /// The clock model of one FIFO stream. Times are host seconds on any
 /// monotonic scale.
 #[derive(Debug, Clone)]
 pub struct StreamClock {
     nominal_hz: f64,
-    /// Host time of the last read that found frames with the FIFO intact.
+    /// Host time of the last read that found frames.
     last_ok_s: f64,
     /// A FIFO reset happened since `last_ok_s`.
     pending: bool,
     /// Frames and host time over uninterrupted stretches.
     clean_frames: u64,
     clean_s: f64,
-    /// Uninterrupted stretches so far: each of their ends lags by up to a
-    /// period, which bounds how well the rate is known.
-    stretches: u64,
     /// Samples placed so far (rows: read and lost).
     placed: u64,
-    /// Samples the stream has produced up to the newest one read, by its
-    /// clock; more than `placed` when a gap was judged short (the next gap
-    /// makes up for it), less when one was judged long.
-    produced: u64,
-    /// The host times (lo, hi] between which sample `produced` was taken.
-    lo_s: f64,
-    hi_s: f64,
+    /// Every account of the stream the reads still allow, the likeliest
+    /// first.
+    hypotheses: Vec<Hypothesis>,
 }
 
 impl StreamClock {
     /// A stream of nominally `nominal_hz` whose FIFO started at `start_s`.
     pub fn new(nominal_hz: f64, start_s: f64) -> StreamClock {
+        let p = 1.0 / nominal_hz;
+        let (p_lo, p_hi) = (p / (1.0 + NOMINAL_UNCERTAINTY), p / (1.0 - NOMINAL_UNCERTAINTY));
+        // The first sample comes within one period after the start: the
+        // "sample before it", index −1, was taken within one period before.
+        let region = ClockRegion::rect(start_s - p_hi, start_s + READ_LATENCY_S, p_lo, p_hi);
         StreamClock {
             nominal_hz,
             last_ok_s: start_s,
             pending: false,
             clean_frames: 0,
             clean_s: 0.0,
-            stretches: 1,
             placed: 0,
-            produced: 0,
-            // The first sample comes within one period after the start:
-            // the "sample before it" was taken within one period before.
-            lo_s: start_s - 1.0 / nominal_hz,
-            hi_s: start_s,
+            hypotheses: vec![Hypothesis {
+                newest: -1,
+                area: region.area_centroid().0,
+                region,
+            }],
         }
     }
 
@@ -99,18 +129,91 @@ impl StreamClock {
             return 0;
         }
         let n = n as u64;
+        let dt = (t_s - self.last_ok_s).max(0.0);
+        if !self.pending {
+            self.clean_frames += n;
+            self.clean_s += dt;
+        }
+        let guess = self.newest_by(t_s);
+        let mut next = Vec::new();
+        for h in &self.hypotheses {
+            let mut region = h.region.clone();
+            let (_, (_, p)) = region.area_centroid();
+            region.widen_period(DRIFT_PER_S * dt * p);
+            let (p_min, p_max) = self.period_bounds();
+            region.periods_within(p_min, p_max);
+            // The newest frame read is sample newest + m: exactly n on with
+            // the FIFO intact; after a reset, any count the clock allows.
+            let ms = if self.pending {
+                let (lo, hi) = region.periods_to(t_s + READ_LATENCY_S);
+                let mut lo = (lo - 1.0).floor().max(n as f64) as i64;
+                let mut hi = hi.floor().max(n as f64) as i64;
+                // A stall of many seconds before the period is known allows
+                // thousands of counts: those far from the likeliest cannot
+                // win anyway.
+                if hi - lo > MAX_COUNTS {
+                    let (_, (b, p)) = region.area_centroid();
+                    let mid = ((t_s - b) / p).floor() as i64;
+                    (lo, hi) = (lo.max(mid - MAX_COUNTS / 2), hi.min(mid + MAX_COUNTS / 2));
+                }
+                (lo..=hi).collect::<Vec<_>>()
+            } else {
+                vec![n as i64]
+            };
+            for m in ms {
+                let mut r = region.clone();
+                // Taken by the read (or just after the time stamped on
+                // it), the next one not yet.
+                r.taken_by(m as f64, t_s + READ_LATENCY_S);
+                r.not_before(m as f64 + 1.0, t_s);
+                if !r.is_empty() {
+                    r.shift(m);
+                    let newest = h.newest + m;
+                    // Accounts that agree on the count are one: their
+                    // clocks together (else they would crowd out the others).
+                    match next.iter_mut().find(|o: &&mut Hypothesis| o.newest == newest) {
+                        Some(o) => {
+                            o.region.merge(&r);
+                            o.area = o.region.area_centroid().0;
+                        }
+                        None => next.push(Hypothesis {
+                            newest,
+                            area: r.area_centroid().0,
+                            region: r,
+                        }),
+                    }
+                }
+            }
+        }
+        if next.is_empty() {
+            // No account fits: the chip's clock jumped (a reset of its own,
+            // or a drift beyond bounds). Start again from this read alone,
+            // the count where the likeliest account put it.
+            let newest = if self.pending {
+                guess.max(self.placed as i64 - 1 + n as i64)
+            } else {
+                self.hypotheses[0].newest + n as i64
+            };
+            let (p_lo, p_hi) = self.period_bounds();
+            let region = ClockRegion::rect(t_s - p_hi, t_s + READ_LATENCY_S, p_lo, p_hi);
+            next.push(Hypothesis {
+                newest,
+                area: region.area_centroid().0,
+                region,
+            });
+        }
+        // Under a uniform prior on the clock, an account is as likely as the
+        // area of clocks it leaves.
+        next.sort_by(|x, y| y.area.total_cmp(&x.area));
+        next.truncate(MAX_HYPOTHESES);
+        self.hypotheses = next;
         let lost = if self.pending {
             self.pending = false;
-            // The frames just read are the newest; at least they came.
-            let j = self.newest_by(t_s).max(n);
-            self.advance(j, t_s);
-            self.stretches += 1;
-            // Where the stream is, less the rows written and read now.
-            self.produced.saturating_sub(self.placed + n)
+            // Where the stream is, less the rows written and read now. When
+            // the likeliest account changed since the last gap, this one
+            // makes up for it.
+            ((self.hypotheses[0].newest + 1).max(0) as u64).saturating_sub(self.placed + n)
         } else {
-            self.clean_frames += n;
-            self.clean_s += (t_s - self.last_ok_s).max(0.0);
-            self.advance_clean(n, t_s);
             0
         };
         self.placed += lost + n;
@@ -118,66 +221,19 @@ impl StreamClock {
         lost
     }
 
-    /// How many samples the stream has produced after the newest placed one
-    /// by host time `t_s`: the largest j with τ(placed − 1 + j) ≤ t_s, from
-    /// the middle of the interval carried forward.
-    fn newest_by(&self, t_s: f64) -> u64 {
-        let (lo, hi) = self.carried(0, t_s);
-        ((t_s - 0.5 * (lo + hi)) * self.rate_hz()).floor().max(0.0) as u64
+    /// The periods the chip can run at: its tolerance, which no drift
+    /// between reads goes beyond.
+    fn period_bounds(&self) -> (f64, f64) {
+        let p = 1.0 / self.nominal_hz;
+        (p / (1.0 + NOMINAL_UNCERTAINTY), p / (1.0 - NOMINAL_UNCERTAINTY))
     }
 
-    /// The interval of the newest placed sample's time carried `j` samples
-    /// forward to a read at `t_s`, widened by the rate's uncertainty over
-    /// the time since the last read.
-    fn carried(&self, j: u64, t_s: f64) -> (f64, f64) {
-        let shift = j as f64 / self.rate_hz();
-        let widen = self.rate_uncertainty() * (t_s - self.last_ok_s).abs();
-        (self.lo_s + shift - widen, self.hi_s + shift + widen)
-    }
-
-    /// The stream produced `j` more samples, the newest of them read at
-    /// `t_s`: the interval narrows to what this read also allows (taken
-    /// within one period before it).
-    fn advance(&mut self, j: u64, t_s: f64) {
-        let (lo, hi) = self.carried(j, t_s);
-        let (read_lo, read_hi) = (t_s - 1.0 / self.rate_hz(), t_s);
-        let (lo, hi) = (lo.max(read_lo), hi.min(read_hi));
-        // Empty: the rate moved more than allowed. The read alone is what
-        // is known now.
-        (self.lo_s, self.hi_s) = if lo < hi { (lo, hi) } else { (read_lo, read_hi) };
-        self.produced += j;
-    }
-
-    /// `n` frames read with the FIFO intact since the last read. Should
-    /// the read put the newest of them a whole number of periods away from
-    /// where the clock expects it, the last gap was misjudged by that many
-    /// samples: the stream's count is corrected, and the next gap makes up
-    /// for it, so the error does not stay in the file for the rest of the
-    /// run.
-    fn advance_clean(&mut self, n: u64, t_s: f64) {
-        let rate = self.rate_hz();
-        let (lo, hi) = self.carried(n, t_s);
-        let (read_lo, read_hi) = (t_s - 1.0 / rate, t_s);
-        if lo.max(read_lo) >= hi.min(read_hi) {
-            let m = ((0.5 * (read_lo + read_hi) - 0.5 * (lo + hi)) * rate).round() as i64;
-            let (lo, hi) = (lo + m as f64 / rate, hi + m as f64 / rate);
-            if m != 0 && lo.max(read_lo) < hi.min(read_hi) && self.produced as i64 + m >= 0 {
-                self.produced = (self.produced as i64 + m) as u64;
-            }
-        }
-        self.advance(n, t_s);
-    }
-
-    /// Relative uncertainty of [`StreamClock::rate_hz`].
-    fn rate_uncertainty(&self) -> f64 {
-        if self.clean_s >= MEASURED_AFTER_S {
-            // The ends of each measuring stretch lag by up to a period, at
-            // random: the time they add up to errs by about √stretches
-            // periods (twice that for margin).
-            (2.0 * (self.stretches as f64).sqrt() / self.clean_frames as f64).max(MEASURED_UNCERTAINTY_FLOOR)
-        } else {
-            NOMINAL_UNCERTAINTY
-        }
+    /// The index of the newest sample taken by host time `t_s`, by the
+    /// likeliest account at its centre.
+    fn newest_by(&self, t_s: f64) -> i64 {
+        let h = &self.hypotheses[0];
+        let (_, (b, p)) = h.region.area_centroid();
+        h.newest + ((t_s - b) / p).floor().max(0.0) as i64
     }
 
     /// The FIFO was reset (an overflow, or a read that broke off part-way):
@@ -195,7 +251,7 @@ impl StreamClock {
     /// pending.
     pub fn lost_until(&self, t_s: f64) -> u64 {
         if self.pending {
-            (self.produced + self.newest_by(t_s)).saturating_sub(self.placed)
+            ((self.newest_by(t_s) + 1).max(0) as u64).saturating_sub(self.placed)
         } else {
             0
         }
@@ -207,7 +263,7 @@ impl StreamClock {
         (self.clean_s >= MEASURED_AFTER_S).then(|| self.clean_frames as f64 / self.clean_s)
     }
 
-    /// The rate used for estimates: measured, or nominal until measured.
+    /// The rate used for timestamps: measured, or nominal until measured.
     pub fn rate_hz(&self) -> f64 {
         self.measured_hz().unwrap_or(self.nominal_hz)
     }
@@ -305,6 +361,27 @@ mod tests {
         // The first frames after the reset, 0.1 s after it: 220 samples of
         // time since the last frames, 20 of them read.
         assert_eq!(clock.frames(11.1, 20), 200);
+    }
+
+    #[test]
+    fn an_hour_long_stall_is_sized_within_the_chip_tolerance() {
+        // 10 s at 200 Hz, then nothing for an hour: the period may have
+        // drifted anywhere within the chip's tolerance meanwhile.
+        let mut clock = StreamClock::new(200.0, 0.0);
+        let taken_by = |t: f64| (t * 200.0).floor() as u64;
+        let mut read = 0;
+        for k in 1..=500 {
+            let t = k as f64 * 0.02 + 0.0007 * (k % 7) as f64;
+            assert_eq!(clock.frames(t, (taken_by(t) - read) as usize), 0);
+            read = taken_by(t);
+        }
+        clock.lost();
+        let t = 10.0 + 3600.0;
+        let lost = clock.frames(t, 20) as f64;
+        let truth = (taken_by(t) - read - 20) as f64;
+        assert!((lost / truth - 1.0).abs() < NOMINAL_UNCERTAINTY, "{lost}");
+        // And the clock goes on from there.
+        assert_eq!(clock.frames(t + 0.1, 20), 0);
     }
 
     #[test]

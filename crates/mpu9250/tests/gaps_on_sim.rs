@@ -109,32 +109,51 @@ fn record(rate: f64, ppm: f64, errors: f64, seconds: f64, seed: u64) -> Run {
 }
 
 /// The largest error of a sample's place allowed. Sizing each gap from the
-/// host time between its two reads (the previous logger) left samples 53,
-/// 17, 11 and 54 places off in the four runs below; from the stream's
-/// absolute clock they are 1, 3, 1 and 3 off. What remains comes from gaps
-/// in the first seconds, sized before the chip's rate is measured (its
-/// clock error is then only known to ±2 %), and from the measured rate's
-/// own error at 100 Hz.
-const BOUND: i64 = 3;
+/// host time between its two reads (an earlier logger) left samples up to
+/// 54 places off; from a clock interval carried from read to read, with the
+/// rate measured only over uninterrupted stretches, up to 14 (100 Hz, the
+/// chip 0.2 % slow: every gap of the first 13 s judged one short). Keeping
+/// every (phase, period) the reads allow, across the gaps, leaves a gap
+/// misjudged by one only when its read falls at the edge of the phase the
+/// reads allow, and the next gap puts it right: every sample is within 1
+/// of its place, in the sweep below and over 40 seeds of each setup
+/// (`GAPS_SEEDS=40`).
+const BOUND: i64 = 1;
 
+/// The sweep: rates, clock errors (the chip's oscillator is ±1 % over
+/// temperature, PS-MPU-9250A-01 §4.15) and seeds of the host's jitter.
+const SETUPS: [(f64, f64); 6] = [
+    (200.0, 0.0),
+    (200.0, 8000.0),
+    (500.0, -5000.0),
+    (100.0, 300.0),
+    (100.0, -2000.0),
+    (1000.0, 3000.0),
+];
+
+/// Seeds of the jitter per setup: `GAPS_SEEDS` sweeps more.
 #[test]
 fn a_hundred_gaps_under_bus_errors_leave_every_sample_in_its_place() {
-    for (rate, ppm, seed) in [
-        (200.0, 0.0, 1),
-        (200.0, 8000.0, 2),
-        (500.0, -5000.0, 3),
-        (100.0, 300.0, 4),
-    ] {
-        let run = record(rate, ppm, 0.05, 120.0, seed);
-        eprintln!(
-            "{rate} Hz, clock {ppm:+} ppm: {} gaps, {} samples, worst place error {} samples",
-            run.gaps, run.samples, run.worst
-        );
-        assert!(run.gaps >= 100, "{rate} Hz: only {} gaps", run.gaps);
-        assert!(
-            run.worst <= BOUND,
-            "{rate} Hz, {ppm} ppm: a sample {} places off",
-            run.worst
-        );
+    let seeds: u64 = std::env::var("GAPS_SEEDS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(2);
+    let mut worst = 0;
+    for (rate, ppm) in SETUPS {
+        for seed in 1..=seeds {
+            let run = record(rate, ppm, 0.05, 120.0, seed);
+            eprintln!(
+                "{rate} Hz, clock {ppm:+} ppm, seed {seed}: {} gaps, {} samples, worst place error {} samples",
+                run.gaps, run.samples, run.worst
+            );
+            assert!(run.gaps >= 100, "{rate} Hz: only {} gaps", run.gaps);
+            assert!(
+                run.worst <= BOUND,
+                "{rate} Hz, {ppm} ppm, seed {seed}: a sample {} places off",
+                run.worst
+            );
+            worst = worst.max(run.worst);
+        }
     }
+    eprintln!("worst place error over the sweep: {worst} samples");
 }
