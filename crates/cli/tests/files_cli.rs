@@ -11,7 +11,9 @@ use assert_cmd::cargo::CommandCargoExt;
 use predicates::prelude::*;
 
 mod support;
-use support::{Simulation, imutherm, json_of, json_stdout, stderr_of, tcal_fit};
+use support::{
+    Simulation, imutherm, json_of, json_stdout, replaces_only_with_overwrite, stderr_of, tcal_fit,
+};
 
 /// A temperature run to fit: 20 minutes at 2 Hz.
 fn simulate(dir: &Path, name: &str, profile: &str) -> PathBuf {
@@ -27,17 +29,11 @@ fn simulate_refuses_an_existing_file_unless_overwrite() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("run.txt");
     std::fs::write(&out, "precious\n").unwrap();
-    let args = ["simulate", "--duration", "10", "-o"];
-    imutherm().args(args).arg(&out).assert().code(1).stderr(
-        predicate::str::contains("already exists (9 bytes)").and(predicate::str::contains("--overwrite")),
+    replaces_only_with_overwrite(
+        &["simulate", "--duration", "10", "-o"],
+        &out,
+        &["already exists (9 bytes)", "--overwrite"],
     );
-    assert_eq!(std::fs::read_to_string(&out).unwrap(), "precious\n");
-    imutherm()
-        .args(args)
-        .arg(&out)
-        .arg("--overwrite")
-        .assert()
-        .success();
     assert!(
         std::fs::read_to_string(&out)
             .unwrap()

@@ -6,7 +6,7 @@ use std::time::Duration;
 use assert_cmd::cargo::CommandCargoExt;
 
 mod support;
-use support::{imutherm, json_stdout};
+use support::{imutherm, json_stdout, replaces_only_with_overwrite};
 
 fn rows(path: &std::path::Path) -> Vec<Vec<f64>> {
     std::fs::read_to_string(path)
@@ -287,20 +287,11 @@ fn an_existing_recording_is_never_overwritten_unasked() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("precious.txt");
     std::fs::write(&out, "ten hours of data\n").unwrap();
-    let args = ["record", "--device", "sim", "--duration", "0.1s", "-o"];
-    imutherm()
-        .args(args)
-        .arg(&out)
-        .assert()
-        .code(1)
-        .stderr(predicates::str::contains("already exists (18 bytes)"));
-    assert_eq!(std::fs::read_to_string(&out).unwrap(), "ten hours of data\n");
-    imutherm()
-        .args(args)
-        .arg(&out)
-        .arg("--overwrite")
-        .assert()
-        .success();
+    replaces_only_with_overwrite(
+        &["record", "--device", "sim", "--duration", "0.1s", "-o"],
+        &out,
+        &["already exists (18 bytes)"],
+    );
     assert!(
         std::fs::read_to_string(&out)
             .unwrap()

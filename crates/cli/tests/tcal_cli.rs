@@ -14,7 +14,9 @@ use predicates::prelude::*;
 use serde_json::Value;
 
 mod support;
-use support::{Simulation, imutherm, json_stdout, read_json, succeed, tcal_fit};
+use support::{
+    Simulation, imutherm, json_stdout, read_json, replaces_only_with_overwrite, succeed, tcal_fit,
+};
 
 /// The runs here: 2 Hz, long enough for a thermal profile.
 fn simulate(dir: &Path, name: &str, profile: &str, duration: &str, seed: &str) -> PathBuf {
@@ -412,18 +414,18 @@ fn export_output_is_written_whole_and_never_replaces_a_file_unasked() {
     tcal_fit(&model, &["--for", "px4"], &[&cooling]);
     let out = dir.path().join("imu.params");
     std::fs::write(&out, "keep me\n").unwrap();
-    export(&model, &["--firmware", "px4"])
-        .arg("-o")
-        .arg(&out)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("--overwrite"));
-    assert_eq!(std::fs::read_to_string(&out).unwrap(), "keep me\n");
-    export(&model, &["--firmware", "px4", "--overwrite"])
-        .arg("-o")
-        .arg(&out)
-        .assert()
-        .success();
+    replaces_only_with_overwrite(
+        &[
+            "tcal",
+            "export",
+            "--firmware",
+            "px4",
+            model.to_str().unwrap(),
+            "-o",
+        ],
+        &out,
+        &["--overwrite"],
+    );
     parse_qgc(&std::fs::read_to_string(&out).unwrap());
     // Onto the model itself, even with --overwrite: refused, model intact.
     let before = std::fs::read(&model).unwrap();

@@ -83,6 +83,26 @@ pub fn tcal_fit(model: &Path, args: &[&str], runs: &[&Path]) -> Assert {
         .success()
 }
 
+/// `imutherm ARGS OUT` where OUT already exists: refused with exit status
+/// 1, the message holding every one of `says`, OUT left as it was; then
+/// `imutherm ARGS OUT --overwrite` replaces it.
+pub fn replaces_only_with_overwrite(args: &[&str], out: &Path, says: &[&str]) {
+    let before = std::fs::read(out).unwrap();
+    let refused = imutherm().args(args).arg(out).output().unwrap();
+    let err = stderr_of(&refused);
+    assert_eq!(refused.status.code(), Some(1), "{err}");
+    for s in says {
+        assert!(err.contains(s), "{s:?} not in: {err}");
+    }
+    assert_eq!(std::fs::read(out).unwrap(), before);
+    imutherm()
+        .args(args)
+        .arg(out)
+        .arg("--overwrite")
+        .assert()
+        .success();
+}
+
 /// Runs `cmd` and fails the test, showing its standard error, unless it
 /// exits 0.
 pub fn succeed(cmd: &mut Command) -> Output {
