@@ -638,28 +638,25 @@ fn write_text(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<
                 )?;
             }
             let th = &r.terms.slope.thesis;
-            let (fn_, un) = unit_of(Term::WhiteNoise, ch.quantity, &ch.unit, units);
-            let (fb, ub) = unit_of(Term::BiasInstability, ch.quantity, &ch.unit, units);
+            let reading = |v: Option<TermValue>, term: Term| {
+                let (f, u) = unit_of(term, ch.quantity, &ch.unit, units);
+                v.map_or_else(
+                    || "—".to_string(),
+                    |v| {
+                        format!(
+                            "{:.4e} {u} (at τ = {:.4} s)",
+                            v.value * f,
+                            v.tau.unwrap_or(f64::NAN)
+                        )
+                    },
+                )
+            };
             writeln!(
                 out,
                 "  the thesis's reading (analyzeAllan.m: slope nearest −1/2; σ at the first τ where the slope turns \
                  positive): N {}, B {}",
-                th.n.map_or_else(
-                    || "—".to_string(),
-                    |v| format!(
-                        "{:.4e} {un} (at τ = {:.4} s)",
-                        v.value * fn_,
-                        v.tau.unwrap_or(f64::NAN)
-                    )
-                ),
-                th.b.map_or_else(
-                    || "—".to_string(),
-                    |v| format!(
-                        "{:.4e} {ub} (at τ = {:.4} s)",
-                        v.value * fb,
-                        v.tau.unwrap_or(f64::NAN)
-                    )
-                ),
+                reading(th.n, Term::WhiteNoise),
+                reading(th.b, Term::BiasInstability),
             )?;
             if !r.terms.fit.left_out.is_empty() {
                 writeln!(
