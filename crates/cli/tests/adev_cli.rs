@@ -1,23 +1,9 @@
 //! `imutherm adev` end to end: output contract, reference values, bad input.
 
-use std::io::Write;
-
-use assert_cmd::Command;
 use predicates::prelude::*;
 
-fn imutherm() -> Command {
-    Command::cargo_bin("imutherm").unwrap()
-}
-
-fn file(name: &str, content: &str) -> (tempfile::TempDir, std::path::PathBuf) {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join(name);
-    std::fs::File::create(&path)
-        .unwrap()
-        .write_all(content.as_bytes())
-        .unwrap();
-    (dir, path)
-}
+mod support;
+use support::{file, imutherm, json_of, json_stdout, succeed};
 
 /// NIST SP 1065 Table 30 input.
 const NBS14_10: &str = "892\n809\n823\n798\n671\n644\n883\n903\n677\n";
@@ -25,13 +11,7 @@ const NBS14_10: &str = "892\n809\n823\n798\n671\n644\n883\n903\n677\n";
 #[test]
 fn json_document_follows_the_schema_and_table_30() {
     let (_d, p) = file("nbs14.txt", NBS14_10);
-    let out = imutherm()
-        .args(["adev", "--stat", "adev", "--json"])
-        .arg(&p)
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_stdout(imutherm().args(["adev", "--stat", "adev", "--json"]).arg(&p));
     assert_eq!(doc["schema"], "imutherm.adev/1");
     assert_eq!(doc["stat"], "adev");
     assert_eq!(doc["data_type"], "freq");
@@ -66,22 +46,20 @@ fn header_names_units_channel_selection_and_rate() {
         ));
     }
     let (_d, p) = file("imu.csv", &body);
-    let out = imutherm()
-        .args([
-            "adev",
-            "--channels",
-            "gyro_x",
-            "--rate",
-            "10",
-            "--taus",
-            "0.1,0.4,1",
-            "--json",
-        ])
-        .arg(&p)
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_stdout(
+        imutherm()
+            .args([
+                "adev",
+                "--channels",
+                "gyro_x",
+                "--rate",
+                "10",
+                "--taus",
+                "0.1,0.4,1",
+                "--json",
+            ])
+            .arg(&p),
+    );
     let chans = doc["channels"].as_array().unwrap();
     assert_eq!(chans.len(), 1);
     assert_eq!(chans[0]["name"], "gyro_x");
@@ -114,9 +92,8 @@ fn gaps_are_counted_and_reported() {
         }
     }
     let (_d, p) = file("gap.txt", &body);
-    let out = imutherm().args(["adev", "--json"]).arg(&p).output().unwrap();
-    assert!(out.status.success());
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let out = succeed(imutherm().args(["adev", "--json"]).arg(&p));
+    let doc = json_of(&out);
     assert_eq!(doc["channels"][0]["nan_samples"], 1);
     assert!(String::from_utf8_lossy(&out.stderr).contains("1 NaN samples treated as gaps"));
 }
@@ -210,9 +187,7 @@ fn imu_logs_default_to_the_inertial_channels_with_rate_from_metadata() {
         body.push_str(&format!("{v}, {v}, {}, {v}, {v}, {v}, 30.0\n", 9.8 + v));
     }
     let (_d, p) = file("imu.txt", &body);
-    let out = imutherm().args(["adev", "--json"]).arg(&p).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_stdout(imutherm().args(["adev", "--json"]).arg(&p));
     let names: Vec<&str> = doc["channels"]
         .as_array()
         .unwrap()
@@ -228,12 +203,11 @@ fn imu_logs_default_to_the_inertial_channels_with_rate_from_metadata() {
     assert_eq!(doc["channels"][0]["points"][0]["tau"], 0.02);
 
     // A group, and a unit override converting deg/s to rad/s.
-    let out = imutherm()
-        .args(["adev", "--json", "--channels", "gyro", "--unit", "gyro_x=deg/s"])
-        .arg(&p)
-        .output()
-        .unwrap();
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_stdout(
+        imutherm()
+            .args(["adev", "--json", "--channels", "gyro", "--unit", "gyro_x=deg/s"])
+            .arg(&p),
+    );
     let ch = doc["channels"].as_array().unwrap();
     assert_eq!(ch.len(), 3);
     let ratio = ch[0]["points"][0]["dev"].as_f64().unwrap() / ch[1]["points"][0]["dev"].as_f64().unwrap();
@@ -267,12 +241,7 @@ fn skip_bad_lines_keeps_time_right_and_truncation_is_dropped() {
         .stderr(predicate::str::contains(
             "bad.txt:78: column 1: cannot read 'oops'",
         ));
-    let out = imutherm()
-        .args(["adev", "--skip-bad-lines", "--json"])
-        .arg(&p)
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = succeed(imutherm().args(["adev", "--skip-bad-lines", "--json"]).arg(&p));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
         err.contains("bad.txt:78: column 1") && err.contains("skipped as a gap"),
@@ -282,7 +251,7 @@ fn skip_bad_lines_keeps_time_right_and_truncation_is_dropped() {
         err.contains("bad.txt:201: truncated last line") && err.contains("dropped"),
         "{err}"
     );
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_of(&out);
     assert_eq!(doc["channels"][0]["samples"], 200);
     assert_eq!(doc["channels"][0]["nan_samples"], 1);
 }
@@ -301,9 +270,8 @@ fn time_column_gives_the_rate_and_its_gaps_become_gaps() {
         ));
     }
     let (_d, p) = file("timed.csv", &body);
-    let out = imutherm().args(["adev", "--json"]).arg(&p).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let out = succeed(imutherm().args(["adev", "--json"]).arg(&p));
+    let doc = json_of(&out);
     let ch = &doc["channels"][0];
     assert_eq!(ch["name"], "gyro_x");
     assert_eq!(ch["samples"], 400);

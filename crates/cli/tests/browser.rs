@@ -9,7 +9,8 @@
 use std::path::PathBuf;
 use std::process::Command as Process;
 
-use assert_cmd::Command;
+mod support;
+use support::imutherm;
 
 fn chromium() -> Option<PathBuf> {
     ["chromium", "chromium-browser", "google-chrome"]
@@ -35,8 +36,7 @@ fn the_demo_report_renders_in_chromium() {
     };
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("browser-demo");
     let _ = std::fs::remove_dir_all(&out);
-    Command::cargo_bin("imutherm")
-        .unwrap()
+    imutherm()
         .args(["demo", "--quick", "--out"])
         .arg(&out)
         .assert()

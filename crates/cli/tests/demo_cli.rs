@@ -1,14 +1,15 @@
 //! `imutherm demo --quick`: the whole experiment, and a report a browser can show.
 
-use assert_cmd::Command;
 use predicates::prelude::*;
+
+mod support;
+use support::{imutherm, read_json};
 
 #[test]
 fn quick_demo_writes_a_complete_report() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("demo");
-    Command::cargo_bin("imutherm")
-        .unwrap()
+    imutherm()
         .args(["demo", "--quick", "--format", "png", "--out"])
         .arg(&out)
         .assert()
@@ -39,7 +40,6 @@ fn quick_demo_writes_a_complete_report() {
     // --format png: every plot also as a PNG file.
     let pngs = std::fs::read_dir(out.join("figures")).unwrap().count();
     assert_eq!(pngs, 28, "PNG figures");
-    let model: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("tcal_model.json")).unwrap()).unwrap();
+    let model = read_json(&out.join("tcal_model.json"));
     assert_eq!(model["schema"], "imutherm.tcal/1");
 }

@@ -7,36 +7,21 @@ use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command as Process, Stdio};
 
-use assert_cmd::Command;
 use assert_cmd::cargo::CommandCargoExt;
 use predicates::prelude::*;
 
-fn imutherm() -> Command {
-    Command::cargo_bin("imutherm").unwrap()
-}
+mod support;
+use support::{
+    Simulation, imutherm, json_of, json_stdout, replaces_only_with_overwrite, stderr_of, tcal_fit,
+};
 
-/// A short simulated run: 20 s at 100 Hz, or a temperature ramp to fit.
+/// A temperature run to fit: 20 minutes at 2 Hz.
 fn simulate(dir: &Path, name: &str, profile: &str) -> PathBuf {
-    let p = dir.join(name);
-    imutherm()
-        .args([
-            "simulate",
-            "--profile",
-            profile,
-            "--duration",
-            "20m",
-            "--rate",
-            "2",
-            "-o",
-        ])
-        .arg(&p)
-        .assert()
-        .success();
-    p
-}
-
-fn stderr_of(out: &std::process::Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
+    Simulation::new()
+        .profile(profile)
+        .duration("20m")
+        .rate("2")
+        .write(dir, name)
 }
 
 #[test]
@@ -44,17 +29,11 @@ fn simulate_refuses_an_existing_file_unless_overwrite() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("run.txt");
     std::fs::write(&out, "precious\n").unwrap();
-    let args = ["simulate", "--duration", "10", "-o"];
-    imutherm().args(args).arg(&out).assert().code(1).stderr(
-        predicate::str::contains("already exists (9 bytes)").and(predicate::str::contains("--overwrite")),
+    replaces_only_with_overwrite(
+        &["simulate", "--duration", "10", "-o"],
+        &out,
+        &["already exists (9 bytes)", "--overwrite"],
     );
-    assert_eq!(std::fs::read_to_string(&out).unwrap(), "precious\n");
-    imutherm()
-        .args(args)
-        .arg(&out)
-        .arg("--overwrite")
-        .assert()
-        .success();
     assert!(
         std::fs::read_to_string(&out)
             .unwrap()
@@ -68,13 +47,7 @@ fn tcal_never_writes_onto_its_inputs_by_any_name() {
     let dir = tempfile::tempdir().unwrap();
     let run = simulate(dir.path(), "ramp.txt", "ramp:25:70:1200");
     let model = dir.path().join("model.json");
-    imutherm()
-        .args(["tcal", "fit", "--order", "2"])
-        .arg(&run)
-        .arg("-o")
-        .arg(&model)
-        .assert()
-        .success();
+    tcal_fit(&model, &["--order", "2"], &[&run]);
     let before = std::fs::read(&run).unwrap();
     let hard = dir.path().join("hard.txt");
     std::fs::hard_link(&run, &hard).unwrap();
@@ -289,19 +262,11 @@ fn standard_input_and_fifos_are_read_once_with_their_trailer() {
         .arg(&rec)
         .assert()
         .success();
-    let direct = imutherm().args(["info", "--json"]).arg(&rec).output().unwrap();
-    let direct: serde_json::Value = serde_json::from_slice(&direct.stdout).unwrap();
+    let direct = json_stdout(imutherm().args(["info", "--json"]).arg(&rec));
     let direct = &direct["files"][0];
     assert_eq!(direct["logger"]["samples"], 200, "{direct}");
 
-    let piped = imutherm()
-        .args(["info", "--json", "-"])
-        .pipe_stdin(&rec)
-        .unwrap()
-        .output()
-        .unwrap();
-    assert!(piped.status.success(), "{}", stderr_of(&piped));
-    let piped: serde_json::Value = serde_json::from_slice(&piped.stdout).unwrap();
+    let piped = json_stdout(imutherm().args(["info", "--json", "-"]).pipe_stdin(&rec).unwrap());
     let piped = &piped["files"][0];
     for key in ["logger", "samples", "channels"] {
         assert_eq!(piped[key], direct[key], "{key}");
@@ -318,10 +283,7 @@ fn standard_input_and_fifos_are_read_once_with_their_trailer() {
     writer.join().unwrap();
     let from_file = imutherm().args(["adev", "--json"]).arg(&rec).output().unwrap();
     assert!(through_fifo.status.success(), "{}", stderr_of(&through_fifo));
-    let (mut a, mut b): (serde_json::Value, serde_json::Value) = (
-        serde_json::from_slice(&through_fifo.stdout).unwrap(),
-        serde_json::from_slice(&from_file.stdout).unwrap(),
-    );
+    let (mut a, mut b) = (json_of(&through_fifo), json_of(&from_file));
     // The same numbers; only the file's name differs.
     for doc in [&mut a, &mut b] {
         for c in doc["channels"].as_array_mut().unwrap() {
@@ -338,9 +300,7 @@ fn a_cut_last_line_is_named_and_dropped() {
     let p = dir.path().join("cut.txt");
     // 3.14159 cut to 3.1 by a power loss: a number still, but no newline.
     std::fs::write(&p, "# sample_rate_hz: 10\ngyro_x,gyro_y\n1,2\n3,4\n5,3.1").unwrap();
-    let out = imutherm().args(["info", "--json"]).arg(&p).output().unwrap();
-    assert!(out.status.success());
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_stdout(imutherm().args(["info", "--json"]).arg(&p));
     let doc = &doc["files"][0];
     assert_eq!(doc["samples"], 2);
     let problems = doc["problems"].to_string();
@@ -386,12 +346,7 @@ fn with_closed_stdout(args: &[&str]) -> (Option<i32>, String) {
 #[test]
 fn a_closed_standard_output_ends_quietly_with_status_0() {
     let dir = tempfile::tempdir().unwrap();
-    let run = dir.path().join("run.txt");
-    imutherm()
-        .args(["simulate", "--duration", "30", "-o"])
-        .arg(&run)
-        .assert()
-        .success();
+    let run = Simulation::new().duration("30").write(dir.path(), "run.txt");
     let run = run.to_str().unwrap();
     for args in [
         &["adev", run][..],

@@ -3,12 +3,10 @@
 //! any file is read. The input named here does not exist: a value that
 //! passed would end in exit status 1 for the missing file instead.
 
-use assert_cmd::Command;
 use predicates::prelude::*;
 
-fn imutherm() -> Command {
-    Command::cargo_bin("imutherm").unwrap()
-}
+mod support;
+use support::{Simulation, imutherm};
 
 const MISSING: &str = "/nonexistent/imutherm-flags.txt";
 
@@ -437,13 +435,13 @@ fn a_simulation_too_large_is_refused_at_once_unless_allowed() {
 #[test]
 fn absurd_slicings_of_a_recording_are_refused_before_the_analysis() {
     let dir = tempfile::tempdir().unwrap();
-    let run = dir.path().join("ramp.txt");
-    imutherm()
-        .args(["simulate", "--preset", "white", "--profile", "ramp:20:80:600"])
-        .args(["--duration", "600", "--rate", "20", "--seed", "3", "-o"])
-        .arg(&run)
-        .assert()
-        .success();
+    let run = Simulation::new()
+        .args(&["--preset", "white"])
+        .profile("ramp:20:80:600")
+        .duration("600")
+        .rate("20")
+        .seed("3")
+        .write(dir.path(), "ramp.txt");
     for (args, says) in [
         (&["--bin-width", "1e-6"][..], "at most 1000 are analysed"),
         (

@@ -1,21 +1,11 @@
 //! `imutherm info` end to end.
 
 use std::fmt::Write as _;
-use std::io::Write;
 
-use assert_cmd::Command;
 use predicates::prelude::*;
 
-fn imutherm() -> Command {
-    Command::cargo_bin("imutherm").unwrap()
-}
-
-fn file(name: &str, content: &[u8]) -> (tempfile::TempDir, std::path::PathBuf) {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join(name);
-    std::fs::File::create(&path).unwrap().write_all(content).unwrap();
-    (dir, path)
-}
+mod support;
+use support::{file, imutherm, json_stdout};
 
 const HEADER: &str = "mpu_accel_1[m/^2], mpu_accel_2[m/^2], mpu_accel_3[m/^2], mpu_gyro_1[rad/s], \
                       mpu_gyro_2[rad/s], mpu_gyro_3[rad/s], temp[degC]\n";
@@ -33,9 +23,7 @@ fn json_reports_channels_rate_temperature_and_problems_with_lines() {
     }
     body.push_str("0.1, 0.2, 9.8, 0.0"); // power lost mid-write
     let (_d, p) = file("run.txt", body.as_bytes());
-    let out = imutherm().args(["info", "--json"]).arg(&p).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_stdout(imutherm().args(["info", "--json"]).arg(&p));
     assert_eq!(doc["schema"], "imutherm.info/1");
     let f = &doc["files"][0];
     assert_eq!(f["format"], "imutherm log");
@@ -130,14 +118,7 @@ fn the_adis16405_csv_and_a_phone_export_as_new_users_feed_them() {
         let _ = writeln!(text, "{:.2},0.05,-0.4,0.3,0.0,0.0,-1.0", k as f64 / 100.0);
     }
     std::fs::write(&adis, text).unwrap();
-    let out = Command::cargo_bin("imutherm")
-        .unwrap()
-        .args(["info", "--json"])
-        .arg(&adis)
-        .output()
-        .unwrap();
-    assert!(out.status.success());
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_stdout(imutherm().args(["info", "--json"]).arg(&adis));
     let f = &doc["files"][0];
     assert_eq!(f["rate_hz"], 100.0);
     assert_eq!(f["channels"].as_array().unwrap().len(), 6, "t_s is the time axis");
@@ -154,12 +135,7 @@ fn the_adis16405_csv_and_a_phone_export_as_new_users_feed_them() {
         let _ = writeln!(text, "{},0.01,0.02,0.99,0.001,0.002,0.003", k * 5);
     }
     std::fs::write(&phone, text).unwrap();
-    let out = Command::cargo_bin("imutherm")
-        .unwrap()
-        .arg("info")
-        .arg(&phone)
-        .output()
-        .unwrap();
+    let out = imutherm().arg("info").arg(&phone).output().unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
         text.contains("m/s^2 (assumed)") && text.contains("rad/s (assumed)"),
@@ -169,8 +145,7 @@ fn the_adis16405_csv_and_a_phone_export_as_new_users_feed_them() {
     assert!(text.contains("unit ms, guessed from the median step"), "{text}");
     assert!(text.contains("rate         200 Hz"), "{text}");
     // adev repeats what the reader guessed.
-    let out = Command::cargo_bin("imutherm")
-        .unwrap()
+    let out = imutherm()
         .args(["adev", "--channels", "gyro_x"])
         .arg(&phone)
         .output()
@@ -199,8 +174,7 @@ fn a_logger_whose_chip_runs_0_3_percent_fast_stamped_in_integer_ms() {
         shown.contains("the median step (0.005000 s) would say 200 Hz"),
         "{shown}"
     );
-    let out = imutherm().args(["info", "--json"]).arg(&p).output().unwrap();
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_stdout(imutherm().args(["info", "--json"]).arg(&p));
     let f = &doc["files"][0];
     // Every real sample kept, none invented.
     assert_eq!(f["samples"], 36_108);

@@ -2,15 +2,13 @@
 //! from the recordings' `true.*` metadata and the closed forms are written
 //! out here, not taken from imutherm's code.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use assert_cmd::Command;
 use predicates::prelude::*;
 use serde_json::Value;
 
-fn imutherm() -> Command {
-    Command::cargo_bin("imutherm").unwrap()
-}
+mod support;
+use support::{Simulation, imutherm, json_stdout, tcal_fit};
 
 /// A `true.*` value of a simulated recording.
 fn truth(path: &Path, key: &str) -> f64 {
@@ -24,40 +22,18 @@ fn truth(path: &Path, key: &str) -> f64 {
         .unwrap()
 }
 
+/// `imutherm ins FILES… ARGS --json`, which must succeed.
 fn json_of(args: &[&str], files: &[&Path]) -> Value {
-    let out = imutherm()
-        .arg("ins")
-        .args(files)
-        .args(args)
-        .arg("--json")
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    serde_json::from_slice(&out).unwrap()
-}
-
-fn simulate(dir: &Path, name: &str, args: &[&str]) -> PathBuf {
-    let p = dir.join(name);
-    imutherm()
-        .arg("simulate")
-        .args(args)
-        .arg("-o")
-        .arg(&p)
-        .assert()
-        .success();
-    p
+    json_stdout(imutherm().arg("ins").args(files).args(args).arg("--json"))
 }
 
 #[test]
 fn white_noise_prediction_is_the_closed_form_and_the_measurement_follows_it() {
     let dir = tempfile::tempdir().unwrap();
-    let f = simulate(
-        dir.path(),
-        "white.txt",
-        &["--preset", "white", "--duration", "30m"],
-    );
+    let f = Simulation::new()
+        .args(&["--preset", "white"])
+        .duration("30m")
+        .write(dir.path(), "white.txt");
     let ng = truth(&f, "true.gyro_x.n");
     let na = truth(&f, "true.accel_x.n");
     let g: f64 = 9.80665; // standard gravity: no --latitude
@@ -135,14 +111,9 @@ fn the_rotating_earth_leaves_no_drift_with_the_latitude() {
         .join("\n");
     let toml = dir.path().join("earth.toml");
     std::fs::write(&toml, config).unwrap();
-    let f = dir.path().join("earth.txt");
-    imutherm()
-        .args(["simulate", "--config"])
-        .arg(&toml)
-        .arg("-o")
-        .arg(&f)
-        .assert()
-        .success();
+    let f = Simulation::new()
+        .args(&["--config", toml.to_str().unwrap()])
+        .write(dir.path(), "earth.txt");
     assert_eq!(truth(&f, "true.latitude_deg"), 48.0);
     // The gyros read the Earth's rate: |ω| = 7.292115e-5 rad/s (WGS-84).
     let w: f64 = ["x", "y", "z"]
@@ -163,26 +134,13 @@ fn the_rotating_earth_leaves_no_drift_with_the_latitude() {
 #[test]
 fn a_model_navigates_the_compensated_run_beside_the_raw_one() {
     let dir = tempfile::tempdir().unwrap();
-    let f = simulate(
-        dir.path(),
-        "cooling.txt",
-        &[
-            "--profile",
-            "cooling:100:20:600",
-            "--duration",
-            "15m",
-            "--rate",
-            "50",
-        ],
-    );
+    let f = Simulation::new()
+        .profile("cooling:100:20:600")
+        .duration("15m")
+        .rate("50")
+        .write(dir.path(), "cooling.txt");
     let model = dir.path().join("model.json");
-    imutherm()
-        .args(["tcal", "fit"])
-        .arg(&f)
-        .arg("-o")
-        .arg(&model)
-        .assert()
-        .success();
+    tcal_fit(&model, &[], &[&f]);
     imutherm()
         .arg("ins")
         .arg(&f)
@@ -223,11 +181,10 @@ fn a_model_navigates_the_compensated_run_beside_the_raw_one() {
 #[test]
 fn bad_values_are_usage_errors_and_short_files_runtime_errors() {
     let dir = tempfile::tempdir().unwrap();
-    let f = simulate(
-        dir.path(),
-        "short.txt",
-        &["--preset", "white", "--duration", "60"],
-    );
+    let f = Simulation::new()
+        .args(&["--preset", "white"])
+        .duration("60")
+        .write(dir.path(), "short.txt");
     for bad in [
         &["--align", "0"][..],
         &["--horizon", "-5"],

@@ -2,12 +2,10 @@
 
 use std::fmt::Write as _;
 
-use assert_cmd::Command;
 use predicates::prelude::*;
 
-fn imutherm() -> Command {
-    Command::cargo_bin("imutherm").unwrap()
-}
+mod support;
+use support::{imutherm, json_stdout, succeed};
 
 const HEADER: &str = "mpu_accel_1[m/^2], mpu_accel_2[m/^2], mpu_accel_3[m/^2], mpu_gyro_1[rad/s], \
                       mpu_gyro_2[rad/s], mpu_gyro_3[rad/s], temp[degC]\n";
@@ -61,8 +59,7 @@ fn terms_tables_json_and_kalibr() {
     std::fs::write(&b, log(600, 3e-3, 0.0, 82.0, 2)).unwrap();
     let yaml = dir.path().join("imu.yaml");
 
-    let out = imutherm().arg("noise").arg(&a).arg(&b).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = succeed(imutherm().arg("noise").arg(&a).arg(&b));
     let text = String::from_utf8_lossy(&out.stdout);
     // Thesis layout: one table per term, columns = mean temperatures.
     assert!(
@@ -92,9 +89,7 @@ fn terms_tables_json_and_kalibr() {
     assert!(written.contains("update_rate: 50"), "{written}");
     serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap();
 
-    let out = imutherm().args(["noise", "--json"]).arg(&a).output().unwrap();
-    assert!(out.status.success());
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_stdout(imutherm().args(["noise", "--json"]).arg(&a));
     assert_eq!(doc["schema"], "imutherm.noise/1");
     let f = &doc["files"][0];
     assert_eq!(f["mean_temperature_c"], 34.0);
@@ -211,14 +206,7 @@ fn kalibr_on_a_30_minute_recording_always_writes() {
     let a = dir.path().join("run.txt");
     std::fs::write(&a, log(1800, n, k, 34.0, 7)).unwrap();
     let yaml = dir.path().join("imu.yaml");
-    let out = imutherm()
-        .arg("noise")
-        .arg(&a)
-        .arg("--kalibr")
-        .arg(&yaml)
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = succeed(imutherm().arg("noise").arg(&a).arg("--kalibr").arg(&yaml));
     // The table comes first, on stdout.
     let table = String::from_utf8_lossy(&out.stdout);
     assert!(

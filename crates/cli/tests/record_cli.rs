@@ -3,8 +3,10 @@
 use std::process::Command as Process;
 use std::time::Duration;
 
-use assert_cmd::Command;
 use assert_cmd::cargo::CommandCargoExt;
+
+mod support;
+use support::{imutherm, json_stdout, replaces_only_with_overwrite};
 
 fn rows(path: &std::path::Path) -> Vec<Vec<f64>> {
     std::fs::read_to_string(path)
@@ -20,8 +22,7 @@ fn rows(path: &std::path::Path) -> Vec<Vec<f64>> {
 fn record(args: &[&str]) -> (tempfile::TempDir, std::path::PathBuf) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("rec.txt");
-    Command::cargo_bin("imutherm")
-        .unwrap()
+    imutherm()
         .arg("record")
         .args(args)
         .arg("-o")
@@ -33,13 +34,7 @@ fn record(args: &[&str]) -> (tempfile::TempDir, std::path::PathBuf) {
 
 /// `imutherm info --json FILE`.
 fn info_json(file: &std::path::Path) -> serde_json::Value {
-    let info = Command::cargo_bin("imutherm")
-        .unwrap()
-        .args(["info", "--json"])
-        .arg(file)
-        .output()
-        .unwrap();
-    serde_json::from_slice(&info.stdout).unwrap()
+    json_stdout(imutherm().args(["info", "--json"]).arg(file))
 }
 
 /// A number from the file's `# trailer:` line.
@@ -292,22 +287,11 @@ fn an_existing_recording_is_never_overwritten_unasked() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("precious.txt");
     std::fs::write(&out, "ten hours of data\n").unwrap();
-    let args = ["record", "--device", "sim", "--duration", "0.1s", "-o"];
-    Command::cargo_bin("imutherm")
-        .unwrap()
-        .args(args)
-        .arg(&out)
-        .assert()
-        .code(1)
-        .stderr(predicates::str::contains("already exists (18 bytes)"));
-    assert_eq!(std::fs::read_to_string(&out).unwrap(), "ten hours of data\n");
-    Command::cargo_bin("imutherm")
-        .unwrap()
-        .args(args)
-        .arg(&out)
-        .arg("--overwrite")
-        .assert()
-        .success();
+    replaces_only_with_overwrite(
+        &["record", "--device", "sim", "--duration", "0.1s", "-o"],
+        &out,
+        &["already exists (18 bytes)"],
+    );
     assert!(
         std::fs::read_to_string(&out)
             .unwrap()
@@ -371,8 +355,7 @@ fn a_silent_chip_ends_the_run_at_the_duration_in_host_time() {
 fn a_rate_the_chip_cannot_make_is_named_and_the_real_one_recorded() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("r.txt");
-    Command::cargo_bin("imutherm")
-        .unwrap()
+    imutherm()
         .args([
             "record",
             "--device",
@@ -418,8 +401,7 @@ fn a_missing_bus_is_a_clear_error() {
         ),
         ("i2c:/dev/i2c-1@68h", 2, "'68h' is not an address like 0x68"),
     ] {
-        Command::cargo_bin("imutherm")
-            .unwrap()
+        imutherm()
             .args(["record", "--device", device, "--duration", "1", "-o"])
             .arg(dir.path().join("x.txt"))
             .assert()

@@ -1,6 +1,7 @@
 //! `imutherm report`: a page for any recordings, with file names shown as text.
 
-use assert_cmd::Command;
+mod support;
+use support::{Simulation, imutherm};
 
 #[test]
 fn report_escapes_file_names_and_draws_every_figure() {
@@ -12,25 +13,16 @@ fn report_escapes_file_names_and_draws_every_figure() {
     let evil = folder.join("script>.txt");
     let cooling = dir.path().join("cooling.txt");
     for (p, profile) in [(&evil, "constant:34"), (&cooling, "cooling:90:25:600")] {
-        Command::cargo_bin("imutherm")
-            .unwrap()
-            .args([
-                "simulate",
-                "--duration",
-                "30m",
-                "--rate",
-                "5",
-                "--profile",
-                profile,
-                "-o",
-            ])
-            .arg(p)
+        Simulation::new()
+            .duration("30m")
+            .rate("5")
+            .profile(profile)
+            .command(p)
             .assert()
             .success();
     }
     let out = dir.path().join("rep");
-    Command::cargo_bin("imutherm")
-        .unwrap()
+    imutherm()
         .arg("report")
         .arg(&evil)
         .arg(&cooling)
@@ -60,16 +52,12 @@ fn report_escapes_file_names_and_draws_every_figure() {
 #[test]
 fn a_recording_too_short_to_navigate_says_why() {
     let dir = tempfile::tempdir().unwrap();
-    let short = dir.path().join("short.txt");
-    Command::cargo_bin("imutherm")
-        .unwrap()
-        .args(["simulate", "--duration", "60", "--rate", "20", "-o"])
-        .arg(&short)
-        .assert()
-        .success();
+    let short = Simulation::new()
+        .duration("60")
+        .rate("20")
+        .write(dir.path(), "short.txt");
     let out = dir.path().join("rep");
-    Command::cargo_bin("imutherm")
-        .unwrap()
+    imutherm()
         .arg("report")
         .arg(&short)
         .arg("--out")

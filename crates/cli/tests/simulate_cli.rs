@@ -1,11 +1,9 @@
 //! `imutherm simulate` end to end.
 
-use assert_cmd::Command;
 use predicates::prelude::*;
 
-fn imutherm() -> Command {
-    Command::cargo_bin("imutherm").unwrap()
-}
+mod support;
+use support::{Simulation, imutherm, json_stdout, succeed};
 
 #[test]
 fn writes_a_log_with_its_truth_that_reads_back() {
@@ -13,20 +11,12 @@ fn writes_a_log_with_its_truth_that_reads_back() {
     let a = dir.path().join("a.txt");
     let b = dir.path().join("b.txt");
     for p in [&a, &b] {
-        imutherm()
-            .args([
-                "simulate",
-                "--duration",
-                "20s",
-                "--rate",
-                "50",
-                "--seed",
-                "7",
-                "--profile",
-                "cooling:100:20:600",
-                "-o",
-            ])
-            .arg(p)
+        Simulation::new()
+            .duration("20s")
+            .rate("50")
+            .seed("7")
+            .profile("cooling:100:20:600")
+            .command(p)
             .assert()
             .success()
             .stderr(predicate::str::contains("1000 samples"));
@@ -34,8 +24,7 @@ fn writes_a_log_with_its_truth_that_reads_back() {
     // Same seed, same bytes.
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
     assert!(!dir.path().join("a.txt.partial").exists());
-    let out = imutherm().args(["info", "--json"]).arg(&a).output().unwrap();
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_stdout(imutherm().args(["info", "--json"]).arg(&a));
     let f = &doc["files"][0];
     assert_eq!(f["format"], "imutherm log");
     assert_eq!(f["samples"], 1000);
@@ -51,11 +40,7 @@ fn writes_a_log_with_its_truth_that_reads_back() {
 #[test]
 fn print_config_round_trips_through_config() {
     let dir = tempfile::tempdir().unwrap();
-    let out = imutherm()
-        .args(["simulate", "--preset", "white", "--print-config"])
-        .output()
-        .unwrap();
-    assert!(out.status.success());
+    let out = succeed(imutherm().args(["simulate", "--preset", "white", "--print-config"]));
     let cfg = dir.path().join("white.toml");
     std::fs::write(&cfg, &out.stdout).unwrap();
     let log = dir.path().join("w.txt");
@@ -146,8 +131,7 @@ fn a_profile_file_beside_the_configuration() {
         .arg(&log)
         .assert()
         .success();
-    let out = imutherm().args(["info", "--json"]).arg(&log).output().unwrap();
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_stdout(imutherm().args(["info", "--json"]).arg(&log));
     let t = &doc["files"][0]["temperature_c"];
     assert!((t["max"].as_f64().unwrap() - 60.0).abs() < 0.01, "{t}");
     assert!(t["min"].as_f64().unwrap() < 42.5, "{t}");

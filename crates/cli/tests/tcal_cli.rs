@@ -11,28 +11,39 @@ use std::path::{Path, PathBuf};
 
 use assert_cmd::Command;
 use predicates::prelude::*;
+use serde_json::Value;
 
-fn imutherm() -> Command {
-    Command::cargo_bin("imutherm").unwrap()
+mod support;
+use support::{
+    Simulation, imutherm, json_stdout, read_json, replaces_only_with_overwrite, succeed, tcal_fit,
+};
+
+/// The runs here: 2 Hz, long enough for a thermal profile.
+fn simulate(dir: &Path, name: &str, profile: &str, duration: &str, seed: &str) -> PathBuf {
+    Simulation::new()
+        .profile(profile)
+        .duration(duration)
+        .rate("2")
+        .seed(seed)
+        .write(dir, name)
 }
 
-fn simulate(dir: &Path, name: &str, profile: &str, duration: &str, seed: &str) -> PathBuf {
-    let p = dir.join(name);
-    imutherm()
-        .args([
-            "simulate",
-            "--profile",
-            profile,
-            "--duration",
-            duration,
-            "--rate",
-            "2",
-        ])
-        .args(["--seed", seed, "-o"])
-        .arg(&p)
-        .assert()
-        .success();
-    p
+/// `imutherm tcal export ARGS MODEL`.
+fn export(model: &Path, args: &[&str]) -> Command {
+    let mut cmd = imutherm();
+    cmd.args(["tcal", "export"]).args(args).arg(model);
+    cmd
+}
+
+/// `imutherm tcal eval --json ARGS MODEL RUNS…`, which must succeed.
+fn eval_json(model: &Path, args: &[&str], runs: &[&Path]) -> Value {
+    json_stdout(
+        imutherm()
+            .args(["tcal", "eval", "--json"])
+            .args(args)
+            .arg(model)
+            .args(runs),
+    )
 }
 
 /// The thesis-format columns of a simulated run: accel 1–3, gyro 1–3, temp.
@@ -152,27 +163,12 @@ fn exported_files_correct_a_held_out_run_as_each_firmware_applies_them() {
     let cooling = simulate(dir.path(), "cool.txt", "cooling:100:20:1500", "100m", "11");
     let heating = simulate(dir.path(), "heat.txt", "ramp:20:100:6000", "100m", "12");
     let model = dir.path().join("model.json");
-    imutherm()
-        .args(["tcal", "fit", "--order", "3", "--for", "px4"])
-        .arg(&cooling)
-        .arg("-o")
-        .arg(&model)
-        .assert()
-        .success();
+    tcal_fit(&model, &["--order", "3", "--for", "px4"], &[&cooling]);
 
     let px4 = dir.path().join("imu.params");
-    imutherm()
-        .args([
-            "tcal",
-            "export",
-            "--firmware",
-            "px4",
-            "--device-id",
-            "2293768",
-            "-o",
-        ])
+    export(&model, &["--firmware", "px4", "--device-id", "2293768"])
+        .arg("-o")
         .arg(&px4)
-        .arg(&model)
         .assert()
         .success();
     let px4 = parse_qgc(&std::fs::read_to_string(&px4).unwrap());
@@ -191,10 +187,9 @@ fn exported_files_correct_a_held_out_run_as_each_firmware_applies_them() {
 
     // The cooling run reaches 100 °C, past ArduPilot's documented TMAX range.
     let ap = dir.path().join("imu.parm");
-    imutherm()
-        .args(["tcal", "export", "--firmware", "ardupilot", "-o"])
+    export(&model, &["--firmware", "ardupilot"])
+        .arg("-o")
         .arg(&ap)
-        .arg(&model)
         .assert()
         .success()
         .stderr(predicate::str::contains(
@@ -249,19 +244,13 @@ fn eval_export_output_loads_and_shows_the_firmware_result() {
     let cooling = simulate(dir.path(), "cool.txt", "cooling:70:20:900", "40m", "21");
     let heating = simulate(dir.path(), "heat.txt", "ramp:22:68:2400", "40m", "22");
     let model = dir.path().join("model.json");
-    imutherm()
-        .args(["tcal", "fit", "--for", "ardupilot", "-o"])
-        .arg(&model)
-        .arg(&cooling)
-        .assert()
-        .success();
-    let out = imutherm()
-        .args(["tcal", "eval", "--export", "px4"])
-        .arg(&model)
-        .arg(&heating)
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    tcal_fit(&model, &["--for", "ardupilot"], &[&cooling]);
+    let out = succeed(
+        imutherm()
+            .args(["tcal", "eval", "--export", "px4"])
+            .arg(&model)
+            .arg(&heating),
+    );
     let text = String::from_utf8(out.stdout).unwrap();
     // The table is there, as comments.
     assert!(
@@ -277,14 +266,7 @@ fn eval_export_output_loads_and_shows_the_firmware_result() {
     // Every line is a comment or a parameter: the whole output loads.
     let params = parse_qgc(&text);
     assert!(params.contains_key("TC_G0_X3_2"));
-    let out = imutherm()
-        .args(["tcal", "eval", "--json", "--export", "ardupilot"])
-        .arg(&model)
-        .arg(&heating)
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = eval_json(&model, &["--export", "ardupilot"], &[&heating]);
     parse_name_value(doc["firmware"]["parameters"].as_str().unwrap());
     for r in doc["rows"].as_array().unwrap() {
         let (b, l) = (
@@ -308,10 +290,9 @@ fn eval_export_output_loads_and_shows_the_firmware_result() {
     // the same with the coefficients left unscaled (ArduPilot divides them
     // by 1e6), which corrects nothing.
     let parm = dir.path().join("imu.parm");
-    imutherm()
-        .args(["tcal", "export", "--firmware", "ardupilot", "-o"])
+    export(&model, &["--firmware", "ardupilot"])
+        .arg("-o")
         .arg(&parm)
-        .arg(&model)
         .assert()
         .success();
     let text = std::fs::read_to_string(&parm).unwrap();
@@ -327,15 +308,12 @@ fn eval_export_output_loads_and_shows_the_firmware_result() {
     let unscaled_path = dir.path().join("unscaled.parm");
     std::fs::write(&unscaled_path, unscaled).unwrap();
     let as_loaded = |params: &Path| -> Vec<(f64, f64)> {
-        let out = imutherm()
-            .args(["tcal", "eval", "--json", "--export", "ardupilot", "--params"])
-            .arg(params)
-            .arg(&model)
-            .arg(&heating)
-            .output()
-            .unwrap();
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-        let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let params = params.to_str().unwrap();
+        let doc = eval_json(
+            &model,
+            &["--export", "ardupilot", "--params", params],
+            &[&heating],
+        );
         doc["rows"]
             .as_array()
             .unwrap()
@@ -358,7 +336,7 @@ fn eval_export_output_loads_and_shows_the_firmware_result() {
 
 /// Writes a model JSON with `edit` applied to a sound one.
 fn edited_model(dir: &Path, sound: &Path, name: &str, edit: impl Fn(&mut serde_json::Value)) -> PathBuf {
-    let mut v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(sound).unwrap()).unwrap();
+    let mut v = read_json(sound);
     edit(&mut v);
     let p = dir.join(name);
     std::fs::write(&p, serde_json::to_string_pretty(&v).unwrap()).unwrap();
@@ -370,31 +348,17 @@ fn what_a_firmware_cannot_load_is_refused_with_what_to_refit() {
     let dir = tempfile::tempdir().unwrap();
     let cooling = simulate(dir.path(), "cool.txt", "cooling:70:20:900", "40m", "31");
     let quartic = dir.path().join("quartic.json");
-    imutherm()
-        .args(["tcal", "fit", "--order", "4", "-o"])
-        .arg(&quartic)
-        .arg(&cooling)
-        .assert()
-        .success();
+    tcal_fit(&quartic, &["--order", "4"], &[&cooling]);
     for fw in ["px4", "ardupilot"] {
-        imutherm()
-            .args(["tcal", "export", "--firmware", fw])
-            .arg(&quartic)
+        export(&quartic, &["--firmware", fw])
             .assert()
             .code(1)
             .stdout(predicate::str::is_empty())
             .stderr(predicate::str::contains("order 4").and(predicate::str::contains(format!("--for {fw}"))));
     }
     let lagged = dir.path().join("lagged.json");
-    imutherm()
-        .args(["tcal", "fit", "--order", "2", "--rate-term", "-o"])
-        .arg(&lagged)
-        .arg(&cooling)
-        .assert()
-        .success();
-    imutherm()
-        .args(["tcal", "export", "--firmware", "px4"])
-        .arg(&lagged)
+    tcal_fit(&lagged, &["--order", "2", "--rate-term"], &[&cooling]);
+    export(&lagged, &["--firmware", "px4"])
         .assert()
         .code(1)
         .stderr(predicate::str::contains("dT/dt term"));
@@ -416,13 +380,8 @@ fn what_a_firmware_cannot_load_is_refused_with_what_to_refit() {
     }
     // --order auto stops at the cubic.
     let auto = dir.path().join("auto.json");
-    imutherm()
-        .args(["tcal", "fit", "--for", "px4", "-o"])
-        .arg(&auto)
-        .arg(&cooling)
-        .assert()
-        .success();
-    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&auto).unwrap()).unwrap();
+    tcal_fit(&auto, &["--for", "px4"], &[&cooling]);
+    let m = read_json(&auto);
     for c in m["channels"].as_array().unwrap() {
         assert!(c["order"].as_u64().unwrap() <= 3);
         assert!(c["cross_validation"].as_array().unwrap().len() <= 4);
@@ -434,17 +393,10 @@ fn what_a_firmware_cannot_load_is_refused_with_what_to_refit() {
         vec!["--firmware", "px4", "--device-id", "gyro"],
         vec!["--firmware", "inav"],
     ] {
-        imutherm()
-            .args(["tcal", "export"])
-            .args(&args)
-            .arg(&auto)
-            .assert()
-            .code(2);
+        export(&auto, &args).assert().code(2);
     }
     // PX4 without a device id: a placeholder, commented, and a warning.
-    imutherm()
-        .args(["tcal", "export", "--firmware", "px4", "--instance", "2"])
-        .arg(&auto)
+    export(&auto, &["--firmware", "px4", "--instance", "2"])
         .assert()
         .success()
         .stdout(
@@ -459,35 +411,27 @@ fn export_output_is_written_whole_and_never_replaces_a_file_unasked() {
     let dir = tempfile::tempdir().unwrap();
     let cooling = simulate(dir.path(), "cool.txt", "cooling:70:20:900", "30m", "41");
     let model = dir.path().join("model.json");
-    imutherm()
-        .args(["tcal", "fit", "--for", "px4", "-o"])
-        .arg(&model)
-        .arg(&cooling)
-        .assert()
-        .success();
+    tcal_fit(&model, &["--for", "px4"], &[&cooling]);
     let out = dir.path().join("imu.params");
     std::fs::write(&out, "keep me\n").unwrap();
-    imutherm()
-        .args(["tcal", "export", "--firmware", "px4", "-o"])
-        .arg(&out)
-        .arg(&model)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("--overwrite"));
-    assert_eq!(std::fs::read_to_string(&out).unwrap(), "keep me\n");
-    imutherm()
-        .args(["tcal", "export", "--firmware", "px4", "--overwrite", "-o"])
-        .arg(&out)
-        .arg(&model)
-        .assert()
-        .success();
+    replaces_only_with_overwrite(
+        &[
+            "tcal",
+            "export",
+            "--firmware",
+            "px4",
+            model.to_str().unwrap(),
+            "-o",
+        ],
+        &out,
+        &["--overwrite"],
+    );
     parse_qgc(&std::fs::read_to_string(&out).unwrap());
     // Onto the model itself, even with --overwrite: refused, model intact.
     let before = std::fs::read(&model).unwrap();
-    imutherm()
-        .args(["tcal", "export", "--firmware", "px4", "--overwrite", "-o"])
+    export(&model, &["--firmware", "px4", "--overwrite"])
+        .arg("-o")
         .arg(dir.path().join(".").join("model.json"))
-        .arg(&model)
         .assert()
         .code(2);
     assert_eq!(std::fs::read(&model).unwrap(), before);
@@ -498,12 +442,7 @@ fn broken_models_are_refused_naming_the_field_and_never_panic() {
     let dir = tempfile::tempdir().unwrap();
     let run = simulate(dir.path(), "run.txt", "ramp:25:60:1800", "30m", "51");
     let sound = dir.path().join("model.json");
-    imutherm()
-        .args(["tcal", "fit", "--order", "2", "-o"])
-        .arg(&sound)
-        .arg(&run)
-        .assert()
-        .success();
+    tcal_fit(&sound, &["--order", "2"], &[&run]);
     type Edit = fn(&mut serde_json::Value);
     let cases: Vec<(&str, Edit, &str)> = vec![
         (
@@ -576,7 +515,7 @@ fn broken_models_are_refused_naming_the_field_and_never_panic() {
 fn tref_outside_the_fitted_range_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let run = simulate(dir.path(), "run.txt", "ramp:25:60:1800", "30m", "61");
-    for tref in ["500", "nan", "inf", "10"] {
+    for tref in ["500", "10"] {
         imutherm()
             .args(["tcal", "fit", "--tref", tref, "-o"])
             .arg(dir.path().join("m.json"))
@@ -584,6 +523,17 @@ fn tref_outside_the_fitted_range_is_refused() {
             .assert()
             .code(1)
             .stderr(predicate::str::contains("outside the fitted range"));
+        assert!(!dir.path().join("m.json").exists());
+    }
+    // Not a temperature at all: refused when the flags are parsed.
+    for tref in ["nan", "inf"] {
+        imutherm()
+            .args(["tcal", "fit", "--tref", tref, "-o"])
+            .arg(dir.path().join("m.json"))
+            .arg(&run)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains("'--tref <C>'").and(predicate::str::contains("finite number")));
         assert!(!dir.path().join("m.json").exists());
     }
 }
@@ -594,14 +544,8 @@ fn the_rate_term_does_not_amplify_a_temperature_spike() {
     let cooling = simulate(dir.path(), "cool.txt", "cooling:80:20:900", "40m", "71");
     let heating = simulate(dir.path(), "heat.txt", "ramp:22:78:2400", "40m", "72");
     let model = dir.path().join("model.json");
-    imutherm()
-        .args(["tcal", "fit", "--order", "2", "--rate-term", "-o"])
-        .arg(&model)
-        .arg(&cooling)
-        .arg(&heating)
-        .assert()
-        .success();
-    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
+    tcal_fit(&model, &["--order", "2", "--rate-term"], &[&cooling, &heating]);
+    let m = read_json(&model);
     let range = m["dtdt_range_c_per_s"].as_array().unwrap();
     let max_rate = range
         .iter()
@@ -688,22 +632,12 @@ fn held_out_is_judged_by_the_file_and_a_run_is_fitted_once() {
             .code(2)
             .stderr(predicate::str::contains("are the same recording"));
     }
-    imutherm()
-        .args(["tcal", "fit", "--order", "2", "-o"])
-        .arg(&model)
-        .arg(&cooling)
-        .assert()
-        .success();
-    let out = imutherm()
-        .args(["tcal", "eval", "--json"])
-        .arg(&model)
-        .arg(dir.path().join(".").join("cool.txt"))
-        .arg(&copy)
-        .arg(&heating)
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    tcal_fit(&model, &["--order", "2"], &[&cooling]);
+    let doc = eval_json(
+        &model,
+        &[],
+        &[&dir.path().join(".").join("cool.txt"), &copy, &heating],
+    );
     let held: HashMap<String, bool> = doc["rows"]
         .as_array()
         .unwrap()

@@ -1,31 +1,18 @@
 //! `imutherm thermal` and `imutherm tcal` end to end, on simulated runs.
 
-use assert_cmd::Command;
 use predicates::prelude::*;
 
-fn imutherm() -> Command {
-    Command::cargo_bin("imutherm").unwrap()
-}
+mod support;
+use support::{Simulation, imutherm, json_stdout, read_json, tcal_fit};
 
+/// The runs here: 40 minutes at 5 Hz.
 fn simulate(dir: &std::path::Path, name: &str, profile: &str, seed: &str) -> std::path::PathBuf {
-    let p = dir.join(name);
-    imutherm()
-        .args([
-            "simulate",
-            "--profile",
-            profile,
-            "--duration",
-            "40m",
-            "--rate",
-            "5",
-            "--seed",
-            seed,
-            "-o",
-        ])
-        .arg(&p)
-        .assert()
-        .success();
-    p
+    Simulation::new()
+        .profile(profile)
+        .duration("40m")
+        .rate("5")
+        .seed(seed)
+        .write(dir, name)
 }
 
 #[test]
@@ -34,29 +21,21 @@ fn fit_apply_eval_and_the_surface() {
     let cooling = simulate(dir.path(), "cool.txt", "cooling:90:25:700", "1");
     let heating = simulate(dir.path(), "heat.txt", "ramp:30:85:2000", "2");
     let model = dir.path().join("model.json");
-    imutherm()
-        .args(["tcal", "fit", "--order", "3", "--tref", "35"])
-        .arg(&cooling)
-        .arg("-o")
-        .arg(&model)
-        .assert()
-        .success()
+    tcal_fit(&model, &["--order", "3", "--tref", "35"], &[&cooling])
         .stderr(predicate::str::contains("gyro_x   order 3"));
-    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&model).unwrap()).unwrap();
+    let m = read_json(&model);
     assert_eq!(m["schema"], "imutherm.tcal/1");
     assert_eq!(m["t_ref_c"], 35.0);
     assert_eq!(m["channels"].as_array().unwrap().len(), 6);
 
     // Evaluated on the heating run the fit never saw: the bias over
     // temperature shrinks by more than 90 %.
-    let out = imutherm()
-        .args(["tcal", "eval", "--json"])
-        .arg(&model)
-        .arg(&heating)
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_stdout(
+        imutherm()
+            .args(["tcal", "eval", "--json"])
+            .arg(&model)
+            .arg(&heating),
+    );
     for r in doc["rows"].as_array().unwrap() {
         let (b, a) = (
             r["bias_rms_before"].as_f64().unwrap(),
@@ -96,13 +75,11 @@ fn fit_apply_eval_and_the_surface() {
     let text = std::fs::read_to_string(&comp).unwrap();
     assert!(text.contains("# temperature_compensated_with:"));
 
-    let out = imutherm()
-        .args(["thermal", "--channels", "gyro_x", "--bin-width", "10", "--json"])
-        .arg(&cooling)
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = json_stdout(
+        imutherm()
+            .args(["thermal", "--channels", "gyro_x", "--bin-width", "10", "--json"])
+            .arg(&cooling),
+    );
     assert_eq!(doc["schema"], "imutherm.thermal/1");
     let rows = doc["channels"][0]["rows"].as_array().unwrap();
     assert!(rows.len() >= 5, "{} bins", rows.len());
@@ -141,13 +118,7 @@ fn degenerate_inputs_exit_1() {
         ));
     // A model applied to a file without its channels.
     let warm = simulate(dir.path(), "warm.txt", "ramp:30:60:2400", "5");
-    imutherm()
-        .args(["tcal", "fit", "--order", "1"])
-        .arg(&warm)
-        .arg("-o")
-        .arg(&model)
-        .assert()
-        .success();
+    tcal_fit(&model, &["--order", "1"], &[&warm]);
     let other = dir.path().join("other.csv");
     std::fs::write(&other, "temp,pressure[hPa]\n30,1013\n31,1012\n").unwrap();
     imutherm()

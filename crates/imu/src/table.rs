@@ -839,6 +839,16 @@ struct BlockFault {
 }
 
 impl BlockFault {
+    /// A carriage return inside line `line`: the file's lines end in CR
+    /// alone from there on, and no row can be read from it.
+    fn cr_line_endings(line: u64) -> Self {
+        BlockFault {
+            line,
+            column: None,
+            kind: ReadErrorKind::CrLineEndings,
+        }
+    }
+
     fn into_error(self, path: &Path, lines_before: u64) -> ReadError {
         ReadError::new(path, self.kind).at(lines_before + self.line, self.column)
     }
@@ -931,11 +941,7 @@ impl Layout<'_> {
             // number: it is dropped and reported.
             if last && unterminated && rest.is_empty() && !is_skipped(line) {
                 if has_inner_cr(line) {
-                    return Err(BlockFault {
-                        line: lines,
-                        column: None,
-                        kind: ReadErrorKind::CrLineEndings,
-                    });
+                    return Err(BlockFault::cr_line_endings(lines));
                 }
                 self.delimiter.split_into(line, &mut fields);
                 problems.push(BlockFault {
@@ -958,14 +964,8 @@ impl Layout<'_> {
                 skipped.push(lines);
                 continue;
             }
-            // A carriage return inside a line: the file's lines end in CR
-            // alone from here on, which no row can be read from.
             if has_inner_cr(line) {
-                return Err(BlockFault {
-                    line: lines,
-                    column: None,
-                    kind: ReadErrorKind::CrLineEndings,
-                });
+                return Err(BlockFault::cr_line_endings(lines));
             }
             // The careful path: find out exactly what is wrong, or handle
             // what the fast path does not (non-numeric unselected cells).

@@ -95,6 +95,17 @@ struct Analysed {
     terms: NoiseTerms,
 }
 
+/// What every writer reads: the analysed channels and, per file, its
+/// name, mean temperature and rate, with the confidence the intervals hold.
+#[derive(Clone, Copy)]
+struct Analysis<'a> {
+    analysed: &'a [Analysed],
+    files: &'a [std::path::PathBuf],
+    temps: &'a [Option<f64>],
+    rates: &'a [f64],
+    confidence: f64,
+}
+
 pub fn run(a: &NoiseArgs) -> Result<()> {
     // Refused before the analysis, not after it.
     if let Some(path) = &a.kalibr {
@@ -163,19 +174,26 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
     // The analysis is printed first, whatever becomes of the yaml.
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
+    let analysis = Analysis {
+        analysed: &analysed,
+        files: &a.files,
+        temps: &temps,
+        rates: &rates,
+        confidence,
+    };
     if a.json {
-        write_json(&mut out, &analysed, &a.files, &temps, &rates, units, confidence)?;
+        write_json(&mut out, analysis, units)?;
     } else if a.verbose {
-        write_text(&mut out, &analysed, &a.files, &temps, units, confidence)?;
+        write_text(&mut out, analysis, units)?;
     } else {
-        write_compact(&mut out, &analysed, &a.files, &temps, &rates, units, confidence)?;
+        write_compact(&mut out, analysis, units)?;
         if a.files.len() > 1 {
-            write_thesis_tables(&mut out, &analysed, &a.files, &temps, units)?;
+            write_thesis_tables(&mut out, analysis, units)?;
         }
     }
     out.flush()?;
     if let Some(path) = &a.kalibr {
-        write_kalibr(path, &analysed, &rates, &a.files, confidence, a.overwrite)?;
+        write_kalibr(path, analysis, a.overwrite)?;
         eprintln!("wrote {}", path.display());
     }
     Ok(())
@@ -222,18 +240,10 @@ fn compact_cell(r: &Analysed, term: Term, units: Units) -> String {
 
 /// One compact table per file: rows are axes, columns the terms, each
 /// cell the estimate that holds with its interval; units in the header.
-fn write_compact(
-    out: &mut impl Write,
-    analysed: &[Analysed],
-    files: &[std::path::PathBuf],
-    temps: &[Option<f64>],
-    rates: &[f64],
-    units: Units,
-    confidence: f64,
-) -> Result<()> {
-    for (i, f) in files.iter().enumerate() {
-        let rows: Vec<&Analysed> = analysed.iter().filter(|r| r.file_index == i).collect();
-        let t = temps[i]
+fn write_compact(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<()> {
+    for (i, f) in analysis.files.iter().enumerate() {
+        let rows: Vec<&Analysed> = analysis.analysed.iter().filter(|r| r.file_index == i).collect();
+        let t = analysis.temps[i]
             .map(|t| format!(", mean temperature {t:.1} °C"))
             .unwrap_or_default();
         let samples = rows.first().map_or(0, |r| r.channel.data.len());
@@ -241,9 +251,9 @@ fn write_compact(
             out,
             "# {} — {} Hz, {:.0} s{t}; intervals at {:.1} %",
             f.display(),
-            imu::log::round_rate(rates[i]),
-            samples as f64 / rates[i],
-            100.0 * confidence
+            imu::log::round_rate(analysis.rates[i]),
+            samples as f64 / analysis.rates[i],
+            100.0 * analysis.confidence
         )?;
         let mut groups: Vec<(Quantity, String)> = Vec::new();
         for r in &rows {
@@ -370,7 +380,7 @@ fn write_compact(
             writeln!(
                 out,
                 "  ≤ not identifiable: an upper bound at {:.1} % (no term's share of σ² exceeds σ's upper bound)",
-                100.0 * confidence
+                100.0 * analysis.confidence
             )?;
         }
         writeln!(out)?;
@@ -462,20 +472,12 @@ fn json_term(term: Term, est: &TermEstimate, method: &'static str, ch: &Channel)
     }
 }
 
-fn write_json(
-    out: &mut impl Write,
-    analysed: &[Analysed],
-    files: &[std::path::PathBuf],
-    temps: &[Option<f64>],
-    rates: &[f64],
-    units: Units,
-    confidence: f64,
-) -> Result<()> {
-    let files_json: Vec<serde_json::Value> = files
+fn write_json(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<()> {
+    let files_json: Vec<serde_json::Value> = analysis.files
         .iter()
         .enumerate()
         .map(|(i, f)| {
-            let channels: Vec<serde_json::Value> = analysed
+            let channels: Vec<serde_json::Value> = analysis.analysed
                 .iter()
                 .filter(|r| r.file_index == i)
                 .map(|r| {
@@ -554,8 +556,8 @@ fn write_json(
                 .collect();
             serde_json::json!({
                 "file": f.display().to_string(),
-                "mean_temperature_c": temps[i],
-                "rate_hz": rates[i],
+                "mean_temperature_c": analysis.temps[i],
+                "rate_hz": analysis.rates[i],
                 "channels": channels,
             })
         })
@@ -563,7 +565,7 @@ fn write_json(
     let doc = serde_json::json!({
         "schema": SCHEMA,
         "imutherm_version": env!("CARGO_PKG_VERSION"),
-        "confidence": confidence,
+        "confidence": analysis.confidence,
         "units": match units { Units::Si => "si", _ => "datasheet" },
         "files": files_json,
     });
@@ -588,25 +590,18 @@ fn fmt_est(est: &TermEstimate, term: Term, ch: &Channel, units: Units) -> String
     }
 }
 
-fn write_text(
-    out: &mut impl Write,
-    analysed: &[Analysed],
-    files: &[std::path::PathBuf],
-    temps: &[Option<f64>],
-    units: Units,
-    confidence: f64,
-) -> Result<()> {
-    for (i, f) in files.iter().enumerate() {
-        let t = temps[i]
+fn write_text(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<()> {
+    for (i, f) in analysis.files.iter().enumerate() {
+        let t = analysis.temps[i]
             .map(|t| format!(", mean temperature {t:.1} °C"))
             .unwrap_or_default();
         writeln!(
             out,
             "# {}{t} — intervals at {:.1} %",
             f.display(),
-            100.0 * confidence
+            100.0 * analysis.confidence
         )?;
-        for r in analysed.iter().filter(|r| r.file_index == i) {
+        for r in analysis.analysed.iter().filter(|r| r.file_index == i) {
             let ch = &r.channel;
             writeln!(
                 out,
@@ -643,28 +638,25 @@ fn write_text(
                 )?;
             }
             let th = &r.terms.slope.thesis;
-            let (fn_, un) = unit_of(Term::WhiteNoise, ch.quantity, &ch.unit, units);
-            let (fb, ub) = unit_of(Term::BiasInstability, ch.quantity, &ch.unit, units);
+            let reading = |v: Option<TermValue>, term: Term| {
+                let (f, u) = unit_of(term, ch.quantity, &ch.unit, units);
+                v.map_or_else(
+                    || "—".to_string(),
+                    |v| {
+                        format!(
+                            "{:.4e} {u} (at τ = {:.4} s)",
+                            v.value * f,
+                            v.tau.unwrap_or(f64::NAN)
+                        )
+                    },
+                )
+            };
             writeln!(
                 out,
                 "  the thesis's reading (analyzeAllan.m: slope nearest −1/2; σ at the first τ where the slope turns \
                  positive): N {}, B {}",
-                th.n.map_or_else(
-                    || "—".to_string(),
-                    |v| format!(
-                        "{:.4e} {un} (at τ = {:.4} s)",
-                        v.value * fn_,
-                        v.tau.unwrap_or(f64::NAN)
-                    )
-                ),
-                th.b.map_or_else(
-                    || "—".to_string(),
-                    |v| format!(
-                        "{:.4e} {ub} (at τ = {:.4} s)",
-                        v.value * fb,
-                        v.tau.unwrap_or(f64::NAN)
-                    )
-                ),
+                reading(th.n, Term::WhiteNoise),
+                reading(th.b, Term::BiasInstability),
             )?;
             if !r.terms.fit.left_out.is_empty() {
                 writeln!(
@@ -695,8 +687,8 @@ fn write_text(
         }
         writeln!(out)?;
     }
-    if files.len() > 1 {
-        write_thesis_tables(out, analysed, files, temps, units)?;
+    if analysis.files.len() > 1 {
+        write_thesis_tables(out, analysis, units)?;
     }
     Ok(())
 }
@@ -705,26 +697,20 @@ fn write_text(
 /// files' mean temperatures; slope-method values as the thesis read them,
 /// the fit's where the slope method cannot read the term or disagrees with
 /// the fit (marked), in the thesis's units (°/√s, °/s) or the datasheet's.
-fn write_thesis_tables(
-    out: &mut impl Write,
-    analysed: &[Analysed],
-    files: &[std::path::PathBuf],
-    temps: &[Option<f64>],
-    units: Units,
-) -> Result<()> {
+fn write_thesis_tables(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<()> {
     let units = if units == Units::Datasheet {
         Units::Datasheet
     } else {
         Units::Thesis
     };
     let mut names: Vec<(String, Quantity, String)> = Vec::new();
-    for r in analysed {
+    for r in analysis.analysed {
         if !names.iter().any(|(n, _, _)| *n == r.channel.name) {
             names.push((r.channel.name.clone(), r.channel.quantity, r.channel.unit.clone()));
         }
     }
-    let header: Vec<String> = (0..files.len())
-        .map(|i| temps[i].map_or_else(|| format!("file {}", i + 1), |t| format!("{t:.0}°C")))
+    let header: Vec<String> = (0..analysis.files.len())
+        .map(|i| analysis.temps[i].map_or_else(|| format!("file {}", i + 1), |t| format!("{t:.0}°C")))
         .collect();
     let groups = [
         (Quantity::Acceleration, "Accelerometer"),
@@ -765,8 +751,9 @@ fn write_thesis_tables(
             let mut marked = false;
             for (name, _, _) in &rows {
                 let mut line = format!("{name:<10}");
-                for i in 0..files.len() {
-                    let cell = analysed
+                for i in 0..analysis.files.len() {
+                    let cell = analysis
+                        .analysed
                         .iter()
                         .find(|r| r.file_index == i && r.channel.name == *name)
                         .map_or_else(|| "—".to_string(), |r| thesis_cell(r, term, units));
@@ -854,20 +841,14 @@ fn kalibr_value(r: &Analysed, term: Term) -> Option<(f64, String)> {
     }
 }
 
-fn write_kalibr(
-    path: &Path,
-    analysed: &[Analysed],
-    rates: &[f64],
-    files: &[std::path::PathBuf],
-    confidence: f64,
-    overwrite: bool,
-) -> Result<()> {
+fn write_kalibr(path: &Path, analysis: Analysis, overwrite: bool) -> Result<()> {
     let mut text = String::new();
     let _ = writeln!(
         text,
         "# Kalibr IMU noise model written by imutherm {} from {}.",
         env!("CARGO_PKG_VERSION"),
-        files
+        analysis
+            .files
             .iter()
             .map(|f| f.display().to_string())
             .collect::<Vec<_>>()
@@ -877,7 +858,7 @@ fn write_kalibr(
         text,
         "# Continuous-time values (IEEE 952 on the overlapping ADEV): *_noise_density = N, \
          *_random_walk = K; the worst axis of each sensor is used. Bounds and intervals at {:.1} %.",
-        100.0 * confidence
+        100.0 * analysis.confidence
     );
     let mut values = Vec::new();
     for (q, sensor, n_unit, k_unit) in [
@@ -894,7 +875,11 @@ fn write_kalibr(
             "rad/s^2/sqrt(Hz)",
         ),
     ] {
-        let axes: Vec<&Analysed> = analysed.iter().filter(|r| r.channel.quantity == q).collect();
+        let axes: Vec<&Analysed> = analysis
+            .analysed
+            .iter()
+            .filter(|r| r.channel.quantity == q)
+            .collect();
         if axes.is_empty() {
             bail!("--kalibr: no {sensor} channels in the input");
         }
@@ -937,7 +922,7 @@ fn write_kalibr(
     for (key, v, unit) in values {
         let _ = writeln!(text, "{key}: {v:.6e}  # {unit}");
     }
-    let rate = rates.first().copied().unwrap_or(1.0);
+    let rate = analysis.rates.first().copied().unwrap_or(1.0);
     let _ = writeln!(
         text,
         "rostopic: /imu0  # check: the topic your IMU publishes on\nupdate_rate: {}  # Hz, the recording's",
@@ -948,7 +933,7 @@ fn write_kalibr(
         text.as_bytes(),
         &imu::output::OutputPolicy {
             overwrite,
-            inputs: files,
+            inputs: analysis.files,
         },
     )?;
     Ok(())
