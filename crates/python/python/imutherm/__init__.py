@@ -5,7 +5,7 @@ Every statistic of the ``imutherm adev`` command, on NumPy arrays::
     >>> import numpy as np, imutherm
     >>> gyro = np.random.default_rng(0).standard_normal(100_000) * 1e-3  # rad/s at 100 Hz
     >>> c = imutherm.oadev(gyro, rate=100.0)
-    >>> c.taus[0], round(float(c.devs[0] / 1e-3), 2)
+    >>> float(c.taus[0]), round(float(c.devs[0] / 1e-3), 2)
     (0.01, 1.0)
 
 The samples are rate data by default (``data_type="freq"``: a gyro's or an
