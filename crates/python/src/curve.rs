@@ -133,7 +133,7 @@ fn terms_dict<'py>(py: Python<'py>, terms: &NoiseTerms) -> PyResult<Bound<'py, P
         let how = match choice.chosen {
             Chosen::Fit(_) => "fit",
             Chosen::Slope(_) => "slope",
-            Chosen::Bound(_) => "upper bound",
+            Chosen::Bound(_) => "upper_bound",
             Chosen::Nothing => "none",
         };
         entry.set_item("value", choice.value())?;

@@ -95,17 +95,19 @@ htotdev = _statistic("htotdev", "Hadamard total deviation (NIST SP 1065 eq. 29),
 theo1 = _statistic("theo1", "Theo1 deviation (NIST SP 1065 eq. 30) at tau = 0.75 m/rate, no bias correction.")
 
 
-def noise_terms(y, rate=1.0, confidence=0.683):
+def noise_terms(y, rate=1.0, confidence=0.95):
     """The IEEE Std 952 noise terms of rate samples ``y`` at ``rate`` Hz, as
     ``imutherm noise`` reads them: by the slope method and by the fit, each
-    with its interval, and the estimate that holds.
+    with its interval (at 95 % by default, as on the command line), and the
+    estimate that holds.
 
     Returns a dict: ``"curve"`` (the octave OADEV points it was read from,
     NumPy arrays as in :class:`Curve`) and ``"terms"``, keyed by term name
     (quantization, white noise, bias instability, rate random walk, rate
     ramp), each with ``symbol``, ``slope`` and ``fit`` (``value``, ``lo``,
-    ``hi``, or ``value`` None and the ``reason``), and ``value``/``how``/
-    ``note``, the estimate shown.
+    ``hi``, or ``value`` None and the ``reason``), and ``value``, ``how``
+    ("fit", "slope", "upper_bound" or "none") and ``note``: the estimate
+    ``imutherm noise`` shows, with its JSON's names.
 
     >>> t = imutherm.noise_terms(np.random.default_rng(3).standard_normal(100_000), rate=100.0)
     >>> sorted(t["terms"])[:2]

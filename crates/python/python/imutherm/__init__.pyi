@@ -63,11 +63,11 @@ class TermReading(TypedDict):
     slope: TermEstimate
     fit: TermEstimate
     value: float | None
-    how: Literal["fit", "slope", "upper bound", "none"]
+    how: Literal["fit", "slope", "upper_bound", "none"]
     note: str | None
 
 class NoiseTerms(TypedDict):
     curve: dict[str, Any]
     terms: dict[str, TermReading]
 
-def noise_terms(y: Samples, rate: float = 1.0, confidence: float = 0.683) -> NoiseTerms: ...
+def noise_terms(y: Samples, rate: float = 1.0, confidence: float = 0.95) -> NoiseTerms: ...
