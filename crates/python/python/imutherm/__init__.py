@@ -1,0 +1,118 @@
+"""imutherm: Allan-family stability statistics with confidence intervals.
+
+Every statistic of the ``imutherm adev`` command, on NumPy arrays::
+
+    >>> import numpy as np, imutherm
+    >>> gyro = np.random.default_rng(0).standard_normal(100_000) * 1e-3  # rad/s at 100 Hz
+    >>> c = imutherm.oadev(gyro, rate=100.0)
+    >>> float(c.taus[0]), round(float(c.devs[0] / 1e-3), 2)
+    (0.01, 1.0)
+
+The samples are rate data by default (``data_type="freq"``: a gyro's or an
+accelerometer's output); pass ``data_type="phase"`` for integrated data. A
+contiguous float64 array is read in place, never copied, and the
+computation runs with the GIL released on all cores.
+
+``imutherm.allantools`` is a drop-in for AllanTools' functions, which take
+phase data by default.
+"""
+
+import warnings
+
+import numpy as np
+
+from . import _imutherm
+from ._curve import Curve
+from ._samples import as_samples, as_taus
+
+ImuthermError = _imutherm.ImuthermError
+
+#: Every statistic, as the command line names them.
+STATISTICS = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev",
+              "totdev", "mtotdev", "ttotdev", "htotdev", "theo1")
+
+__all__ = ["Curve", "ImuthermError", "STATISTICS", "analyze", "noise_terms", *STATISTICS]
+
+
+def analyze(stat, y, rate=1.0, taus="octave", data_type="freq", confidence=0.683):
+    """Computes the statistic ``stat`` (one of :data:`STATISTICS`) of ``y``.
+
+    ``taus`` is "octave" (1, 2, 4, ... samples), "decade" (1, 2, 4, 10, 20,
+    ...), "all", "many" (50 per decade), or a sequence of taus in seconds,
+    each rounded to a whole number of samples. Taus beyond Stable32's stop
+    ratio (N/4 for oadev, N/2 for totdev, ...) are left out.
+
+    NaN samples are gaps: adev, oadev, mdev, tdev, hdev and ohdev skip the
+    terms across them (with a warning, as the command line notes them), the
+    total statistics and theo1 raise :class:`ImuthermError`.
+
+    Returns a :class:`Curve`. Raises ``TypeError`` for non-numeric samples,
+    ``ValueError`` for empty or multi-dimensional ones and
+    :class:`ImuthermError` (a ``ValueError``) for everything the command line
+    refuses, with its message.
+
+    >>> imutherm.analyze("mdev", np.ones(100) + np.arange(100) % 2).taus
+    array([ 1.,  2.,  4.,  8., 16.])
+    """
+    data = as_samples(y)
+    fields = _imutherm.analyze(str(stat), data, float(rate), as_taus(taus), str(data_type),
+                               float(confidence))
+    curve = Curve(fields)
+    if curve.nan_samples:
+        warnings.warn(f"{curve.nan_samples} NaN samples treated as gaps (terms across them skipped)",
+                      RuntimeWarning, stacklevel=3)
+    return curve
+
+
+def _statistic(stat, summary):
+    def compute(y, rate=1.0, taus="octave", data_type="freq", confidence=0.683):
+        return analyze(stat, y, rate=rate, taus=taus, data_type=data_type, confidence=confidence)
+
+    compute.__name__ = compute.__qualname__ = stat
+    compute.__doc__ = f"""{summary}
+
+    ``imutherm.{stat}(y, rate=1.0, taus="octave", data_type="freq", confidence=0.683)``
+    is ``imutherm.analyze("{stat}", ...)``: see :func:`analyze` for the
+    arguments, the gaps and the errors. Returns a :class:`Curve`.
+
+    >>> c = imutherm.{stat}(np.random.default_rng(2).standard_normal(4096))
+    >>> c.stat
+    '{stat}'
+    """
+    return compute
+
+
+adev = _statistic("adev", "Non-overlapped Allan deviation (NIST SP 1065 eq. 6/7).")
+oadev = _statistic("oadev", "Overlapped Allan deviation (NIST SP 1065 eq. 9/11).")
+mdev = _statistic("mdev", "Modified Allan deviation (NIST SP 1065 eq. 14/15).")
+tdev = _statistic("tdev", "Time deviation, tau*MDEV/sqrt(3) (NIST SP 1065 eq. 16).")
+hdev = _statistic("hdev", "Non-overlapped Hadamard deviation (NIST SP 1065 eq. 17/18).")
+ohdev = _statistic("ohdev", "Overlapped Hadamard deviation (NIST SP 1065 eq. 19/20).")
+totdev = _statistic("totdev", "Total deviation (NIST SP 1065 eq. 25).")
+mtotdev = _statistic("mtotdev", "Modified total deviation (NIST SP 1065 eq. 27), no bias correction.")
+ttotdev = _statistic("ttotdev", "Time total deviation (NIST SP 1065 eq. 28), no bias correction.")
+htotdev = _statistic("htotdev", "Hadamard total deviation (NIST SP 1065 eq. 29), no bias correction.")
+theo1 = _statistic("theo1", "Theo1 deviation (NIST SP 1065 eq. 30) at tau = 0.75 m/rate, no bias correction.")
+
+
+def noise_terms(y, rate=1.0, confidence=0.95):
+    """The IEEE Std 952 noise terms of rate samples ``y`` at ``rate`` Hz, as
+    ``imutherm noise`` reads them: by the slope method and by the fit, each
+    with its interval (at 95 % by default, as on the command line), and the
+    estimate that holds.
+
+    Returns a dict: ``"curve"`` (the octave OADEV points it was read from,
+    NumPy arrays as in :class:`Curve`) and ``"terms"``, keyed by term name
+    (quantization, white noise, bias instability, rate random walk, rate
+    ramp), each with ``symbol``, ``slope`` and ``fit`` (``value``, ``lo``,
+    ``hi``, or ``value`` None and the ``reason``), and ``value``, ``how``
+    ("fit", "slope", "upper_bound" or "none") and ``note``: the estimate
+    ``imutherm noise`` shows, with its JSON's names.
+
+    >>> t = imutherm.noise_terms(np.random.default_rng(3).standard_normal(100_000), rate=100.0)
+    >>> sorted(t["terms"])[:2]
+    ['bias_instability', 'quantization']
+    """
+    fields = _imutherm.noise_terms(as_samples(y), float(rate), float(confidence))
+    fields["curve"]["noise_id"] = np.asarray(fields["curve"]["noise_id"], dtype=str)
+    return fields

@@ -1,0 +1,18 @@
+"""The examples in the docstrings run and print what they show."""
+
+import doctest
+
+import numpy as np
+import pytest
+
+import imutherm
+import imutherm._curve
+import imutherm.allantools
+
+
+@pytest.mark.parametrize("module", [imutherm, imutherm._curve, imutherm.allantools])
+def test_docstring_examples(module):
+    result = doctest.testmod(module, extraglobs={"np": np, "imutherm": imutherm},
+                             optionflags=doctest.NORMALIZE_WHITESPACE)
+    assert result.attempted > 0
+    assert result.failed == 0
