@@ -121,11 +121,7 @@ pub fn analyze_series(series: &PhaseSeries, opts: &Options) -> Result<Vec<Point>
         return Err(AllanError::InvalidConfidence(opts.confidence));
     }
     if series.has_gaps() && !stat.supports_gaps() {
-        let first = series
-            .points()
-            .iter()
-            .position(|v| v.is_nan())
-            .unwrap_or_default();
+        let first = series.first_gap().unwrap_or_default();
         return Err(AllanError::GapsNotSupported {
             stat: stat.name(),
             count: series.nan_samples(),
@@ -195,4 +191,30 @@ pub fn analyze_series(series: &PhaseSeries, opts: &Options) -> Result<Vec<Point>
         });
     }
     Ok(points)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_statistic_that_cannot_skip_gaps_names_the_first_one_in_the_input() {
+        let mut y: Vec<f64> = (0..400).map(|i| ((i * 7919) % 13) as f64).collect();
+        y[0] = f64::NAN;
+        y[57] = f64::NAN;
+        y[200] = f64::NAN;
+        for data_type in [DataType::Freq, DataType::Phase] {
+            let opts = Options {
+                stat: Stat::Totdev,
+                data_type,
+                ..Options::default()
+            };
+            match analyze(&y, &opts) {
+                Err(AllanError::GapsNotSupported { count, first, .. }) => {
+                    assert_eq!((count, first), (3, 57), "{data_type:?}");
+                }
+                other => panic!("{data_type:?}: {other:?}"),
+            }
+        }
+    }
 }

@@ -94,6 +94,11 @@ impl GapIndex {
         GapIndex { prefix, kind }
     }
 
+    /// The first bad marker, if any.
+    fn first_bad(&self) -> Option<usize> {
+        self.prefix.iter().position(|&c| c > 0).map(|i| i - 1)
+    }
+
     /// Whether the phase span `[a, c]` (inclusive phase indices) crosses a gap:
     /// for rate input, a missing increment in `[a, c)`; for phase input, a
     /// missing point anywhere in `[a, c]`.
@@ -119,6 +124,8 @@ pub struct PhaseSeries {
     gaps: Option<GapIndex>,
     nan_samples: usize,
     trimmed: usize,
+    /// NaN samples trimmed from the start: input index = series index + this.
+    leading: usize,
 }
 
 impl PhaseSeries {
@@ -202,6 +209,7 @@ impl PhaseSeries {
             gaps,
             nan_samples,
             trimmed,
+            leading: first.min(total),
         })
     }
 
@@ -233,6 +241,13 @@ impl PhaseSeries {
     /// Number of NaN samples trimmed from the two ends.
     pub fn trimmed_samples(&self) -> usize {
         self.trimmed
+    }
+
+    /// Index in the input samples of the first NaN inside the series (not
+    /// an edge), if any. For rate input it cannot be read off the phase
+    /// points, where a missing increment leaves no NaN.
+    pub fn first_gap(&self) -> Option<usize> {
+        self.gaps.as_ref()?.first_bad().map(|i| i + self.leading)
     }
 
     /// Whether there are gaps inside the series.
@@ -305,6 +320,14 @@ mod tests {
         assert!(g.span_has_gap(2, 3));
         assert!(!g.span_has_gap(3, 5));
         assert_eq!(p.longest_clean_stretch().len(), 3);
+        // The input's index, leading NaN counted; a missing rate increment
+        // leaves no NaN among the phase points to find it by.
+        assert_eq!(p.first_gap(), Some(3));
+        assert!(p.points().iter().all(|v| !v.is_nan()));
+        let phase = PhaseSeries::new(&y, DataType::Phase, 2.0).unwrap();
+        assert_eq!(phase.first_gap(), Some(3));
+        let clean = PhaseSeries::new(&[f64::NAN, 1.0, 2.0], DataType::Freq, 2.0).unwrap();
+        assert_eq!(clean.first_gap(), None);
     }
 
     #[test]
