@@ -223,19 +223,20 @@ pub fn regularize(t: &[f64], rate_hz: f64, columns: &[Vec<f64>]) -> Option<(Vec<
             slots.push(None);
             continue;
         }
+        // Slots only ever rise: a row never takes the slot of one before it,
+        // even the first well-stamped row after rows without a stamp.
+        let next = used.map_or(0, |u| u + 1);
         let slot = match (last, used) {
-            _ if !ti.is_finite() => used.map_or(0, |u| u + 1),
-            (None, _) => 0,
-            (Some((s, r)), Some(u)) => {
+            (Some((s, r)), Some(_)) if ti.is_finite() => {
                 let d = ti - t[r];
                 let step = (d * rate_hz).round();
                 if d > GAP_FACTOR * period && step.is_finite() {
-                    (s as f64 + step).max((u + 1) as f64) as usize
+                    (s as f64 + step).max(next as f64) as usize
                 } else {
-                    u + 1
+                    next
                 }
             }
-            (Some(_), None) => 0,
+            _ => next,
         };
         if slot > MAX_GRID_FACTOR * t.len() + 1024 {
             return None;
@@ -261,6 +262,20 @@ pub fn regularize(t: &[f64], rate_hz: f64, columns: &[Vec<f64>]) -> Option<(Vec<
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rows_without_a_stamp_before_the_first_stamped_one_keep_their_slots() {
+        // Found by fuzzing the readers: the first finite stamp after NaN
+        // stamps took slot 0 again, and the rows before it fell off the grid.
+        let t = [f64::NAN, f64::NAN, 0.0, 0.01, 0.05];
+        let col = vec![1.0, 2.0, 3.0, 4.0, 5.0];
+        let (out, dropped) = regularize(&t, 100.0, std::slice::from_ref(&col)).unwrap();
+        assert!(dropped.is_empty());
+        let kept: Vec<f64> = out[0].iter().copied().filter(|v| !v.is_nan()).collect();
+        assert_eq!(kept, col, "every row keeps a slot, in order");
+        // 0.01 → 0.05 is a gap of three samples after slot 3.
+        assert_eq!(out[0].len(), 8);
+    }
 
     #[test]
     fn finds_rate_jitter_gaps_duplicates_and_backwards_steps() {
