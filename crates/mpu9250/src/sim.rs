@@ -66,6 +66,34 @@ pub struct SimStats {
     pub lost_status_reads: u64,
 }
 
+/// The faults of a simulated run, on the host's time line (seconds since
+/// the clock the recorder reads, see [`SimChip::follow_host`]). The host's
+/// own pauses are part of it: a reader that stalls is what overflows a
+/// FIFO.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FaultSchedule {
+    /// Fraction of bus transfers that fail once the faults start (see
+    /// [`SimChip::with_error_rate`]).
+    pub bus_errors: f64,
+    /// The host pauses reading every this many seconds…
+    pub stall_every_s: Option<f64>,
+    /// …for this long.
+    pub stall_s: f64,
+    /// The chip's clock error, ppm: its sample clock runs 1 + ppm·10⁻⁶ times
+    /// the host's (±1 % over temperature, PS-MPU-9250A-01 §4.15).
+    pub clock_ppm: f64,
+    /// A brown-out at this host time, s (see [`SimChip::power_cycle`]).
+    pub brownout_at_s: Option<f64>,
+}
+
+/// Where a chip following the host stands in its [`FaultSchedule`].
+#[derive(Debug, Clone, Copy, Default)]
+struct Following {
+    host_s: f64,
+    last_stall_s: f64,
+    browned_out: bool,
+}
+
 /// The simulated chip.
 pub struct SimChip {
     regs: [u8; 128],
@@ -86,6 +114,8 @@ pub struct SimChip {
     /// sampled into the FIFO.
     start_s: f64,
     since_start: u64,
+    faults: FaultSchedule,
+    following: Following,
 }
 
 impl std::fmt::Debug for SimChip {
@@ -116,6 +146,8 @@ impl SimChip {
             who_am_i: regs::ID_MPU9250,
             start_s: 0.0,
             since_start: 0,
+            faults: FaultSchedule::default(),
+            following: Following::default(),
         };
         chip.reset();
         chip
@@ -126,6 +158,39 @@ impl SimChip {
     pub fn with_error_rate(mut self, rate: f64) -> SimChip {
         self.error_rate = rate.clamp(0.0, 1.0);
         self
+    }
+
+    /// Follows `faults` once [`SimChip::follow_host`] is first called (so
+    /// that they start once the chip is set up, as a marginal bus in the
+    /// middle of a recording would).
+    pub fn with_faults(mut self, faults: FaultSchedule) -> SimChip {
+        self.faults = faults;
+        self
+    }
+
+    /// The pause the host's schedule makes it take now, at host time
+    /// `host_s`, if one is due.
+    pub fn host_pause_due(&mut self, host_s: f64) -> Option<f64> {
+        let every = self.faults.stall_every_s?;
+        if host_s - self.following.last_stall_s < every {
+            return None;
+        }
+        self.following.last_stall_s = host_s + self.faults.stall_s;
+        Some(self.faults.stall_s)
+    }
+
+    /// Brings the chip up to host time `host_s`: its clock runs
+    /// 1 + ppm·10⁻⁶ times the host's, the bus fails at the scheduled rate,
+    /// and a brown-out falls when it is due.
+    pub fn follow_host(&mut self, host_s: f64) {
+        self.set_error_rate(self.faults.bus_errors);
+        let dt = host_s - self.following.host_s;
+        self.following.host_s = host_s.max(self.following.host_s);
+        self.advance(dt * (1.0 + self.faults.clock_ppm * 1e-6));
+        if !self.following.browned_out && self.faults.brownout_at_s.is_some_and(|at| host_s >= at) {
+            self.power_cycle();
+            self.following.browned_out = true;
+        }
     }
 
     /// Changes the fraction of failed transfers.
