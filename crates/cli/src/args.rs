@@ -1,11 +1,16 @@
 //! Every subcommand and flag of `imutherm`, with its help text, in one place.
+//! Without the `analysis` feature only `record` is built.
+
+#![cfg_attr(not(all(feature = "analysis", feature = "record")), allow(dead_code))]
 
 use std::path::PathBuf;
 
 use clap::builder::PossibleValue;
 use clap::{Args, Parser, Subcommand};
 
+#[cfg(feature = "analysis")]
 use allan::{DataType, Stat, TauSpec};
+#[cfg(feature = "analysis")]
 use thermal::tcal::Order;
 
 use crate::flags::{self, Device};
@@ -21,6 +26,7 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    #[cfg(feature = "analysis")]
     /// Run the thesis's experiment on simulated data: four constant-temperature
     /// runs (34, 43, 62, 82 °C) and a cooling run (100 → 20 °C) of the
     /// mpu9250-thesis preset, noise terms, ADEV over temperature, a compensation
@@ -30,37 +36,45 @@ pub enum Command {
         after_help = "Examples:\n  imutherm demo                 full: 1 h runs at 20 Hz\n  imutherm demo --quick --out /tmp/demo"
     )]
     Demo(DemoArgs),
+    #[cfg(feature = "analysis")]
     /// Allan-family deviations (adev, oadev, mdev, tdev, hdev, ohdev, totdev…)
     /// of every column of one or more files, with EDF and confidence intervals.
     #[command(after_help = ADEV_EXAMPLES)]
     Adev(AdevArgs),
+    #[cfg(feature = "analysis")]
     /// What is in a recording: channels and units, samples, duration, rate and
     /// jitter, temperature range, per-channel statistics, and every problem
     /// found, with its line.
     #[command(after_help = INFO_EXAMPLES)]
     Info(InfoArgs),
+    #[cfg(feature = "analysis")]
     /// Noise terms of each axis (IEEE 952: quantization, angle/velocity random
     /// walk, bias instability, rate random walk, rate ramp) by the slope method
     /// and by a model fit, with intervals and units; a thesis-style table over
     /// the files' temperatures; Kalibr's imu.yaml.
     #[command(after_help = NOISE_EXAMPLES)]
     Noise(NoiseArgs),
+    #[cfg(feature = "analysis")]
     /// Simulate an MPU-9250-class IMU recording whose truth is known (IEEE 952
     /// noise terms, bias over temperature, a temperature profile) and write
     /// it as an imutherm log, every true parameter in its metadata.
     #[command(after_help = SIMULATE_EXAMPLES)]
     Simulate(SimulateArgs),
+    #[cfg(feature = "analysis")]
     /// The Allan deviation over temperature (the thesis's 3D ADEV): one OADEV
     /// curve per temperature bin or sliding time window, with the noise terms.
     #[command(after_help = THERMAL_EXAMPLES)]
     Thermal(ThermalArgs),
+    #[cfg(feature = "analysis")]
     /// Temperature compensation of the bias: fit, apply, evaluate.
     #[command(subcommand)]
     Tcal(TcalCommand),
     /// Record an MPU-9250 through its FIFO into an imutherm log (the thesis
     /// columns plus metadata), losing no sample silently.
     #[command(after_help = RECORD_EXAMPLES)]
+    #[cfg(feature = "record")]
     Record(RecordArgs),
+    #[cfg(feature = "analysis")]
     /// One self-contained HTML page for a set of recordings: their summaries
     /// and problems, the thesis's noise tables, ADEV plots, and the ADEV over
     /// temperature of runs whose temperature changes.
@@ -68,6 +82,7 @@ pub enum Command {
         after_help = "Example:\n  imutherm report run_34C.txt run_43C.txt run_62C.txt run_82C.txt cooling.txt --out rep"
     )]
     Report(ReportArgs),
+    #[cfg(feature = "analysis")]
     /// Strapdown navigation of static recordings: how far off a filter
     /// drifts without aiding, from many start points, measured against the
     /// static truth beside the prediction from the noise terms; raw against
@@ -253,6 +268,7 @@ pub struct DemoArgs {
     pub format: String,
 }
 
+#[cfg(feature = "analysis")]
 #[derive(Debug, Subcommand)]
 pub enum TcalCommand {
     /// Fit the bias of each inertial channel as a polynomial of temperature.
@@ -347,6 +363,7 @@ cooling run does not outweigh the rest. --order auto leaves out one run at a tim
 five contiguous blocks of a single run) and keeps the smallest order within 5 % of the
 best held-out RMS.";
 
+#[cfg(feature = "analysis")]
 #[derive(Debug, Args)]
 pub struct TcalFitArgs {
     /// Runs to fit (same channels in each).
@@ -641,6 +658,7 @@ gaps: adev, oadev, mdev, tdev, hdev and ohdev skip the terms that cross them.
 Rate data (--data-type freq, the default) is what an IMU gives: the deviation is
 in the unit of the data (rad/s, m/s², or fractional frequency).";
 
+#[cfg(feature = "analysis")]
 #[derive(Debug, Args)]
 pub struct AdevArgs {
     /// Input files (plain numeric columns; .gz read transparently).

@@ -3,14 +3,18 @@
 //! read, with a message naming the flag (clap's `invalid value 'V' for
 //! '--FLAG'`) and what it takes.
 
+#![cfg_attr(not(all(feature = "analysis", feature = "record")), allow(dead_code))]
+
 use std::fmt;
 
 use clap::builder::{PossibleValue, StringValueParser, TypedValueParser};
 
+#[cfg(feature = "analysis")]
 use allan::{DataType, Stat, TauSpec};
 use imu::Quantity;
 use imu::units::parse_unit;
 use mpu9250::config::{AccelRange, Config, DLPF_BANDWIDTHS, GyroRange};
+#[cfg(feature = "analysis")]
 use thermal::tcal::Order;
 
 /// A request the flags make impossible or absurd, found once they are
@@ -110,6 +114,7 @@ pub fn confidence(text: &str) -> Result<f64, String> {
     }
 }
 
+#[cfg(feature = "analysis")]
 /// `--stat`: one of the statistics of [`Stat::ALL`].
 pub fn stat() -> Listed<impl TypedValueParser<Value = Stat>> {
     listed(
@@ -121,16 +126,19 @@ pub fn stat() -> Listed<impl TypedValueParser<Value = Stat>> {
     )
 }
 
+#[cfg(feature = "analysis")]
 /// `--data-type`: freq or phase (also frequency, rate, integrated).
 pub fn data_type() -> Listed<impl TypedValueParser<Value = DataType>> {
     listed(&["freq", "phase"], str::parse::<DataType>)
 }
 
+#[cfg(feature = "analysis")]
 /// `--taus`: a named grid or a comma list of positive finite taus.
 pub fn taus(text: &str) -> Result<TauSpec, String> {
     text.parse::<TauSpec>().map_err(|e| e.to_string())
 }
 
+#[cfg(feature = "analysis")]
 /// `--order`: auto, or a polynomial order from 0 to 9.
 pub fn order(text: &str) -> Result<Order, String> {
     let t = text.trim();

@@ -4,6 +4,9 @@
 //! [`commands`], and this is the only crate that prints. Exit status: 0
 //! success, 1 runtime error, 2 usage error.
 
+#[cfg(not(any(feature = "analysis", feature = "record")))]
+compile_error!("imutherm needs the feature `analysis`, `record` or both");
+
 mod args;
 mod commands;
 mod flags;
@@ -16,18 +19,31 @@ fn main() -> ExitCode {
     quiet_on_closed_stdout();
     let cli = args::Cli::parse();
     let result = match cli.command {
+        #[cfg(feature = "analysis")]
         args::Command::Demo(a) => commands::demo::run(&a),
+        #[cfg(feature = "analysis")]
         args::Command::Adev(a) => commands::adev::run(&a),
+        #[cfg(feature = "analysis")]
         args::Command::Info(a) => commands::info::run(&a),
+        #[cfg(feature = "analysis")]
         args::Command::Noise(a) => commands::noise::run(&a),
+        #[cfg(feature = "analysis")]
         args::Command::Simulate(a) => commands::simulate::run(&a),
+        #[cfg(feature = "analysis")]
         args::Command::Thermal(a) => commands::thermal::run(&a),
+        #[cfg(feature = "analysis")]
         args::Command::Report(a) => commands::report::run(&a),
+        #[cfg(feature = "record")]
         args::Command::Record(a) => commands::record::run(&a),
+        #[cfg(feature = "analysis")]
         args::Command::Tcal(args::TcalCommand::Fit(a)) => commands::tcal::fit(&a),
+        #[cfg(feature = "analysis")]
         args::Command::Tcal(args::TcalCommand::Apply(a)) => commands::tcal::apply(&a),
+        #[cfg(feature = "analysis")]
         args::Command::Tcal(args::TcalCommand::Eval(a)) => commands::tcal::eval(&a),
+        #[cfg(feature = "analysis")]
         args::Command::Tcal(args::TcalCommand::Export(a)) => commands::tcal_export::run(&a),
+        #[cfg(feature = "analysis")]
         args::Command::Ins(a) => commands::ins::run(&a),
     };
     match result {

@@ -19,8 +19,6 @@ use mpu9250::sim::{ADDRESS, FaultSchedule, SimChip, Source};
 use crate::args::RecordArgs;
 use crate::flags::{DeviceKind, UsageError};
 
-/// Samples of the simulated signal computed at a time.
-const SIM_CHUNK: usize = 256;
 /// The pause of `--sim-stall-every`.
 const SIM_STALL_S: f64 = 0.5;
 
@@ -172,6 +170,14 @@ fn sim_source(preset: &str, rate: f64, config: &Config) -> Result<Source> {
             ]
         }));
     }
+    sim_preset(preset, rate)
+}
+
+/// A simulator preset streamed without end.
+#[cfg(feature = "simulator")]
+fn sim_preset(preset: &str, rate: f64) -> Result<Source> {
+    /// Samples of the simulated signal computed at a time.
+    const SIM_CHUNK: usize = 256;
     let mut cfg = imusim::presets::preset(preset)
         .with_context(|| format!("--device sim:{preset}: presets are mpu9250-thesis, white and counter"))?;
     cfg.rate_hz = rate;
@@ -188,6 +194,16 @@ fn sim_source(preset: &str, rate: f64, config: &Config) -> Result<Source> {
         i += 1;
         std::array::from_fn(|j| chunk.columns[j][i - 1])
     }))
+}
+
+/// Built without the simulator: only the counting pattern.
+#[cfg(not(feature = "simulator"))]
+fn sim_preset(preset: &str, _rate: f64) -> Result<Source> {
+    Err(UsageError(format!(
+        "--device sim:{preset}: this imutherm is built without the simulator (feature `simulator`); \
+         sim:counter needs none"
+    ))
+    .into())
 }
 
 #[allow(clippy::too_many_arguments)]
