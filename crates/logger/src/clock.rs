@@ -104,6 +104,13 @@ impl Clock for SimTime {
     }
 }
 
+/// The driver's waits (the start-up after a reset) pass in simulated time.
+impl embedded_hal::delay::DelayNs for SimTime {
+    fn delay_ns(&mut self, ns: u32) {
+        self.sleep(Duration::from_nanos(u64::from(ns)));
+    }
+}
+
 impl Sleeper for SimTime {
     fn sleep(&mut self, d: Duration) {
         let extra = if self.overshoot_s > 0.0 {

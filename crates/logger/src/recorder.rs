@@ -5,6 +5,8 @@ use std::io;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
+use embedded_hal::delay::DelayNs;
+
 use imu::{LogFormat, LogWriter, Metadata};
 use mpu9250::config::Config;
 use mpu9250::driver::{Bus, Error as DriverError, FifoRead, Mpu9250};
@@ -135,23 +137,23 @@ pub enum RecordError<E: core::fmt::Debug> {
 
 /// What a simulated device does before each read (brings the chip up to
 /// the host's time, injects its faults); a real device needs nothing.
-pub trait Tick<B> {
+pub trait Tick<B, D> {
     /// Called just before every FIFO read, retries included.
-    fn before_read(&mut self, imu: &mut Mpu9250<B>, clock: &dyn Clock, sleeper: &mut dyn Sleeper);
+    fn before_read(&mut self, imu: &mut Mpu9250<B, D>, clock: &dyn Clock, sleeper: &mut dyn Sleeper);
 }
 
 /// A real device: nothing to do.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct NoTick;
 
-impl<B> Tick<B> for NoTick {
-    fn before_read(&mut self, _: &mut Mpu9250<B>, _: &dyn Clock, _: &mut dyn Sleeper) {}
+impl<B, D> Tick<B, D> for NoTick {
+    fn before_read(&mut self, _: &mut Mpu9250<B, D>, _: &dyn Clock, _: &mut dyn Sleeper) {}
 }
 
 /// Configures the sensor, retrying a glitch on the bus at the start like
 /// one during the run (with a growing pause).
-pub fn configure<B: Bus>(
-    imu: &mut Mpu9250<B>,
+pub fn configure<B: Bus, D: DelayNs>(
+    imu: &mut Mpu9250<B, D>,
     config: Config,
     sleeper: &mut dyn Sleeper,
 ) -> Result<(), RecordError<B::Error>> {
@@ -195,13 +197,13 @@ fn metadata(imu_name: &str, s: &Settings) -> Metadata {
 /// the rows asked for are written, `stop` is raised, or the sensor is
 /// gone; the file always ends with its trailer and is synced.
 #[allow(clippy::too_many_arguments)]
-pub fn record<B: Bus, S: Storage>(
-    imu: &mut Mpu9250<B>,
+pub fn record<B: Bus, D: DelayNs, S: Storage>(
+    imu: &mut Mpu9250<B, D>,
     storage: S,
     settings: &Settings,
     clock: &dyn Clock,
     sleeper: &mut dyn Sleeper,
-    tick: &mut dyn Tick<B>,
+    tick: &mut dyn Tick<B, D>,
     stop: &AtomicBool,
     status: &mut dyn FnMut(&Status),
 ) -> Result<Summary, RecordError<B::Error>> {
@@ -321,17 +323,17 @@ impl<S: Storage> Output<S> {
 }
 
 /// One run's state.
-struct Run<'a, B, S: Storage> {
-    imu: &'a mut Mpu9250<B>,
+struct Run<'a, B, D, S: Storage> {
+    imu: &'a mut Mpu9250<B, D>,
     settings: &'a Settings,
     out: &'a mut Output<S>,
     clock: &'a dyn Clock,
     sleeper: &'a mut dyn Sleeper,
-    tick: &'a mut dyn Tick<B>,
+    tick: &'a mut dyn Tick<B, D>,
     stream: &'a mut StreamClock,
 }
 
-impl<B: Bus, S: Storage> Run<'_, B, S> {
+impl<B: Bus, D: DelayNs, S: Storage> Run<'_, B, D, S> {
     fn read_loop(
         &mut self,
         stop: &AtomicBool,

@@ -1,5 +1,7 @@
-//! The driver: generic over the bus, owns it (`new(bus)`, `release()`).
+//! The driver: generic over the bus and the delay, owns both
+//! (`new(bus, delay)`, `release()`).
 
+use embedded_hal::delay::DelayNs;
 use embedded_hal::i2c::{Error as _, ErrorKind, I2c, NoAcknowledgeSource};
 use embedded_hal::spi::{Operation, SpiDevice};
 
@@ -111,6 +113,16 @@ impl<S: SpiDevice> Bus for SpiBus<S> {
     }
 }
 
+/// Waits by sleeping the thread (a host with an operating system).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct StdDelay;
+
+impl DelayNs for StdDelay {
+    fn delay_ns(&mut self, ns: u32) {
+        std::thread::sleep(std::time::Duration::from_nanos(u64::from(ns)));
+    }
+}
+
 /// Which chip answered.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Chip {
@@ -133,6 +145,17 @@ impl Chip {
     }
 }
 
+/// A configuration the chip cannot do.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum ConfigError {
+    /// The output rate is not 1 kHz / (1 + n) for any n in 0…255.
+    #[error("{hz} Hz cannot be made as 1 kHz / (1 + SMPLRT_DIV)")]
+    Rate {
+        /// The rate asked for, Hz.
+        hz: f64,
+    },
+}
+
 /// What went wrong.
 #[derive(Debug, thiserror::Error)]
 pub enum Error<E: core::fmt::Debug> {
@@ -143,8 +166,8 @@ pub enum Error<E: core::fmt::Debug> {
     #[error("WHO_AM_I is 0x{0:02x}: not an MPU-9250, MPU-9255 or MPU-6500")]
     UnknownDevice(u8),
     /// A configuration the chip cannot do.
-    #[error("{0}")]
-    Config(String),
+    #[error(transparent)]
+    Config(#[from] ConfigError),
 }
 
 /// What one FIFO read brought.
@@ -179,8 +202,10 @@ enum Pending {
 
 /// The driver.
 #[derive(Debug)]
-pub struct Mpu9250<B> {
+pub struct Mpu9250<B, D> {
     bus: B,
+    /// Waits out the chip's start-up after a reset.
+    delay: D,
     chip: Chip,
     config: Config,
     scratch: Vec<u8>,
@@ -193,9 +218,10 @@ pub struct Mpu9250<B> {
     configured: bool,
 }
 
-impl<B: Bus> Mpu9250<B> {
-    /// Probes the chip: WHO_AM_I must name an MPU-9250 family member.
-    pub fn new(mut bus: B) -> Result<Self, Error<B::Error>> {
+impl<B: Bus, D: DelayNs> Mpu9250<B, D> {
+    /// Probes the chip: WHO_AM_I must name an MPU-9250 family member. The
+    /// delay waits out the chip's start-up after each reset.
+    pub fn new(mut bus: B, delay: D) -> Result<Self, Error<B::Error>> {
         let mut id = [0u8];
         bus.read_regs(regs::WHO_AM_I, &mut id).map_err(Error::Bus)?;
         let chip = match id[0] {
@@ -206,6 +232,7 @@ impl<B: Bus> Mpu9250<B> {
         };
         Ok(Mpu9250 {
             bus,
+            delay,
             chip,
             config: Config::default(),
             scratch: Vec::with_capacity(regs::FIFO_BYTES),
@@ -225,9 +252,9 @@ impl<B: Bus> Mpu9250<B> {
         &self.config
     }
 
-    /// Gives the bus back.
-    pub fn release(self) -> B {
-        self.bus
+    /// Gives the bus and the delay back.
+    pub fn release(self) -> (B, D) {
+        (self.bus, self.delay)
     }
 
     /// Bytes the FIFO held at the last count read (0…512).
@@ -243,14 +270,11 @@ impl<B: Bus> Mpu9250<B> {
     /// Resets the chip and sets it up: clock, filters, full scales, rate,
     /// and the FIFO with accelerometer, temperature and gyroscope.
     pub fn configure(&mut self, config: Config) -> Result<(), Error<B::Error>> {
-        let div = config.divider().ok_or_else(|| {
-            Error::Config(format!(
-                "{} Hz cannot be made as 1 kHz / (1 + SMPLRT_DIV)",
-                config.rate_hz
-            ))
-        })?;
+        let div = config.divider().ok_or(ConfigError::Rate { hz: config.rate_hz })?;
         let w = |bus: &mut B, reg, val| bus.write_reg(reg, val).map_err(Error::Bus);
         w(&mut self.bus, regs::PWR_MGMT_1, regs::H_RESET)?;
+        // The chip ignores the bus until its start-up is through.
+        self.delay.delay_ms(regs::START_UP_MS);
         w(&mut self.bus, regs::PWR_MGMT_1, regs::CLKSEL_AUTO)?;
         w(&mut self.bus, regs::PWR_MGMT_2, 0)?;
         // FIFO_MODE cleared: on overflow the oldest bytes go, which the

@@ -2,7 +2,8 @@
 //!
 //! A driver for the InvenSense MPU-9250 (and MPU-9255, MPU-6500) over
 //! embedded-hal 1.0, on I2C ([`driver::I2cBus`]) or SPI
-//! ([`driver::SpiBus`]): probe, reset, clock, full scales, low-pass filters,
+//! ([`driver::SpiBus`]): probe, reset (waiting out the start-up time
+//! through embedded-hal's `DelayNs`), clock, full scales, low-pass filters,
 //! sample rate, and reading the FIFO in whole 14-byte frames: overflow is
 //! judged by the count and by INT_STATUS after each burst, and a FIFO reset
 //! regains frame alignment after an overflow or a read broken off, so no
@@ -15,7 +16,9 @@
 //! register file, WHO_AM_I, a FIFO that fills in simulated time at the
 //! configured rate and overflows at 512 bytes, bus time per transfer, and
 //! fault injection (address NACKs, transfers broken off after bytes were
-//! sent, brown-outs). The driver's tests run against it.
+//! sent, brown-outs, a [`sim::FaultSchedule`] for a whole run), and the
+//! start-up time after a reset, during which it answers nothing. The
+//! driver's tests run against it.
 //!
 //! **What it is not:** no magnetometer (AK8963), no DMP, no interrupts.
 //!
@@ -25,7 +28,10 @@
 //! use mpu9250::sim::{ADDRESS, SimChip};
 //! // A level sensor at rest: 1 g on z, 25 °C.
 //! let chip = SimChip::new(Box::new(|_, _| [0.0, 0.0, 9.80665, 0.0, 0.0, 0.0, 25.0]));
-//! let mut imu = Mpu9250::new(I2cBus::new(chip, ADDRESS)).unwrap();
+//! // The driver's waits (the start-up after a reset) pass on the chip; on
+//! // a Raspberry Pi the delay is linux-embedded-hal's `Delay`.
+//! let delay = chip.delay();
+//! let mut imu = Mpu9250::new(I2cBus::new(chip, ADDRESS), delay).unwrap();
 //! imu.configure(Config { rate_hz: 200.0, ..Config::default() }).unwrap();
 //! imu.bus_mut().inner_mut().advance(0.05); // 50 ms of simulated time
 //! let mut frames = Vec::new();

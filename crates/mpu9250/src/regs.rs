@@ -74,3 +74,15 @@ pub const INTERNAL_RATE_HZ: f64 = 1000.0;
 pub const TEMP_LSB_PER_C: f64 = 333.87;
 /// Temperature offset: 0 LSB reads 21 °C.
 pub const TEMP_OFFSET_C: f64 = 21.0;
+
+/// The wait after H_RESET before the registers can be written again, ms:
+/// the maximum "start-up time for register read/write" (typical 11 ms, at
+/// most 100 ms; PS-MPU-9250A-01 rev 1.0 §3.4.2, A.C. Electrical
+/// Characteristics). H_RESET restores every register to its power-on value
+/// (RM-MPU-9250A-00 §4.28, PWR_MGMT_1), and the chip does not answer until
+/// it is through.
+pub const START_UP_MS: u32 = 100;
+
+/// The typical start-up time, s (same table): what the simulated chip
+/// takes before it answers again after H_RESET.
+pub const START_UP_TYPICAL_S: f64 = 0.011;

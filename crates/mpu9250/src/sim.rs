@@ -8,13 +8,22 @@
 //! FIFO_OFLOW_INT. An empty FIFO keeps returning its last byte, as the chip
 //! does. Bus errors can be injected at a given rate: half of them an address
 //! NACK (nothing happens), half a transfer that breaks off part-way, which
-//! in a FIFO read loses the bytes already sent, as on a real bus.
+//! in a FIFO read loses the bytes already sent, as on a real bus. After
+//! H_RESET the chip answers nothing (an address NACK) for its start-up
+//! time, so a driver that does not wait it out fails.
+//!
+//! Time passes through [`SimChip::advance`], through the chip's own
+//! [`SimDelay`] (a driver's waits), or, with [`SimChip::with_host_clock`],
+//! by following a host clock before every transfer.
 
 use std::collections::VecDeque;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use embedded_hal::i2c::{ErrorKind, I2c, NoAcknowledgeSource, Operation};
 
 use crate::config::{AccelRange, GyroRange};
+use crate::driver::{Error, I2cBus, Mpu9250, SpiBus};
 use crate::regs;
 
 /// Where the simulated chip's samples come from: (sample index, time s) →
@@ -94,6 +103,22 @@ struct Following {
     browned_out: bool,
 }
 
+/// A driver's delay that passes on the simulated chip: the time waited
+/// passes for the chip before its next transfer.
+#[derive(Debug, Clone)]
+pub struct SimDelay {
+    pending_ns: Arc<AtomicU64>,
+}
+
+impl embedded_hal::delay::DelayNs for SimDelay {
+    fn delay_ns(&mut self, ns: u32) {
+        self.pending_ns.fetch_add(u64::from(ns), Ordering::Relaxed);
+    }
+}
+
+/// A host clock the chip follows: seconds since its origin.
+pub type HostClock = Box<dyn Fn() -> f64>;
+
 /// The simulated chip.
 pub struct SimChip {
     regs: [u8; 128],
@@ -116,6 +141,14 @@ pub struct SimChip {
     since_start: u64,
     faults: FaultSchedule,
     following: Following,
+    /// Waits of the driver not yet passed on the chip.
+    pending_ns: Arc<AtomicU64>,
+    host_clock: Option<HostClock>,
+    /// Time on the outside's line (the host's, the test's), which the
+    /// start-up after H_RESET takes whatever the chip's own clock does.
+    wall_s: f64,
+    /// Until this wall time the chip is starting up after H_RESET.
+    ready_s: f64,
 }
 
 impl std::fmt::Debug for SimChip {
@@ -148,6 +181,10 @@ impl SimChip {
             since_start: 0,
             faults: FaultSchedule::default(),
             following: Following::default(),
+            pending_ns: Arc::new(AtomicU64::new(0)),
+            host_clock: None,
+            wall_s: 0.0,
+            ready_s: 0.0,
         };
         chip.reset();
         chip
@@ -160,12 +197,47 @@ impl SimChip {
         self
     }
 
-    /// Follows `faults` once [`SimChip::follow_host`] is first called (so
-    /// that they start once the chip is set up, as a marginal bus in the
-    /// middle of a recording would).
+    /// Follows `faults`: the clock error and the brown-out as the chip
+    /// follows the host ([`SimChip::follow_host`]), the bus errors from
+    /// [`SimChip::start_faults`] on (once the chip is set up, as a marginal
+    /// bus in the middle of a recording would fail).
     pub fn with_faults(mut self, faults: FaultSchedule) -> SimChip {
         self.faults = faults;
         self
+    }
+
+    /// Before every transfer the chip is brought up to `clock`'s time
+    /// ([`SimChip::follow_host`]): its samples, faults and start-up run on
+    /// the host's time line, waits included.
+    pub fn with_host_clock(mut self, clock: HostClock) -> SimChip {
+        self.host_clock = Some(clock);
+        self
+    }
+
+    /// A delay for the driver whose waits pass on this chip.
+    pub fn delay(&self) -> SimDelay {
+        SimDelay {
+            pending_ns: Arc::clone(&self.pending_ns),
+        }
+    }
+
+    /// The bus errors of the schedule start now.
+    pub fn start_faults(&mut self) {
+        self.set_error_rate(self.faults.bus_errors);
+    }
+
+    /// Time passes before a transfer (the driver's waits, the host's
+    /// clock); whether the chip is through its start-up.
+    fn before_transfer(&mut self) -> bool {
+        let waited = self.pending_ns.swap(0, Ordering::Relaxed);
+        if waited > 0 {
+            self.advance(waited as f64 * 1e-9);
+        }
+        if let Some(clock) = &self.host_clock {
+            let now = clock();
+            self.follow_host(now);
+        }
+        self.wall_s >= self.ready_s
     }
 
     /// The pause the host's schedule makes it take now, at host time
@@ -183,10 +255,10 @@ impl SimChip {
     /// 1 + ppm·10⁻⁶ times the host's, the bus fails at the scheduled rate,
     /// and a brown-out falls when it is due.
     pub fn follow_host(&mut self, host_s: f64) {
-        self.set_error_rate(self.faults.bus_errors);
-        let dt = host_s - self.following.host_s;
+        let dt = (host_s - self.following.host_s).max(0.0);
         self.following.host_s = host_s.max(self.following.host_s);
-        self.advance(dt * (1.0 + self.faults.clock_ppm * 1e-6));
+        self.wall_s += dt;
+        self.advance_chip(dt * (1.0 + self.faults.clock_ppm * 1e-6));
         if !self.following.browned_out && self.faults.brownout_at_s.is_some_and(|at| host_s >= at) {
             self.power_cycle();
             self.following.browned_out = true;
@@ -271,6 +343,12 @@ impl SimChip {
     /// Lets `dt` seconds of simulated time pass: the FIFO receives the
     /// frames sampled meanwhile.
     pub fn advance(&mut self, dt: f64) {
+        self.wall_s += dt.max(0.0);
+        self.advance_chip(dt);
+    }
+
+    /// `dt` seconds pass on the chip's own clock.
+    fn advance_chip(&mut self, dt: f64) {
         let end = self.time_s + dt.max(0.0);
         let period = 1.0 / self.rate_hz();
         if !self.fifo_running() {
@@ -410,7 +488,10 @@ impl SimChip {
 
     fn store(&mut self, reg: u8, value: u8) {
         match reg {
-            regs::PWR_MGMT_1 if value & regs::H_RESET != 0 => self.reset(),
+            regs::PWR_MGMT_1 if value & regs::H_RESET != 0 => {
+                self.reset();
+                self.ready_s = self.wall_s + regs::START_UP_TYPICAL_S;
+            }
             regs::USER_CTRL => {
                 if value & regs::FIFO_RST != 0 {
                     self.fifo.clear();
@@ -460,7 +541,7 @@ impl embedded_hal::i2c::ErrorType for SimChip {
 
 impl I2c for SimChip {
     fn transaction(&mut self, address: u8, operations: &mut [Operation<'_>]) -> Result<(), SimError> {
-        if address != ADDRESS {
+        if address != ADDRESS || !self.before_transfer() {
             return Err(SimError::Nack);
         }
         // One address byte per operation (a repeated start re-sends it).
@@ -512,6 +593,9 @@ impl embedded_hal::spi::SpiDevice for SimChip {
         operations: &mut [embedded_hal::spi::Operation<'_, u8>],
     ) -> Result<(), SimError> {
         use embedded_hal::spi::Operation as Op;
+        if !self.before_transfer() {
+            return Err(SimError::Nack);
+        }
         let bytes: usize = operations
             .iter()
             .map(|op| match op {
@@ -565,4 +649,16 @@ impl embedded_hal::spi::SpiDevice for SimChip {
         }
         Ok(())
     }
+}
+
+/// The driver on a simulated chip over I2C, its waits passing on the chip.
+pub fn imu_on_i2c(chip: SimChip, address: u8) -> Result<Mpu9250<I2cBus<SimChip>, SimDelay>, Error<SimError>> {
+    let delay = chip.delay();
+    Mpu9250::new(I2cBus::new(chip, address), delay)
+}
+
+/// The driver on a simulated chip over SPI, its waits passing on the chip.
+pub fn imu_on_spi(chip: SimChip) -> Result<Mpu9250<SpiBus<SimChip>, SimDelay>, Error<SimError>> {
+    let delay = chip.delay();
+    Mpu9250::new(SpiBus::new(chip), delay)
 }

@@ -2,7 +2,7 @@
 
 use mpu9250::config::{AccelRange, Config, GyroRange};
 use mpu9250::driver::{Chip, Error, FifoRead, I2cBus, Mpu9250, SpiBus};
-use mpu9250::sim::{ADDRESS, SimChip, SimError, SimStats};
+use mpu9250::sim::{ADDRESS, SimChip, SimDelay, SimError, SimStats, imu_on_i2c, imu_on_spi};
 
 /// Sample k reads k LSB on every axis and on the temperature: a frame whose
 /// seven fields differ was decoded from misaligned bytes.
@@ -16,23 +16,23 @@ fn counting(cfg: Config) -> SimChip {
 
 #[test]
 fn probes_the_family_and_refuses_strangers() {
-    let imu = Mpu9250::new(I2cBus::new(SimChip::new(Box::new(|_, _| [0.0; 7])), ADDRESS)).unwrap();
+    let imu = imu_on_i2c(SimChip::new(Box::new(|_, _| [0.0; 7])), ADDRESS).unwrap();
     assert_eq!(imu.chip(), Chip::Mpu9250);
-    let imu = Mpu9250::new(I2cBus::new(
+    let imu = imu_on_i2c(
         SimChip::new(Box::new(|_, _| [0.0; 7])).with_who_am_i(0x73),
         ADDRESS,
-    ))
+    )
     .unwrap();
     assert_eq!(imu.chip(), Chip::Mpu9255);
-    let e = Mpu9250::new(I2cBus::new(
+    let e = imu_on_i2c(
         SimChip::new(Box::new(|_, _| [0.0; 7])).with_who_am_i(0x12),
         ADDRESS,
-    ))
+    )
     .unwrap_err();
     assert!(matches!(e, Error::UnknownDevice(0x12)), "{e}");
     // Nobody at 0x69.
     assert!(matches!(
-        Mpu9250::new(I2cBus::new(SimChip::new(Box::new(|_, _| [0.0; 7])), 0x69)),
+        imu_on_i2c(SimChip::new(Box::new(|_, _| [0.0; 7])), 0x69),
         Err(Error::Bus(_))
     ));
 }
@@ -40,7 +40,7 @@ fn probes_the_family_and_refuses_strangers() {
 #[test]
 fn ten_seconds_at_200_hz_are_2000_aligned_frames() {
     let cfg = Config::default();
-    let mut imu = Mpu9250::new(I2cBus::new(counting(cfg), ADDRESS)).unwrap();
+    let mut imu = imu_on_i2c(counting(cfg), ADDRESS).unwrap();
     imu.configure(cfg).unwrap();
     let mut frames = Vec::new();
     for _ in 0..200 {
@@ -69,7 +69,7 @@ fn full_scale_sets_the_quantization_step() {
             let v = 1e-3 * k as f64 + 1e-4;
             [v, v, v, v * 0.01, v * 0.01, v * 0.01, 25.0]
         }));
-        let mut imu = Mpu9250::new(I2cBus::new(chip, ADDRESS)).unwrap();
+        let mut imu = imu_on_i2c(chip, ADDRESS).unwrap();
         imu.configure(cfg).unwrap();
         imu.bus_mut().inner_mut().advance(0.1);
         let mut frames = Vec::new();
@@ -88,7 +88,7 @@ fn full_scale_sets_the_quantization_step() {
 #[test]
 fn an_overflow_is_reported_and_the_stream_resumes_aligned() {
     let cfg = Config::default();
-    let mut imu = Mpu9250::new(I2cBus::new(counting(cfg), ADDRESS)).unwrap();
+    let mut imu = imu_on_i2c(counting(cfg), ADDRESS).unwrap();
     imu.configure(cfg).unwrap();
     let mut frames = Vec::new();
     imu.bus_mut().inner_mut().advance(0.05);
@@ -116,8 +116,8 @@ fn an_overflow_is_reported_and_the_stream_resumes_aligned() {
 /// retrying every error, and checks that every frame is whole and that the
 /// stream jumps only where the driver reported a resynchronisation.
 fn read_through_faults<B: mpu9250::driver::Bus>(
-    mut imu: Mpu9250<B>,
-    chip: fn(&mut Mpu9250<B>) -> &mut SimChip,
+    mut imu: Mpu9250<B, SimDelay>,
+    chip: fn(&mut Mpu9250<B, SimDelay>) -> &mut SimChip,
 ) -> (usize, usize) {
     let mut frames: Vec<[i16; 7]> = Vec::new();
     let (mut errors, mut resyncs) = (0, 0);
@@ -174,7 +174,7 @@ fn injected_bus_errors_are_retried_and_part_reads_resynchronise() {
     let cfg = Config::default();
     let imu = loop {
         // Probing and configuring may meet an injected error too: retry.
-        let Ok(mut imu) = Mpu9250::new(I2cBus::new(counting(cfg).with_error_rate(0.01), ADDRESS)) else {
+        let Ok(mut imu) = imu_on_i2c(counting(cfg).with_error_rate(0.01), ADDRESS) else {
             continue;
         };
         if imu.configure(cfg).is_ok() {
@@ -188,10 +188,10 @@ fn injected_bus_errors_are_retried_and_part_reads_resynchronise() {
 #[test]
 fn a_nack_loses_nothing_but_a_part_read_costs_a_resync() {
     let cfg = Config::default();
-    let mut imu = Mpu9250::new(I2cBus::new(counting(cfg), ADDRESS)).unwrap();
+    let mut imu = imu_on_i2c(counting(cfg), ADDRESS).unwrap();
     imu.configure(cfg).unwrap();
     let mut frames = Vec::new();
-    fn chip(imu: &mut Mpu9250<I2cBus<SimChip>>) -> &mut SimChip {
+    fn chip(imu: &mut Mpu9250<I2cBus<SimChip>, SimDelay>) -> &mut SimChip {
         imu.bus_mut().inner_mut()
     }
     // An address NACK on the data read: nothing left the FIFO, so the
@@ -260,11 +260,13 @@ fn an_overflow_is_never_forgotten_whichever_transfer_fails() {
     // in turn.
     for n in 1..=7 {
         let cfg = Config::default();
+        let chip = counting(cfg);
+        let delay = chip.delay();
         let bus = FailNth {
-            bus: I2cBus::new(counting(cfg), ADDRESS),
+            bus: I2cBus::new(chip, ADDRESS),
             fail: 0,
         };
-        let mut imu = Mpu9250::new(bus).unwrap();
+        let mut imu = Mpu9250::new(bus, delay).unwrap();
         imu.configure(cfg).unwrap();
         imu.bus_mut().bus.inner_mut().advance(1.0);
         imu.bus_mut().fail = n;
@@ -297,9 +299,10 @@ fn a_frame_arriving_during_the_burst_into_a_full_fifo_is_caught() {
         rate_hz: 1000.0,
         ..Config::default()
     };
-    let mut imu = Mpu9250::new(I2cBus::new(counting(cfg).with_bus_clock(400e3), ADDRESS)).unwrap();
+    let mut imu = imu_on_i2c(counting(cfg).with_bus_clock(400e3), ADDRESS).unwrap();
     imu.configure(cfg).unwrap();
-    let chip = |imu: &mut Mpu9250<I2cBus<SimChip>>| -> SimStats { imu.bus_mut().inner_mut().stats() };
+    let chip =
+        |imu: &mut Mpu9250<I2cBus<SimChip>, SimDelay>| -> SimStats { imu.bus_mut().inner_mut().stats() };
     // Just after the 36th frame: the 37th is due in about 1 ms, after the
     // 0.1 ms count read and early in the 11 ms burst.
     while imu.bus_mut().inner_mut().fifo_len() < 504 {
@@ -320,7 +323,7 @@ fn a_frame_arriving_during_the_burst_into_a_full_fifo_is_caught() {
 #[test]
 fn a_lost_reply_to_the_status_read_drops_the_unvouched_burst() {
     let cfg = Config::default();
-    let mut imu = Mpu9250::new(SpiBus::new(counting(cfg))).unwrap();
+    let mut imu = imu_on_spi(counting(cfg)).unwrap();
     imu.configure(cfg).unwrap();
     let mut frames = Vec::new();
     imu.bus_mut().inner_mut().advance(0.1);
@@ -342,7 +345,7 @@ fn a_brown_out_during_a_failed_read_is_configured_again_not_read_at_defaults() {
         accel_range: AccelRange::G16,
         ..Config::default()
     };
-    let mut imu = Mpu9250::new(I2cBus::new(counting(cfg), ADDRESS)).unwrap();
+    let mut imu = imu_on_i2c(counting(cfg), ADDRESS).unwrap();
     imu.configure(cfg).unwrap();
     let mut frames = Vec::new();
     imu.bus_mut().inner_mut().advance(0.1);
@@ -367,7 +370,7 @@ fn a_brown_out_during_a_failed_read_is_configured_again_not_read_at_defaults() {
 #[test]
 fn spi_reads_the_same_chip() {
     let cfg = Config::default();
-    let mut imu = Mpu9250::new(SpiBus::new(counting(cfg))).unwrap();
+    let mut imu = imu_on_spi(counting(cfg)).unwrap();
     imu.configure(cfg).unwrap();
     imu.bus_mut().inner_mut().advance(0.1);
     let mut frames = Vec::new();
@@ -378,4 +381,64 @@ fn spi_reads_the_same_chip() {
             .enumerate()
             .all(|(k, f)| f.iter().all(|&v| v == k as i16))
     );
+}
+
+/// A delay that does not wait: a driver that skipped the start-up time.
+struct NoWait;
+
+impl embedded_hal::delay::DelayNs for NoWait {
+    fn delay_ns(&mut self, _: u32) {}
+}
+
+#[test]
+fn after_a_reset_the_chip_answers_only_once_its_start_up_time_has_passed() {
+    use embedded_hal::i2c::I2c;
+    use mpu9250::regs;
+    // The chip itself: H_RESET, then nothing answers for the typical
+    // start-up time (PS-MPU-9250A-01 §3.4.2: 11 ms), then it does.
+    let mut chip = SimChip::new(Box::new(|_, _| [0.0; 7]));
+    chip.write(ADDRESS, &[regs::PWR_MGMT_1, regs::H_RESET]).unwrap();
+    let mut id = [0u8];
+    assert_eq!(
+        chip.write_read(ADDRESS, &[regs::WHO_AM_I], &mut id),
+        Err(SimError::Nack)
+    );
+    chip.advance(0.010);
+    assert_eq!(
+        chip.write_read(ADDRESS, &[regs::WHO_AM_I], &mut id),
+        Err(SimError::Nack)
+    );
+    chip.advance(0.002);
+    chip.write_read(ADDRESS, &[regs::WHO_AM_I], &mut id).unwrap();
+    assert_eq!(id[0], regs::ID_MPU9250);
+    // The driver waits it out, on I2C and on SPI…
+    let cfg = Config::default();
+    let mut imu = imu_on_i2c(counting(cfg), ADDRESS).unwrap();
+    imu.configure(cfg).unwrap();
+    imu.bus_mut().inner_mut().advance(0.05);
+    let mut frames = Vec::new();
+    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(10));
+    let mut imu = imu_on_spi(counting(cfg)).unwrap();
+    imu.configure(cfg).unwrap();
+    // …and one that does not is refused by the chip.
+    let mut hasty = Mpu9250::new(I2cBus::new(counting(cfg), ADDRESS), NoWait).unwrap();
+    assert!(matches!(hasty.configure(cfg), Err(Error::Bus(SimError::Nack))));
+    let mut hasty = Mpu9250::new(SpiBus::new(counting(cfg)), NoWait).unwrap();
+    assert!(matches!(hasty.configure(cfg), Err(Error::Bus(_))));
+}
+
+#[test]
+fn a_rate_the_chip_cannot_make_is_a_typed_error() {
+    // 1 kHz / 500: SMPLRT_DIV would be 499, beyond its 8 bits.
+    let cfg = Config {
+        rate_hz: 2.0,
+        ..Config::default()
+    };
+    let mut imu = imu_on_i2c(counting(cfg), ADDRESS).unwrap();
+    let e = imu.configure(cfg).unwrap_err();
+    assert!(
+        matches!(e, Error::Config(mpu9250::driver::ConfigError::Rate { hz }) if hz == 2.0),
+        "{e:?}"
+    );
+    assert_eq!(e.to_string(), "2 Hz cannot be made as 1 kHz / (1 + SMPLRT_DIV)");
 }

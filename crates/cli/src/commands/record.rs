@@ -12,7 +12,7 @@ use anyhow::{Context, Result};
 
 use logger::{Clock, Counters, HostClock, NoTick, Settings, Status, ThreadSleeper, Tick};
 use mpu9250::config::{AccelRange, Config, GyroRange};
-use mpu9250::driver::{Bus, I2cBus, Mpu9250};
+use mpu9250::driver::{Bus, I2cBus, Mpu9250, StdDelay};
 use mpu9250::regs;
 use mpu9250::sim::{ADDRESS, FaultSchedule, SimChip, Source};
 
@@ -92,14 +92,17 @@ pub fn run(a: &RecordArgs) -> Result<()> {
             let source = sim_source(preset, rate, &config)?;
             // The simulated chip runs on the host's clock, its own clock off
             // by --sim-clock-ppm as a real chip's oscillator is.
-            let chip = SimChip::new(source).with_faults(FaultSchedule {
-                bus_errors: a.sim_bus_errors,
-                stall_every_s: a.sim_stall_every,
-                stall_s: SIM_STALL_S,
-                clock_ppm: a.sim_clock_ppm,
-                brownout_at_s: a.sim_brownout_at.map(|s| s.max(0.0)),
-            });
-            let imu = Mpu9250::new(I2cBus::new(chip, ADDRESS)).map_err(|e| anyhow::anyhow!("{e}"))?;
+            let chip = SimChip::new(source)
+                .with_host_clock(Box::new(move || clock.now_s()))
+                .with_faults(FaultSchedule {
+                    bus_errors: a.sim_bus_errors,
+                    stall_every_s: a.sim_stall_every,
+                    stall_s: SIM_STALL_S,
+                    clock_ppm: a.sim_clock_ppm,
+                    brownout_at_s: a.sim_brownout_at.map(|s| s.max(0.0)),
+                });
+            let imu =
+                Mpu9250::new(I2cBus::new(chip, ADDRESS), StdDelay).map_err(|e| anyhow::anyhow!("{e}"))?;
             record(
                 imu,
                 clock,
@@ -117,7 +120,7 @@ pub fn run(a: &RecordArgs) -> Result<()> {
             let (path, address) = (path.as_str(), *address);
             let dev = linux_embedded_hal::I2cdev::new(path)
                 .with_context(|| format!("opening {path} (is I2C enabled, and may this user use it?)"))?;
-            let imu = Mpu9250::new(I2cBus::new(dev, address))
+            let imu = Mpu9250::new(I2cBus::new(dev, address), StdDelay)
                 .map_err(|e| anyhow::anyhow!("{path} @0x{address:02x}: {e}"))?;
             record(imu, clock, config, rate, duration, &a.device.text, a, NoTick)
         }
@@ -138,7 +141,7 @@ pub fn run(a: &RecordArgs) -> Result<()> {
                 .build();
             dev.configure(&options)
                 .with_context(|| format!("configuring {rest}"))?;
-            let imu = Mpu9250::new(mpu9250::driver::SpiBus::new(dev))
+            let imu = Mpu9250::new(mpu9250::driver::SpiBus::new(dev), StdDelay)
                 .map_err(|e| anyhow::anyhow!("{rest}: {e}"))?;
             record(imu, clock, config, rate, duration, &a.device.text, a, NoTick)
         }
@@ -208,14 +211,14 @@ fn sim_preset(preset: &str, _rate: f64) -> Result<Source> {
 
 #[allow(clippy::too_many_arguments)]
 fn record<B: Bus>(
-    mut imu: Mpu9250<B>,
+    mut imu: Mpu9250<B, StdDelay>,
     clock: HostClock,
     config: Config,
     rate: f64,
     duration: Option<f64>,
     device: &str,
     a: &RecordArgs,
-    mut tick: impl Tick<B>,
+    mut tick: impl Tick<B, StdDelay>,
 ) -> Result<()> {
     let stop = Arc::new(AtomicBool::new(false));
     {

@@ -39,10 +39,10 @@ struct Follow<'a> {
     stop: &'a AtomicBool,
 }
 
-impl Tick<I2cBus<SimChip>> for Follow<'_> {
+impl Tick<I2cBus<SimChip>, SimTime> for Follow<'_> {
     fn before_read(
         &mut self,
-        imu: &mut Mpu9250<I2cBus<SimChip>>,
+        imu: &mut Mpu9250<I2cBus<SimChip>, SimTime>,
         clock: &dyn Clock,
         sleeper: &mut dyn Sleeper,
     ) {
@@ -86,9 +86,12 @@ impl Run {
     pub fn record(self) -> Recorded {
         let rate = self.config.actual_rate_hz().unwrap();
         let source = self.source.unwrap_or_else(|| counting(self.config));
-        let chip = SimChip::new(source).with_faults(self.faults);
-        let mut imu = Mpu9250::new(I2cBus::new(chip, ADDRESS)).unwrap();
         let time = SimTime::new().with_overshoot(self.overshoot, self.seed);
+        let host = time.clone();
+        let chip = SimChip::new(source)
+            .with_faults(self.faults)
+            .with_host_clock(Box::new(move || host.now_s()));
+        let mut imu = Mpu9250::new(I2cBus::new(chip, ADDRESS), time.clone()).unwrap();
         let mut sleeper = time.clone();
         logger::configure(&mut imu, self.config, &mut sleeper).unwrap();
         let settings = Settings {
