@@ -79,7 +79,7 @@ pub const TEMP_OFFSET_C: f64 = 21.0;
 /// the maximum "start-up time for register read/write" (typical 11 ms, at
 /// most 100 ms; PS-MPU-9250A-01 rev 1.0 §3.4.2, A.C. Electrical
 /// Characteristics). H_RESET restores every register to its power-on value
-/// (RM-MPU-9250A-00 §4.28, PWR_MGMT_1), and the chip does not answer until
+/// (RM-MPU-9250A-00, register 107, PWR_MGMT_1), and the chip does not answer until
 /// it is through.
 pub const START_UP_MS: u32 = 100;
 
