@@ -48,5 +48,5 @@ pub use log::{
     LogFormat, LogWriter, RecordingOptions, read_recording, read_recording_with_report, write_recording,
 };
 pub use recording::{Axis, Channel, Metadata, Recording};
-pub use report::{Problem, ProblemKind, ReadReport};
+pub use report::{FileFormat, Problem, ProblemKind, ReadReport};
 pub use units::{Quantity, Unit, UnitSource};

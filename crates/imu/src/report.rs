@@ -94,9 +94,34 @@ impl Problem {
     }
 }
 
+/// Which format a reader found a file in.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum FileFormat {
+    /// imutherm's log: `# format: imutherm-log/…` among its metadata.
+    ImuthermLog,
+    /// The thesis's log: its `mpu_accel_1[m/^2], …` header, no metadata.
+    ThesisLog,
+    /// Any other table of numeric columns under a header.
+    #[default]
+    Columns,
+}
+
+impl FileFormat {
+    /// As `imutherm info` names it.
+    pub fn name(self) -> &'static str {
+        match self {
+            FileFormat::ImuthermLog => "imutherm log",
+            FileFormat::ThesisLog => "thesis log",
+            FileFormat::Columns => "numeric columns",
+        }
+    }
+}
+
 /// What reading a file found.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ReadReport {
+    /// The format the file was found in.
+    pub format: FileFormat,
     /// Problems, at most [`MAX_LISTED`], in file order within each kind.
     pub problems: Vec<Problem>,
     /// Problems not listed beyond [`MAX_LISTED`].

@@ -144,17 +144,8 @@ fn describe(data: &[f64]) -> (Option<(f64, f64, f64, f64)>, usize) {
 }
 
 fn file_info(path: &Path, rec: &Recording, report: &ReadReport, opts: &RecordingOptions) -> FileInfo {
-    let format = match rec.meta.get("format") {
-        Some(f) if f.starts_with("imutherm-log") => "imutherm log",
-        _ if rec
-            .channels
-            .iter()
-            .any(|c| c.source_name.starts_with("mpu_gyro_")) =>
-        {
-            "thesis log"
-        }
-        _ => "numeric columns",
-    };
+    // The reader says which format it found.
+    let format = report.format.name();
     let rate_source = if opts.rate_hz.is_some() {
         "given"
     } else if report.timing.is_some() {
