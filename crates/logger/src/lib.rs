@@ -11,8 +11,7 @@
 //! binary passes the host's ([`HostClock`], [`ThreadSleeper`]); tests pass
 //! [`SimTime`], under which an hour of recording against the simulated
 //! chip ([`mpu9250::sim::SimChip`], its faults scheduled by
-//! [`mpu9250::sim::FaultSchedule`]) runs in well under a second of host
-//! time.
+//! [`mpu9250::sim::FaultSchedule`]) runs in about a second of host time.
 //!
 //! **What it is not:** no flag parsing and no printing (the status line and
 //! the closing message are the caller's, from [`Status`] and [`Summary`]);

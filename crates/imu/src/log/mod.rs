@@ -1,5 +1,5 @@
 //! The thesis log and imutherm's own log: writing, and reading into a
-//! [`Recording`].
+//! [`Recording`](crate::Recording).
 //!
 //! The thesis log is a header line
 //! `mpu_accel_1[m/^2], …, mpu_gyro_3[rad/s], temp[degC]` and one
