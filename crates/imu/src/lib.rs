@@ -34,19 +34,26 @@
 
 pub mod error;
 pub mod header;
-pub mod log;
+pub mod log_file;
 pub mod names;
 pub mod output;
+pub mod read_report;
 pub mod recording;
-pub mod report;
 pub mod table;
 pub mod timing;
 pub mod units;
 
 pub use error::{ReadError, ReadErrorKind};
-pub use log::{
+pub use log_file::{
     LogFormat, LogWriter, RecordingOptions, read_recording, read_recording_with_report, write_recording,
 };
+pub use read_report::{FileFormat, Problem, ProblemKind, ReadReport};
 pub use recording::{Axis, Channel, Metadata, Recording};
-pub use report::{FileFormat, Problem, ProblemKind, ReadReport};
 pub use units::{Quantity, Unit, UnitSource};
+
+// The modules' former names (`log` read like the `log` crate, `report` like
+// imutherm's `report` crate), for code still written against them.
+#[doc(hidden)]
+pub use log_file as log;
+#[doc(hidden)]
+pub use read_report as report;

@@ -52,7 +52,7 @@ fn exercise(bytes: &[u8]) {
             // What is kept is consistent: all channels the same length.
             let n = rec.len();
             assert!(rec.channels.iter().all(|c| c.data.len() == n));
-            assert!(report.problems.len() <= imu::report::MAX_LISTED);
+            assert!(report.problems.len() <= imu::read_report::MAX_LISTED);
         }
     }
 }

@@ -38,7 +38,7 @@ use rand_distr::{Distribution, StandardNormal};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 
-use imu::log::format_row;
+use imu::log_file::format_row;
 use imu::{Axis, Channel, LogFormat, LogWriter, Metadata, Quantity, Recording};
 
 use crate::SimError;

@@ -202,7 +202,7 @@ fn write_tables(out: &mut impl Write, opts: &Options, channels: &[Channel], curv
             },
             opts.stat,
             opts.data_type,
-            imu::log::round_rate(c.rate_hz),
+            imu::log_file::round_rate(c.rate_hz),
             c.samples,
             c.nan_samples,
             100.0 * opts.confidence

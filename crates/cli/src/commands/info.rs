@@ -217,8 +217,8 @@ fn file_info(path: &Path, rec: &Recording, report: &ReadReport, opts: &Recording
         problems_unlisted: report.unlisted,
         dropped_samples: report.dropped_samples,
         notes: report.notes.clone(),
-        logger: rec.meta.get(imu::log::TRAILER_KEY).map(|t| {
-            imu::log::trailer_fields(t)
+        logger: rec.meta.get(imu::log_file::TRAILER_KEY).map(|t| {
+            imu::log_file::trailer_fields(t)
                 .into_iter()
                 .map(|(k, v)| {
                     let number = v
@@ -287,7 +287,7 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
                 .unwrap_or_default();
             // A fitted rate to the digits that mean something, not
             // 99.99999999781721.
-            let shown = imu::log::round_rate(r);
+            let shown = imu::log_file::round_rate(r);
             writeln!(out, "  rate         {shown} Hz ({}{jitter})", f.rate_source)?;
             // Where the clock and the median step part, say so: that is
             // the case a rate read off the steps gets wrong.
@@ -300,7 +300,7 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
                 writeln!(
                     out,
                     "  clock        fitted to the stamps; the median step ({step:.6} s) would say {} Hz",
-                    imu::log::round_rate(1.0 / step)
+                    imu::log_file::round_rate(1.0 / step)
                 )?;
             }
         }
@@ -355,7 +355,7 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
             get("bus_errors"),
             get("stopped_by"),
             match l.get("rate_measured_hz").and_then(serde_json::Value::as_f64) {
-                Some(r) => format!("measured {} Hz", imu::log::round_rate(r)),
+                Some(r) => format!("measured {} Hz", imu::log_file::round_rate(r)),
                 None => "not measured (under 5 s without a loss)".to_string(),
             },
         )?;

@@ -25,8 +25,8 @@ pub use writer::*;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::read_report::ProblemKind;
     use crate::recording::{Axis, Channel, Metadata, Recording};
-    use crate::report::ProblemKind;
     use crate::units::Quantity;
 
     /// The first rows of the thesis's own log (slides, "Software Design").
