@@ -7,7 +7,8 @@
 //! Only what legitimately varies is normalised before the comparison: the
 //! version string (`imutherm_version`, "imutherm 0.1.0"). Paths do not vary:
 //! every command runs in the runs' directory and names them relatively, as
-//! a user would. No output compared here carries a wall-clock time.
+//! a user would. No output compared here carries a wall-clock time. The
+//! report is compared without its figures and its command line.
 
 use std::path::Path;
 
@@ -202,4 +203,43 @@ fn ins_document() {
             ],
         ),
     );
+}
+
+/// Every `<open…</close>` span of `text` replaced by `with`.
+fn blank_spans(text: &str, open: &str, close: &str, with: &str) -> String {
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(i) = rest.find(open) {
+        out.push_str(&rest[..i]);
+        out.push_str(with);
+        let after = &rest[i..];
+        rest = after.find(close).map_or("", |j| &after[j + close.len()..]);
+    }
+    out.push_str(rest);
+    out
+}
+
+#[test]
+fn noise_tables_of_two_runs() {
+    let dir = runs();
+    let d = dir.path();
+    check("noise_two_runs.txt", &stdout_in(d, &["noise", "const.txt", "ramp.txt"]));
+    check(
+        "noise_two_runs_datasheet_verbose.txt",
+        &stdout_in(d, &["noise", "--units", "datasheet", "-v", "const.txt", "ramp.txt"]),
+    );
+}
+
+/// The report's page without its figures (drawn by plotters, compared by
+/// the report's own tests) and without its command line (which names the
+/// test's binary and folder): the tables and text, byte for byte.
+#[test]
+fn report_page_without_figures() {
+    let dir = runs();
+    let d = dir.path();
+    stdout_in(d, &["report", "const.txt", "cool.txt", "--out", "rep"]);
+    let html = std::fs::read_to_string(d.join("rep/report.html")).unwrap();
+    let html = blank_spans(&html, "<svg", "</svg>", "<svg/>");
+    let html = blank_spans(&html, "<pre>", "</pre>", "<pre/>");
+    check("report_without_figures.html", html.as_bytes());
 }
