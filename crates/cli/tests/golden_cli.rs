@@ -223,10 +223,16 @@ fn blank_spans(text: &str, open: &str, close: &str, with: &str) -> String {
 fn noise_tables_of_two_runs() {
     let dir = runs();
     let d = dir.path();
-    check("noise_two_runs.txt", &stdout_in(d, &["noise", "const.txt", "ramp.txt"]));
+    check(
+        "noise_two_runs.txt",
+        &stdout_in(d, &["noise", "const.txt", "ramp.txt"]),
+    );
     check(
         "noise_two_runs_datasheet_verbose.txt",
-        &stdout_in(d, &["noise", "--units", "datasheet", "-v", "const.txt", "ramp.txt"]),
+        &stdout_in(
+            d,
+            &["noise", "--units", "datasheet", "-v", "const.txt", "ramp.txt"],
+        ),
     );
 }
 
