@@ -7,6 +7,7 @@
 mod args;
 mod commands;
 mod flags;
+mod print;
 
 use std::process::ExitCode;
 

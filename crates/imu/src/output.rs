@@ -139,6 +139,19 @@ pub fn check_output(target: &Path, policy: &OutputPolicy<'_>) -> Result<(), Writ
     Ok(())
 }
 
+/// Whether `a` and `b` name one file: the same device and inode, under any
+/// name or hard link (elsewhere, the same canonical path). `-` stands for
+/// standard input, whatever file it was redirected from. A path that does
+/// not exist is no file.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    let meta = if a == Path::new("-") {
+        std::fs::metadata("/dev/stdin")
+    } else {
+        std::fs::metadata(a)
+    };
+    meta.is_ok_and(|meta| is_same_file(a, &meta, b))
+}
+
 /// Whether `input` names the file `target` (whose metadata is `meta`).
 fn is_same_file(target: &Path, meta: &std::fs::Metadata, input: &Path) -> bool {
     // Standard input is whatever file descriptor 0 is: a redirected file

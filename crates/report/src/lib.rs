@@ -19,8 +19,36 @@
 //! assert!(svg.starts_with("<svg"));
 //! ```
 
+pub mod experiment;
 pub mod html;
 pub mod plots;
+
+use std::path::PathBuf;
+
+/// A page that cannot be made.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// A plot could not be drawn.
+    #[error(transparent)]
+    Plot(#[from] PlotError),
+    /// A folder or file of the report could not be written.
+    #[error("{}: {cause}", path.display())]
+    Io {
+        /// The folder or file.
+        path: PathBuf,
+        /// Why.
+        cause: std::io::Error,
+    },
+    /// A file under one of the report's names that imutherm did not write.
+    #[error("{} exists and was not written by imutherm: move it, or choose another --out", .0.display())]
+    Foreign(PathBuf),
+    /// A figure format other than svg or png.
+    #[error("--format {0}: expected svg or png")]
+    Format(String),
+    /// A value the page needs is missing.
+    #[error("{0}")]
+    Missing(String),
+}
 
 /// Drawing failed (plotters' error, as text).
 #[derive(Debug, thiserror::Error)]

@@ -10,8 +10,8 @@ use allan::noise_terms::{Term, TermEstimate};
 use thermal::surface::{Slicing, SurfaceRow, surface};
 
 use crate::args::ThermalArgs;
-use crate::commands::info::recording_options;
-use crate::commands::selection::read_channels;
+use crate::flags::recording_options;
+use crate::print::read_channels;
 
 const SCHEMA: &str = "imutherm.thermal/1";
 
