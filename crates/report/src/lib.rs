@@ -45,6 +45,9 @@ pub enum ReportError {
     /// A figure format other than svg or png.
     #[error("--format {0}: expected svg or png")]
     Format(String),
+    /// The page template did not render.
+    #[error("page template: {0}")]
+    Template(String),
     /// A value the page needs is missing.
     #[error("{0}")]
     Missing(String),

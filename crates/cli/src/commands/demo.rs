@@ -165,7 +165,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     surface_section(&mut page, &exp, &png)?;
     compensation_section(&mut page, &exp, &png)?;
     navigation_section(&mut page, &exp);
-    let html = page.finish();
+    let html = page.finish()?;
     let report_path = file("report.html");
     write_file(&report_path, html.as_bytes(), &OWN_FILE)?;
 

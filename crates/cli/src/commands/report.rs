@@ -151,7 +151,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     // unless it is one of the inputs.
     imu::output::write_file(
         &path,
-        page.finish().as_bytes(),
+        page.finish()?.as_bytes(),
         &imu::output::OutputPolicy {
             overwrite: true,
             inputs: &a.files,
