@@ -60,20 +60,17 @@ pub fn command_section(page: &mut Page, command_line: &str) {
 pub struct PngDir(pub Option<PathBuf>);
 
 impl PngDir {
-    /// From `--format svg|png` and the output folder (PNGs in DIR/figures).
-    pub fn new(format: &str, out: &Path) -> Result<PngDir, ReportError> {
-        match format.to_ascii_lowercase().as_str() {
-            "svg" => Ok(PngDir(None)),
-            "png" => {
-                let dir = out.join("figures");
-                std::fs::create_dir_all(&dir).map_err(|cause| ReportError::Io {
-                    path: dir.clone(),
-                    cause,
-                })?;
-                Ok(PngDir(Some(dir)))
-            }
-            other => Err(ReportError::Format(other.to_string())),
+    /// PNG copies in `out/figures` when `png`, none otherwise.
+    pub fn new(png: bool, out: &Path) -> Result<PngDir, ReportError> {
+        if !png {
+            return Ok(PngDir(None));
         }
+        let dir = out.join("figures");
+        std::fs::create_dir_all(&dir).map_err(|cause| ReportError::Io {
+            path: dir.clone(),
+            cause,
+        })?;
+        Ok(PngDir(Some(dir)))
     }
 
     /// The file for a figure called `name`, if PNGs are wanted.

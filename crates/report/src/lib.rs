@@ -42,9 +42,6 @@ pub enum ReportError {
     /// A file under one of the report's names that imutherm did not write.
     #[error("{} exists and was not written by imutherm: move it, or choose another --out", .0.display())]
     Foreign(PathBuf),
-    /// A figure format other than svg or png.
-    #[error("--format {0}: expected svg or png")]
-    Format(String),
     /// The page template did not render.
     #[error("page template: {0}")]
     Template(String),

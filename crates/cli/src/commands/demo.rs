@@ -22,7 +22,7 @@ use report::html::Page;
 use thermal::evaluation::spread;
 use thermal::tcal::FitOptions;
 
-use crate::args::DemoArgs;
+use crate::args::{DemoArgs, FigureFormat};
 use crate::print::notes;
 
 /// The demo writes only its own files, into its own directory: replacing
@@ -80,7 +80,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     ]);
     refuse_foreign_files(&a.out, &own)?;
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
-    let png = PngDir::new(&a.format, &a.out)?;
+    let png = PngDir::new(a.format == FigureFormat::Png, &a.out)?;
     let file = |name: &str| a.out.join(name);
 
     // 1. The recordings.

@@ -18,7 +18,7 @@ use analysis::selection::SelectedChannel;
 use analysis::thesis::ThesisTables;
 use analysis::units::{Units, density_of, unit_of};
 
-use crate::args::NoiseArgs;
+use crate::args::{NoiseArgs, TermUnits};
 use crate::flags::recording_options;
 use crate::print::read_channels;
 
@@ -52,10 +52,9 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
             },
         )?;
     }
-    let units = match a.units.to_ascii_lowercase().as_str() {
-        "si" => Units::Si,
-        "datasheet" => Units::Datasheet,
-        other => bail!("--units {other}: expected si or datasheet"),
+    let units = match a.units {
+        TermUnits::Si => Units::Si,
+        TermUnits::Datasheet => Units::Datasheet,
     };
     let confidence = a.confidence;
     let read = recording_options(&a.read)?;

@@ -17,7 +17,7 @@ use report::html::Page;
 use report::plots::adev_heatmap;
 use thermal::surface::{Slicing, surface};
 
-use crate::args::ReportArgs;
+use crate::args::{FigureFormat, ReportArgs};
 use crate::flags::recording_options;
 use crate::print::{notes, read_channels};
 
@@ -48,7 +48,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     )?;
     refuse_foreign_files(&a.out, &[("report.html", PAGE_MARK)])?;
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
-    let png = PngDir::new(&a.format, &a.out)?;
+    let png = PngDir::new(a.format == FigureFormat::Png, &a.out)?;
     let mut page = Page::new("imutherm report");
     command_section(&mut page, &std::env::args().collect::<Vec<_>>().join(" "));
 
