@@ -234,7 +234,7 @@ pub struct ThermalArgs {
     pub read: ReadArgs,
 
     /// Confidence level of the intervals.
-    #[arg(long, default_value_t = 0.683, value_name = "LEVEL", value_parser = flags::confidence)]
+    #[arg(long, default_value_t = allan::DEFAULT_CONFIDENCE, value_name = "LEVEL", value_parser = flags::confidence)]
     pub confidence: f64,
 
     /// Print one JSON document (schema imutherm.thermal/1).
@@ -719,7 +719,7 @@ pub struct AdevArgs {
 
     /// Confidence level of the intervals, as a fraction (0.683) or a
     /// percentage (68.3).
-    #[arg(long, default_value_t = 0.683, value_name = "LEVEL", value_parser = flags::confidence)]
+    #[arg(long, default_value_t = allan::DEFAULT_CONFIDENCE, value_name = "LEVEL", value_parser = flags::confidence)]
     pub confidence: f64,
 
     /// Print one JSON document (schema imutherm.adev/1) instead of tables.

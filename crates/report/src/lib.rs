@@ -3,12 +3,16 @@
 //! SVG plots drawn with plotters and an embedded DejaVu Sans (no system
 //! fonts needed): Allan deviations on log-log axes with their confidence
 //! bands, the ADEV over temperature as a heat map (log colour scale, τ on a
-//! log axis), and bias against temperature with a compensation curve. The
-//! [`html`] module assembles them with tables into one self-contained page
-//! (no network access needed), escaping everything that comes from a file.
+//! log axis), and bias against temperature with a compensation curve, each
+//! also as a PNG file. The [`html`] module renders them with tables through
+//! a minijinja template into one self-contained page (no network access
+//! needed), escaping everything that comes from a file; [`experiment`]
+//! draws the sections of an `analysis` value (thesis tables, ADEV figures,
+//! surfaces, compensation, navigation).
 //!
-//! **What it is not:** no statistics (it draws what `allan` and `thermal`
-//! computed) and no file reading.
+//! **What it is not:** no statistics and no reading of recordings (it draws
+//! what `analysis`, `allan` and `thermal` computed); the files it writes
+//! are figures.
 //!
 //! ```
 //! use report::plots::{Curve, adev_plot};
