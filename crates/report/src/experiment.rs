@@ -16,9 +16,12 @@ use imu::Quantity;
 use thermal::evaluation::{BinMean, spread};
 use thermal::surface::SurfaceRow;
 
+use crate::PlotError;
 use crate::ReportError;
 use crate::html::Page;
-use crate::plots::{Asymptote, Curve, adev_heatmap, adev_plot, bias_plot, temperature_colour};
+use crate::plots::{
+    Asymptote, Curve, Drawn, Target, adev_heatmap, adev_plot, bias_plot, temperature_colour, time_plot,
+};
 
 /// The mark near the start of a log imutherm wrote.
 pub const LOG_MARK: &str = "# format: imutherm-log/1";
@@ -81,6 +84,24 @@ impl PngDir {
             .collect();
         self.0.as_ref().map(|d| d.join(format!("{safe}.png")))
     }
+}
+
+/// A figure on the page and, when PNGs are wanted, the same plot as the
+/// PNG file `png_name`: one plotting function draws both.
+pub fn figure(
+    page: &mut Page,
+    png: &PngDir,
+    png_name: &str,
+    caption: &str,
+    plot: impl Fn(Target) -> Result<Drawn, PlotError>,
+) -> Result<(), ReportError> {
+    if let Some(svg) = plot(Target::Svg)?.into_svg() {
+        page.figure(&svg, caption);
+    }
+    if let Some(p) = png.path(png_name) {
+        plot(Target::Png(&p))?;
+    }
+    Ok(())
 }
 
 /// The fitted noise terms of a channel as ADEV asymptotes (IEEE 952
@@ -232,13 +253,13 @@ pub fn adev_figures(page: &mut Page, runs: &[RunNoise], png: &PngDir) -> Result<
                 "accelerometer"
             };
             let title = format!("{what} at {run}");
-            page.figure(
-                &adev_plot(&title, &unit, &curves)?,
+            figure(
+                page,
+                png,
+                &format!("adev_{title}"),
                 &format!("{title}: the three axes, 95 % bands"),
-            );
-            if let Some(p) = png.path(&format!("adev_{title}")) {
-                crate::plots::adev_plot_png(&p, &title, &unit, &curves)?;
-            }
+                |t| adev_plot(t, &title, &unit, &curves),
+            )?;
         }
     }
     let first: &[ChannelNoise] = runs.first().map_or(&[], |r| r.channels.as_slice());
@@ -272,13 +293,13 @@ pub fn adev_figures(page: &mut Page, runs: &[RunNoise], png: &PngDir) -> Result<
             .iter()
             .find(|r| r.channel.name == name)
             .map_or(String::new(), |r| r.channel.unit.clone());
-        page.figure(
-            &adev_plot(&name, &unit, &curves)?,
+        figure(
+            page,
+            png,
+            &format!("adev_{name}"),
             &format!("{name}: overlapping ADEV, 95 % bands"),
-        );
-        if let Some(p) = png.path(&format!("adev_{name}")) {
-            crate::plots::adev_plot_png(&p, &name, &unit, &curves)?;
-        }
+            |t| adev_plot(t, &name, &unit, &curves),
+        )?;
     }
     Ok(())
 }
@@ -305,21 +326,22 @@ pub fn time_figures(page: &mut Page, sel: &Selection, title: &str, png: &PngDir)
             continue;
         };
         let heading = format!("{title}: {what}");
-        let svg = crate::plots::time_plot(&heading, &unit, &chans, sel.rate_hz, sel.temperature.as_deref())?;
-        if let Some(p) = png.path(&format!("time_{heading}")) {
-            crate::plots::time_plot_png(
-                &p,
-                &heading,
-                &unit,
-                &chans,
-                sel.rate_hz,
-                sel.temperature.as_deref(),
-            )?;
-        }
-        page.figure(
-            &svg,
+        figure(
+            page,
+            png,
+            &format!("time_{heading}"),
             &format!("{title}: {what} samples (min/max per pixel column) and temperature"),
-        );
+            |t| {
+                time_plot(
+                    t,
+                    &heading,
+                    &unit,
+                    &chans,
+                    sel.rate_hz,
+                    sel.temperature.as_deref(),
+                )
+            },
+        )?;
     }
     Ok(())
 }
@@ -333,13 +355,13 @@ pub fn surface_section(page: &mut Page, exp: &Experiment, png: &PngDir) -> Resul
         page.surface3d(&c.name, &c.unit, &surface_slices(rows));
     }
     for (c, rows) in cool.channels.iter().zip(&exp.surfaces) {
-        page.figure(
-            &adev_heatmap(&c.name, &c.unit, rows)?,
+        figure(
+            page,
+            png,
+            &format!("adev_over_temperature_{}", c.name),
             &format!("{}: σ(τ, T) over 5 °C bins of the cooling run", c.name),
-        );
-        if let Some(p) = png.path(&format!("adev_over_temperature_{}", c.name)) {
-            crate::plots::adev_heatmap_png(&p, &c.name, &c.unit, rows)?;
-        }
+            |t| adev_heatmap(t, &c.name, &c.unit, rows),
+        )?;
     }
     Ok(())
 }
@@ -367,13 +389,13 @@ pub fn compensation_section(page: &mut Page, exp: &Experiment, png: &PngDir) -> 
         // The same unit: its raw bias is p(T) itself.
         let curve = |t: f64| cm.bias(model, t.clamp(model.t_min_c, model.t_max_c));
         let title = format!("{name}: bias against temperature");
-        page.figure(
-            &bias_plot(&title, unit, &raw, &compensated, &curve)?,
+        figure(
+            page,
+            png,
+            &format!("compensation_{name}"),
             &format!("{name}: 1 °C bin means of the heating run, raw and compensated, and the fitted p(T)"),
-        );
-        if let Some(p) = png.path(&format!("compensation_{name}")) {
-            crate::plots::bias_plot_png(&p, &title, unit, &raw, &compensated, &curve)?;
-        }
+            |t| bias_plot(t, &title, unit, &raw, &compensated, &curve),
+        )?;
         let (rb, ra) = (spread(&c.before).rms, spread(&c.after).rms);
         comp_rows.push(vec![
             name.clone(),

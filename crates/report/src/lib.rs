@@ -15,11 +15,14 @@
 //! are figures.
 //!
 //! ```
-//! use report::plots::{Curve, adev_plot};
+//! use report::plots::{Curve, Target, adev_plot};
 //! let pts = allan::analyze(&[1.0, 2.0, 1.5, 1.7, 1.2, 1.9, 1.4, 1.6, 1.1, 1.8], &allan::Options::default())
 //!     .unwrap()
 //!     .points;
-//! let svg = adev_plot("gyro x", "rad/s", &[Curve::plain("34 °C", &pts)]).unwrap();
+//! let svg = adev_plot(Target::Svg, "gyro x", "rad/s", &[Curve::plain("34 °C", &pts)])
+//!     .unwrap()
+//!     .into_svg()
+//!     .unwrap();
 //! assert!(svg.starts_with("<svg"));
 //! ```
 

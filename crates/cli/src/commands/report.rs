@@ -10,7 +10,7 @@ use imu::read_recording_with_report;
 use ins::drift::report_times;
 use ins::strapdown::NavOptions;
 use report::experiment::{
-    PAGE_MARK, PngDir, adev_figures, command_section, noise_tables, recordings_navigation_section,
+    PAGE_MARK, PngDir, adev_figures, command_section, figure, noise_tables, recordings_navigation_section,
     refuse_foreign_files, time_figures,
 };
 use report::html::Page;
@@ -134,13 +134,13 @@ pub fn run(a: &ReportArgs) -> Result<()> {
                 Slicing::Temperature { bin_width_c: 5.0 },
                 allan::DEFAULT_CONFIDENCE,
             )?;
-            page.figure(
-                &adev_heatmap(&c.name, &c.unit, &rows)?,
+            figure(
+                &mut page,
+                &png,
+                &format!("adev_over_temperature_{}_{}", f.display(), c.name),
                 &format!("{}: σ(τ, T) over 5 °C bins", c.name),
-            );
-            if let Some(p) = png.path(&format!("adev_over_temperature_{}_{}", f.display(), c.name)) {
-                report::plots::adev_heatmap_png(&p, &c.name, &c.unit, &rows)?;
-            }
+                |t| adev_heatmap(t, &c.name, &c.unit, &rows),
+            )?;
         }
     }
 
