@@ -388,6 +388,22 @@ pub fn write_file(target: &Path, bytes: &[u8], policy: &OutputPolicy<'_>) -> Res
 mod tests {
     use super::*;
 
+    #[test]
+    fn same_file_is_the_file_under_any_name_and_never_a_copy() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = dir.path().join("a.txt");
+        std::fs::write(&a, "gyro_x\n1\n").unwrap();
+        let link = dir.path().join("link.txt");
+        std::fs::hard_link(&a, &link).unwrap();
+        let copy = dir.path().join("copy.txt");
+        std::fs::copy(&a, &copy).unwrap();
+        assert!(same_file(&a, &link) && same_file(&link, &a));
+        assert!(same_file(&a, &dir.path().join(".").join("a.txt")));
+        assert!(!same_file(&a, &copy));
+        let missing = dir.path().join("missing.txt");
+        assert!(!same_file(&a, &missing) && !same_file(&missing, &a));
+    }
+
     fn policy(overwrite: bool, inputs: &[PathBuf]) -> OutputPolicy<'_> {
         OutputPolicy { overwrite, inputs }
     }
