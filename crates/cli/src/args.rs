@@ -5,7 +5,6 @@
 
 use std::path::PathBuf;
 
-use clap::builder::PossibleValue;
 use clap::{Args, Parser, Subcommand};
 
 #[cfg(feature = "analysis")]
@@ -191,8 +190,14 @@ pub struct ReportArgs {
 
     /// svg (the plots inline in report.html) or png (also every plot as a
     /// PNG file in DIR/figures).
-    #[arg(long, default_value = "svg", value_name = "svg|png", value_parser = ["svg", "png"], ignore_case = true)]
-    pub format: String,
+    #[arg(
+        long,
+        value_enum,
+        default_value = "svg",
+        value_name = "svg|png",
+        ignore_case = true
+    )]
+    pub format: FigureFormat,
 
     #[command(flatten)]
     pub read: ReadArgs,
@@ -219,10 +224,10 @@ pub struct ThermalArgs {
         long,
         default_value = "temperature",
         value_name = "temperature|time",
-        value_parser = [PossibleValue::new("temperature").alias("temp"), PossibleValue::new("time")],
+        value_enum,
         ignore_case = true
     )]
-    pub by: String,
+    pub by: SliceBy,
 
     /// Width of a temperature bin, °C.
     #[arg(long, default_value_t = 5.0, value_name = "C", value_parser = flags::positive)]
@@ -244,7 +249,7 @@ pub struct ThermalArgs {
     pub read: ReadArgs,
 
     /// Confidence level of the intervals.
-    #[arg(long, default_value_t = 0.683, value_name = "LEVEL", value_parser = flags::confidence)]
+    #[arg(long, default_value_t = allan::DEFAULT_CONFIDENCE, value_name = "LEVEL", value_parser = flags::confidence)]
     pub confidence: f64,
 
     /// Print one JSON document (schema imutherm.thermal/1).
@@ -264,8 +269,14 @@ pub struct DemoArgs {
 
     /// svg (the plots inline in report.html) or png (also every plot as a
     /// PNG file in DIR/figures).
-    #[arg(long, default_value = "svg", value_name = "svg|png", value_parser = ["svg", "png"], ignore_case = true)]
-    pub format: String,
+    #[arg(
+        long,
+        value_enum,
+        default_value = "svg",
+        value_name = "svg|png",
+        ignore_case = true
+    )]
+    pub format: FigureFormat,
 }
 
 #[cfg(feature = "analysis")]
@@ -301,6 +312,33 @@ PX4 maps the calibration to a sensor by its device id (`listener sensor_gyro`, o
 parameter CAL_GYRO0_ID); without --device-id, and when the model does not carry one,
 TC_G0_ID/TC_A0_ID are written as a commented placeholder. Check the file on a run before
 flashing with `tcal eval MODEL.json RUN --export px4|ardupilot`.";
+
+/// The format of the report's figure files besides the page's SVG.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FigureFormat {
+    #[value(name = "svg")]
+    Svg,
+    #[value(name = "png")]
+    Png,
+}
+
+/// How `thermal` slices a recording.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SliceBy {
+    #[value(name = "temperature", alias = "temp")]
+    Temperature,
+    #[value(name = "time")]
+    Time,
+}
+
+/// The units `noise` prints its terms in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum TermUnits {
+    #[value(name = "si")]
+    Si,
+    #[value(name = "datasheet")]
+    Datasheet,
+}
 
 /// A flight stack imutherm writes temperature calibrations for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -562,8 +600,14 @@ pub struct NoiseArgs {
     /// Units of the printed terms: si (rad/√s, rad/s, rad/s/√s; m/s/√s, m/s²,
     /// m/s²/√s) or datasheet (°/√h, °/h, °/h/√h; m/s/√h, µg, µg/√s) — the thesis
     /// table uses °/√s and °/s for gyros in both.
-    #[arg(long, default_value = "si", value_name = "si|datasheet", value_parser = ["si", "datasheet"], ignore_case = true)]
-    pub units: String,
+    #[arg(
+        long,
+        value_enum,
+        default_value = "si",
+        value_name = "si|datasheet",
+        ignore_case = true
+    )]
+    pub units: TermUnits,
 
     /// Confidence level of the intervals (fraction or percentage).
     #[arg(long, default_value_t = 0.95, value_name = "LEVEL", value_parser = flags::confidence)]
@@ -693,7 +737,7 @@ pub struct AdevArgs {
 
     /// Confidence level of the intervals, as a fraction (0.683) or a
     /// percentage (68.3).
-    #[arg(long, default_value_t = 0.683, value_name = "LEVEL", value_parser = flags::confidence)]
+    #[arg(long, default_value_t = allan::DEFAULT_CONFIDENCE, value_name = "LEVEL", value_parser = flags::confidence)]
     pub confidence: f64,
 
     /// Print one JSON document (schema imutherm.adev/1) instead of tables.

@@ -356,6 +356,38 @@ pub fn device(text: &str) -> Result<Device, String> {
     })
 }
 
+/// Ends the program as a usage error (status 2), as clap does for a bad
+/// flag: for what only becomes wrong in combination with another flag.
+pub fn usage_error(message: impl std::fmt::Display) -> ! {
+    use clap::CommandFactory;
+    crate::args::Cli::command()
+        .error(clap::error::ErrorKind::ValueValidation, message)
+        .exit()
+}
+
+/// The shared read flags as the reader's options, checked.
+pub fn recording_options(a: &crate::args::ReadArgs) -> anyhow::Result<imu::RecordingOptions> {
+    Ok(analysis::reading::recording_options(
+        &analysis::reading::ReadingChoices {
+            rate_hz: a.rate,
+            units: a.unit.clone(),
+            time_column: a.time_column.clone(),
+            time_unit: a.time_unit.clone(),
+            skip_bad_lines: a.skip_bad_lines,
+        },
+    )?)
+}
+
+/// The firmware a `--firmware`, `--for` or `--export` flag names.
+impl From<crate::args::FirmwareArg> for thermal::firmware::Firmware {
+    fn from(f: crate::args::FirmwareArg) -> thermal::firmware::Firmware {
+        match f {
+            crate::args::FirmwareArg::Px4 => thermal::firmware::Firmware::Px4,
+            crate::args::FirmwareArg::ArduPilot => thermal::firmware::Firmware::ArduPilot,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -50,10 +50,3 @@ pub use log_file::{
 pub use read_report::{FileFormat, Problem, ProblemKind, ReadReport};
 pub use recording::{Axis, Channel, Metadata, Recording};
 pub use units::{Quantity, Unit, UnitSource};
-
-// The modules' former names (`log` read like the `log` crate, `report` like
-// imutherm's `report` crate), for code still written against them.
-#[doc(hidden)]
-pub use log_file as log;
-#[doc(hidden)]
-pub use read_report as report;

@@ -139,6 +139,19 @@ pub fn check_output(target: &Path, policy: &OutputPolicy<'_>) -> Result<(), Writ
     Ok(())
 }
 
+/// Whether `a` and `b` name one file: the same device and inode, under any
+/// name or hard link (elsewhere, the same canonical path). `-` stands for
+/// standard input, whatever file it was redirected from. A path that does
+/// not exist is no file.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    let meta = if a == Path::new("-") {
+        std::fs::metadata("/dev/stdin")
+    } else {
+        std::fs::metadata(a)
+    };
+    meta.is_ok_and(|meta| is_same_file(a, &meta, b))
+}
+
 /// Whether `input` names the file `target` (whose metadata is `meta`).
 fn is_same_file(target: &Path, meta: &std::fs::Metadata, input: &Path) -> bool {
     // Standard input is whatever file descriptor 0 is: a redirected file
@@ -374,6 +387,22 @@ pub fn write_file(target: &Path, bytes: &[u8], policy: &OutputPolicy<'_>) -> Res
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn same_file_is_the_file_under_any_name_and_never_a_copy() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = dir.path().join("a.txt");
+        std::fs::write(&a, "gyro_x\n1\n").unwrap();
+        let link = dir.path().join("link.txt");
+        std::fs::hard_link(&a, &link).unwrap();
+        let copy = dir.path().join("copy.txt");
+        std::fs::copy(&a, &copy).unwrap();
+        assert!(same_file(&a, &link) && same_file(&link, &a));
+        assert!(same_file(&a, &dir.path().join(".").join("a.txt")));
+        assert!(!same_file(&a, &copy));
+        let missing = dir.path().join("missing.txt");
+        assert!(!same_file(&a, &missing) && !same_file(&missing, &a));
+    }
 
     fn policy(overwrite: bool, inputs: &[PathBuf]) -> OutputPolicy<'_> {
         OutputPolicy { overwrite, inputs }

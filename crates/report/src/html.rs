@@ -1,6 +1,9 @@
 //! The self-contained HTML page: tables, inline SVG plots, the command and
 //! version that made it. Everything that comes from a file is escaped.
 
+use minijinja::{AutoEscape, Environment, context};
+use serde::Serialize;
+
 /// Escapes text for HTML content and attribute values.
 pub fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
@@ -17,60 +20,97 @@ pub fn escape(text: &str) -> String {
     out
 }
 
-/// A page under construction.
+/// A page under construction: its blocks, in order, rendered at the end
+/// through the page template (`templates/page.html`).
 #[derive(Debug, Default)]
 pub struct Page {
     title: String,
-    body: String,
+    blocks: Vec<Block>,
     surfaces: usize,
 }
+
+/// One block of the page, as the template reads it.
+#[derive(Debug, Serialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+enum Block {
+    Heading {
+        text: String,
+    },
+    Paragraph {
+        text: String,
+    },
+    Table {
+        caption: String,
+        header: Vec<String>,
+        rows: Vec<Vec<String>>,
+    },
+    Figure {
+        svg: String,
+        caption: String,
+    },
+    Surface {
+        id: usize,
+        title: String,
+        unit: String,
+        /// The slices as JSON, for the page's script.
+        data: String,
+    },
+    Code {
+        text: String,
+    },
+}
+
+/// One slice of a 3D surface as the page's script reads it: the mean
+/// temperature and (log₁₀ τ, log₁₀ σ) per point.
+#[derive(Debug, Serialize)]
+struct SurfaceSlice {
+    t: f64,
+    p: Vec<[f64; 2]>,
+}
+
+const PAGE_TEMPLATE: &str = include_str!("../templates/page.html");
 
 impl Page {
     /// A page with this title.
     pub fn new(title: &str) -> Page {
         Page {
             title: title.to_string(),
-            body: String::new(),
+            blocks: Vec::new(),
             surfaces: 0,
         }
     }
 
     /// A section heading.
     pub fn heading(&mut self, text: &str) {
-        self.body.push_str(&format!("<h2>{}</h2>\n", escape(text)));
+        self.blocks.push(Block::Heading {
+            text: text.to_string(),
+        });
     }
 
     /// A paragraph of text.
     pub fn paragraph(&mut self, text: &str) {
-        self.body.push_str(&format!("<p>{}</p>\n", escape(text)));
+        self.blocks.push(Block::Paragraph {
+            text: text.to_string(),
+        });
     }
 
     /// A table: a caption, the header cells, the rows.
     pub fn table(&mut self, caption: &str, header: &[String], rows: &[Vec<String>]) {
-        self.body
-            .push_str(&format!("<table>\n<caption>{}</caption>\n<tr>", escape(caption)));
-        for h in header {
-            self.body.push_str(&format!("<th>{}</th>", escape(h)));
-        }
-        self.body.push_str("</tr>\n");
-        for r in rows {
-            self.body.push_str("<tr>");
-            for c in r {
-                self.body.push_str(&format!("<td>{}</td>", escape(c)));
-            }
-            self.body.push_str("</tr>\n");
-        }
-        self.body.push_str("</table>\n");
+        self.blocks.push(Block::Table {
+            caption: caption.to_string(),
+            header: header.to_vec(),
+            rows: rows.to_vec(),
+        });
     }
 
     /// A figure: SVG made by [`crate::plots`] (trusted: imutherm drew it,
     /// and every text in it was passed through plotters' own escaping) with
     /// a caption.
     pub fn figure(&mut self, svg: &str, caption: &str) {
-        self.body.push_str(&format!(
-            "<figure class=\"plot\">{svg}<figcaption>{}</figcaption></figure>\n",
-            escape(caption)
-        ));
+        self.blocks.push(Block::Figure {
+            svg: svg.to_string(),
+            caption: caption.to_string(),
+        });
     }
 
     /// An interactive 3D surface σ(τ, T) (drag to turn it), drawn on a
@@ -80,48 +120,55 @@ impl Page {
     pub fn surface3d(&mut self, title: &str, unit: &str, rows: &[(f64, Vec<(f64, f64)>)]) {
         let id = self.surfaces;
         self.surfaces += 1;
-        let mut data = String::from("[");
-        for (i, (t, pts)) in rows.iter().filter(|r| r.0.is_finite()).enumerate() {
-            if i > 0 {
-                data.push(',');
-            }
-            data.push_str(&format!("{{\"t\":{t},\"p\":["));
-            for (j, (tau, dev)) in pts.iter().filter(|p| p.0 > 0.0 && p.1 > 0.0).enumerate() {
-                if j > 0 {
-                    data.push(',');
-                }
-                data.push_str(&format!("[{},{}]", tau.log10(), dev.log10()));
-            }
-            data.push_str("]}");
-        }
-        data.push(']');
-        if id == 0 {
-            self.body.push_str(&format!("<script>{SURFACE_JS}</script>\n"));
-        }
-        self.body.push_str(&format!(
-            "<figure class=\"surface\"><canvas id=\"surface{id}\" width=\"640\" height=\"460\" data-title=\"{}\" data-unit=\"{}\"></canvas>\
-             <script type=\"application/json\" id=\"surface{id}-data\">{data}</script>\
-             <script>imuthermSurface(\"surface{id}\");</script><figcaption>{}: drag to turn; x log₁₀ τ [s], y temperature [°C], z log₁₀ σ [{}]</figcaption></figure>\n",
-            escape(title),
-            escape(unit),
-            escape(title),
-            escape(unit)
-        ));
+        let slices: Vec<SurfaceSlice> = rows
+            .iter()
+            .filter(|r| r.0.is_finite())
+            .map(|(t, pts)| SurfaceSlice {
+                t: *t,
+                p: pts
+                    .iter()
+                    .filter(|p| p.0 > 0.0 && p.1 > 0.0)
+                    .map(|(tau, dev)| [tau.log10(), dev.log10()])
+                    .collect(),
+            })
+            .collect();
+        // Numbers and arrays only: nothing in it can end the script element.
+        let data = serde_json::to_string(&slices).unwrap_or_else(|_| "[]".to_string());
+        self.blocks.push(Block::Surface {
+            id,
+            title: title.to_string(),
+            unit: unit.to_string(),
+            data,
+        });
     }
 
     /// A preformatted block (a command line).
     pub fn code(&mut self, text: &str) {
-        self.body.push_str(&format!("<pre>{}</pre>\n", escape(text)));
+        self.blocks.push(Block::Code {
+            text: text.to_string(),
+        });
     }
 
     /// The finished page.
-    pub fn finish(&self) -> String {
-        format!(
-            "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<h1>{}</h1>\n{}</body>\n</html>\n",
-            escape(&self.title),
-            escape(&self.title),
-            self.body
-        )
+    pub fn finish(&self) -> Result<String, crate::ReportError> {
+        let mut env = Environment::new();
+        // Escaping is the template's own, by `esc`, on what came from a file;
+        // the SVG, the style and the script are imutherm's and go in as
+        // they are.
+        env.set_auto_escape_callback(|_| AutoEscape::None);
+        env.set_keep_trailing_newline(true);
+        env.add_filter("esc", |text: String| escape(&text));
+        let rendered = env
+            .template_from_named_str("page.html", PAGE_TEMPLATE)
+            .and_then(|t| {
+                t.render(context! {
+                    title => &self.title,
+                    style => STYLE,
+                    surface_js => SURFACE_JS,
+                    blocks => &self.blocks,
+                })
+            });
+        rendered.map_err(|e| crate::ReportError::Template(e.to_string()))
     }
 }
 
@@ -180,8 +227,53 @@ mod tests {
             &["file".to_string()],
             &[vec!["<script>alert(1)</script>.txt".to_string()]],
         );
-        let html = p.finish();
+        let html = p.finish().unwrap();
         assert!(html.contains("&lt;script&gt;alert(1)&lt;/script&gt;.txt"));
         assert!(!html.contains("<script>"));
+    }
+
+    #[test]
+    fn the_template_lays_out_each_block_on_its_own_line() {
+        let mut p = Page::new("t & u");
+        p.heading("H");
+        p.paragraph("a < b");
+        p.table(
+            "c",
+            &["x".to_string(), "y".to_string()],
+            &[vec!["1".into(), "2".into()]],
+        );
+        p.figure("<svg/>", "f");
+        p.code("imutherm demo");
+        let html = p.finish().unwrap();
+        let body = html.split_once("<body>\n").unwrap().1;
+        assert_eq!(
+            body,
+            "<h1>t &amp; u</h1>\n<h2>H</h2>\n<p>a &lt; b</p>\n<table>\n<caption>c</caption>\n\
+             <tr><th>x</th><th>y</th></tr>\n<tr><td>1</td><td>2</td></tr>\n</table>\n\
+             <figure class=\"plot\"><svg/><figcaption>f</figcaption></figure>\n<pre>imutherm demo</pre>\n\
+             </body>\n</html>\n"
+        );
+        assert!(html.contains("<title>t &amp; u</title>"));
+    }
+
+    #[test]
+    fn a_surface_carries_its_slices_as_json_and_the_script_once() {
+        let mut p = Page::new("s");
+        let rows = vec![
+            (30.0, vec![(1.0, 0.01), (10.0, 0.001)]),
+            (f64::NAN, vec![(1.0, 1.0)]),
+        ];
+        p.surface3d("gyro_x", "rad/s", &rows);
+        p.surface3d("gyro_y", "rad/s", &rows);
+        let html = p.finish().unwrap();
+        assert_eq!(html.matches("function imuthermSurface").count(), 1);
+        let start = html.find("id=\"surface1-data\">").unwrap() + "id=\"surface1-data\">".len();
+        let json = &html[start..start + html[start..].find("</script>").unwrap()];
+        // log10 of τ and σ: (0, −2) and (1, −3); the NaN slice is left out.
+        let v: serde_json::Value = serde_json::from_str(json).unwrap();
+        assert_eq!(
+            v,
+            serde_json::json!([{"t": 30.0, "p": [[0.0, -2.0], [1.0, -3.0]]}])
+        );
     }
 }

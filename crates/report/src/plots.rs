@@ -143,19 +143,48 @@ fn to_png(
     done
 }
 
-/// Allan deviation curves on log-log axes, each with its confidence band.
-pub fn adev_plot(title: &str, unit: &str, curves: &[Curve]) -> Result<String, PlotError> {
-    to_svg((720, 480), |root| adev_plot_on(root, title, unit, curves))
+/// Where a plot is drawn.
+#[derive(Debug, Clone, Copy)]
+pub enum Target<'a> {
+    /// SVG text, returned to be put in a page.
+    Svg,
+    /// A PNG file, written beside and renamed onto the path once complete.
+    Png(&'a std::path::Path),
 }
 
-/// [`adev_plot`] as a PNG file.
-pub fn adev_plot_png(
-    path: &std::path::Path,
-    title: &str,
-    unit: &str,
-    curves: &[Curve],
-) -> Result<(), PlotError> {
-    to_png(path, (720, 480), |root| adev_plot_on(root, title, unit, curves))
+/// A plot drawn: its SVG text, or the PNG file written.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Drawn {
+    /// The SVG text.
+    Svg(String),
+    /// The PNG file was written.
+    Png,
+}
+
+impl Drawn {
+    /// The SVG text, for a plot drawn to [`Target::Svg`].
+    pub fn into_svg(self) -> Option<String> {
+        match self {
+            Drawn::Svg(s) => Some(s),
+            Drawn::Png => None,
+        }
+    }
+}
+
+/// Draws one plot, by the same function for both targets, on a canvas of
+/// `size` pixels.
+macro_rules! draw {
+    ($target:expr, $size:expr, |$root:ident| $body:expr) => {
+        match $target {
+            Target::Svg => to_svg($size, |$root| $body).map(Drawn::Svg),
+            Target::Png(path) => to_png(path, $size, |$root| $body).map(|()| Drawn::Png),
+        }
+    };
+}
+
+/// Allan deviation curves on log-log axes, each with its confidence band.
+pub fn adev_plot(target: Target, title: &str, unit: &str, curves: &[Curve]) -> Result<Drawn, PlotError> {
+    draw!(target, (720, 480), |root| adev_plot_on(root, title, unit, curves))
 }
 
 fn adev_plot_on<DB: DrawingBackend>(
@@ -273,18 +302,15 @@ fn heat(v: f64) -> RGBColor {
 
 /// The ADEV over temperature as a heat map: τ (log) across, the slices'
 /// mean temperature up, σ as a log colour scale.
-pub fn adev_heatmap(title: &str, unit: &str, rows: &[SurfaceRow]) -> Result<String, PlotError> {
-    to_svg((720, 480), |root| adev_heatmap_on(root, title, unit, rows))
-}
-
-/// [`adev_heatmap`] as a PNG file.
-pub fn adev_heatmap_png(
-    path: &std::path::Path,
+pub fn adev_heatmap(
+    target: Target,
     title: &str,
     unit: &str,
     rows: &[SurfaceRow],
-) -> Result<(), PlotError> {
-    to_png(path, (720, 480), |root| adev_heatmap_on(root, title, unit, rows))
+) -> Result<Drawn, PlotError> {
+    draw!(target, (720, 480), |root| adev_heatmap_on(
+        root, title, unit, rows
+    ))
 }
 
 fn adev_heatmap_on<DB: DrawingBackend>(
@@ -390,29 +416,16 @@ fn adev_heatmap_on<DB: DrawingBackend>(
 /// Bias against temperature (bin means, before and after compensation) and
 /// the fitted curve.
 pub fn bias_plot(
+    target: Target,
     title: &str,
     unit: &str,
     before: &[(f64, f64)],
     after: &[(f64, f64)],
     model: &dyn Fn(f64) -> f64,
-) -> Result<String, PlotError> {
-    to_svg((720, 420), |root| {
-        bias_plot_on(root, title, unit, before, after, model)
-    })
-}
-
-/// [`bias_plot`] as a PNG file.
-pub fn bias_plot_png(
-    path: &std::path::Path,
-    title: &str,
-    unit: &str,
-    before: &[(f64, f64)],
-    after: &[(f64, f64)],
-    model: &dyn Fn(f64) -> f64,
-) -> Result<(), PlotError> {
-    to_png(path, (720, 420), |root| {
-        bias_plot_on(root, title, unit, before, after, model)
-    })
+) -> Result<Drawn, PlotError> {
+    draw!(target, (720, 420), |root| bias_plot_on(
+        root, title, unit, before, after, model
+    ))
 }
 
 fn bias_plot_on<DB: DrawingBackend>(
@@ -508,29 +521,21 @@ pub fn envelope(x: &[f64], rate_hz: f64) -> Vec<(f64, f64, f64)> {
 /// Samples against time (min/max envelope per pixel column), with the
 /// temperature below when given.
 pub fn time_plot(
+    target: Target,
     title: &str,
     unit: &str,
     channels: &[(String, &[f64])],
     rate_hz: f64,
     temperature: Option<&[f64]>,
-) -> Result<String, PlotError> {
-    to_svg((720, 520), |root| {
-        time_plot_on(root, title, unit, channels, rate_hz, temperature)
-    })
-}
-
-/// [`time_plot`] as a PNG file.
-pub fn time_plot_png(
-    path: &std::path::Path,
-    title: &str,
-    unit: &str,
-    channels: &[(String, &[f64])],
-    rate_hz: f64,
-    temperature: Option<&[f64]>,
-) -> Result<(), PlotError> {
-    to_png(path, (720, 520), |root| {
-        time_plot_on(root, title, unit, channels, rate_hz, temperature)
-    })
+) -> Result<Drawn, PlotError> {
+    draw!(target, (720, 520), |root| time_plot_on(
+        root,
+        title,
+        unit,
+        channels,
+        rate_hz,
+        temperature
+    ))
 }
 
 fn time_plot_on<DB: DrawingBackend>(

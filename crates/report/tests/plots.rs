@@ -1,7 +1,8 @@
 //! The plots are real SVG, and text from files cannot break out of them.
 
 use allan::{Options, TauSpec, analyze};
-use report::plots::{Curve, adev_heatmap, adev_plot, bias_plot};
+use report::PlotError;
+use report::plots::{Curve, Drawn, Target, adev_heatmap, adev_plot, bias_plot};
 use thermal::surface::{Slicing, surface};
 
 fn noise(n: usize, seed: u64) -> Vec<f64> {
@@ -28,6 +29,7 @@ fn adev_plot_is_svg_with_escaped_labels() {
     .unwrap()
     .points;
     let svg = adev_plot(
+        Target::Svg,
         "gyro <script>alert(1)</script>",
         "rad/s",
         &[Curve {
@@ -42,6 +44,8 @@ fn adev_plot_is_svg_with_escaped_labels() {
             colour: Some(report::plots::temperature_colour(0.5)),
         }],
     )
+    .unwrap()
+    .into_svg()
     .unwrap();
     assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
     assert!(!svg.contains("<script>"), "unescaped title in {svg:.300}");
@@ -58,10 +62,12 @@ fn heatmap_and_bias_plot_draw() {
     let x = noise(20_000, 2);
     let t: Vec<f64> = (0..20_000).map(|i| 20.0 + i as f64 * 0.002).collect();
     let rows = surface(&x, &t, 10.0, Slicing::Temperature { bin_width_c: 10.0 }, 0.683).unwrap();
-    let svg = adev_heatmap("gyro_x", "rad/s", &rows).unwrap();
+    let svg = svg_of(adev_heatmap(Target::Svg, "gyro_x", "rad/s", &rows));
     assert!(svg.matches("<rect").count() > 20);
     let bins: Vec<(f64, f64)> = (0..10).map(|i| (20.0 + i as f64, i as f64 * 0.1)).collect();
-    let svg = bias_plot("bias", "rad/s", &bins, &bins, &|t| (t - 20.0) * 0.1).unwrap();
+    let svg = svg_of(bias_plot(Target::Svg, "bias", "rad/s", &bins, &bins, &|t| {
+        (t - 20.0) * 0.1
+    }));
     assert!(svg.matches("<circle").count() >= 20);
 }
 
@@ -75,7 +81,14 @@ fn time_plot_decimates_with_an_envelope() {
     assert!(env.len() <= report::plots::TIME_COLUMNS);
     assert!(env.iter().any(|e| e.2 == 40.0));
     let t: Vec<f64> = (0..x.len()).map(|i| 100.0 - i as f64 * 1e-5).collect();
-    let svg = report::plots::time_plot("gyro", "rad/s", &[("gyro_x".into(), &y)], 100.0, Some(&t)).unwrap();
+    let svg = svg_of(report::plots::time_plot(
+        Target::Svg,
+        "gyro",
+        "rad/s",
+        &[("gyro_x".into(), &y)],
+        100.0,
+        Some(&t),
+    ));
     assert!(svg.len() < 400_000, "{} bytes: not decimated", svg.len());
     assert!(svg.contains("temperature"));
 }
@@ -86,7 +99,8 @@ fn png_on_request() {
     let dir = std::env::temp_dir().join(format!("imutherm-png-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("adev.png");
-    report::plots::adev_plot_png(&path, "gyro", "rad/s", &[Curve::plain("a", &pts)]).unwrap();
+    let drawn = adev_plot(Target::Png(&path), "gyro", "rad/s", &[Curve::plain("a", &pts)]).unwrap();
+    assert_eq!(drawn, Drawn::Png);
     let bytes = std::fs::read(&path).unwrap();
     assert!(
         bytes.starts_with(b"\x89PNG\r\n\x1a\n") && bytes.len() > 5000,
@@ -94,4 +108,9 @@ fn png_on_request() {
         bytes.len()
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The SVG text of a plot drawn to [`Target::Svg`].
+fn svg_of(drawn: Result<Drawn, PlotError>) -> String {
+    drawn.unwrap().into_svg().expect("drawn as SVG")
 }

@@ -10,17 +10,20 @@
 //!   extrapolated beyond the fitted range; a model is checked before use
 //!   ([`ModelError`] names the field at fault);
 //! - [`firmware`]: a model as PX4's and ArduPilot's parameter files, and
-//!   those files applied to samples exactly as the firmware applies them.
+//!   those files applied to samples exactly as the firmware applies them;
+//! - [`evaluation`]: what a compensation leaves on a run, the bias over
+//!   1 °C bins and the ADEV minimum per temperature slice.
 //!
-//! **What it is not:** no file handling and no printing (the `imutherm`
-//! binary does both), no plots (`report`).
+//! **What it is not:** no recordings read or written (`imu`), no printing
+//! (the `imutherm` binary), no plots (`report`); the one file it reads is a
+//! model ([`tcal::Model::read`]).
 //!
 //! ```
-//! use thermal::tcal::{fit, FitOptions, Order, Run};
+//! use thermal::tcal::{fit, FitOptions, Order, Run, TcalChannel};
 //! // A gyro whose bias is 1e-3 + 2e-5·(T − 40) over a 20 → 60 °C ramp.
 //! let temp: Vec<f64> = (0..4000).map(|i| 20.0 + i as f64 * 0.01).collect();
 //! let gyro: Vec<f64> = temp.iter().map(|t| 1e-3 + 2e-5 * (t - 40.0)).collect();
-//! let channels = vec![("gyro_x".to_string(), "rad/s".to_string(), gyro.as_slice())];
+//! let channels = vec![TcalChannel::new("gyro_x", "rad/s", gyro.as_slice())];
 //! let run = Run { channels: &channels, temp: &temp, rate_hz: 1.0 };
 //! let model = fit(&[run], &FitOptions { order: Order::Fixed(1), ..FitOptions::default() }).unwrap();
 //! let c = model.channel("gyro_x").unwrap();
@@ -30,9 +33,10 @@
 mod error;
 mod model_check;
 
+pub mod evaluation;
 pub mod firmware;
 pub mod surface;
 pub mod tcal;
 
 pub use error::ThermalError;
-pub use model_check::ModelError;
+pub use model_check::{ModelError, ModelFileError};

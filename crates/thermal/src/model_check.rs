@@ -6,13 +6,34 @@
 use thiserror::Error;
 
 use imu::Quantity;
-use imu::log::classify_header;
+use imu::log_file::classify_header;
 use imu::recording::standard_name;
 
 use crate::tcal::{Model, SCHEMA};
 
 /// Why a model cannot be used, naming the field at fault
 /// (`channels[2].coefficients[1] is not finite`).
+/// A model file that cannot be used: unreadable, or not a valid model.
+#[derive(Debug, thiserror::Error)]
+pub enum ModelFileError {
+    /// The file cannot be read.
+    #[error("reading {}: {cause}", path.display())]
+    Read {
+        /// The file.
+        path: std::path::PathBuf,
+        /// Why.
+        cause: std::io::Error,
+    },
+    /// The file is not a valid model.
+    #[error("{}: {cause}", path.display())]
+    Invalid {
+        /// The file.
+        path: std::path::PathBuf,
+        /// The field at fault.
+        cause: ModelError,
+    },
+}
+
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum ModelError {
     /// Not JSON, or not the model's shape.
@@ -123,6 +144,19 @@ impl Model {
         let model: Model = serde_json::from_str(text).map_err(|e| ModelError::Json(e.to_string()))?;
         model.validate()?;
         Ok(model)
+    }
+
+    /// Reads and checks the model in `path`; every error names the file
+    /// and the field.
+    pub fn read(path: &std::path::Path) -> Result<Model, ModelFileError> {
+        let text = std::fs::read_to_string(path).map_err(|cause| ModelFileError::Read {
+            path: path.to_path_buf(),
+            cause,
+        })?;
+        Model::from_json(&text).map_err(|cause| ModelFileError::Invalid {
+            path: path.to_path_buf(),
+            cause,
+        })
     }
 
     /// Checks that the model can be applied: finite numbers, a range with

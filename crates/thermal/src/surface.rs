@@ -226,7 +226,7 @@ mod tests {
 
     fn refused(slicing: Slicing, rate_hz: f64) -> String {
         let (data, temp) = ramp(20_000);
-        match surface(&data, &temp, rate_hz, slicing, 0.683) {
+        match surface(&data, &temp, rate_hz, slicing, allan::DEFAULT_CONFIDENCE) {
             Err(e) => e.to_string(),
             Ok(rows) => panic!("{slicing:?}: {} rows, expected a refusal", rows.len()),
         }
@@ -254,7 +254,7 @@ mod tests {
             &temp,
             100.0,
             Slicing::Temperature { bin_width_c: 0.061 },
-            0.683,
+            allan::DEFAULT_CONFIDENCE,
         );
         assert!(ok.is_ok());
         let step = refused(
@@ -288,7 +288,7 @@ mod tests {
             &temp,
             100.0,
             Slicing::Temperature { bin_width_c: 1e-4 },
-            0.683,
+            allan::DEFAULT_CONFIDENCE,
         )
         .unwrap_err()
         .to_string();

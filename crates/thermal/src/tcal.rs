@@ -70,12 +70,34 @@ impl Default for FitOptions {
 /// One run to fit: channels of rate samples and their temperature.
 #[derive(Debug, Clone, Copy)]
 pub struct Run<'a> {
-    /// (name, unit, samples) per channel to compensate.
-    pub channels: &'a [(String, String, &'a [f64])],
+    /// The channels to compensate.
+    pub channels: &'a [TcalChannel<'a>],
     /// Temperature per sample, °C.
     pub temp: &'a [f64],
     /// Sample rate, Hz.
     pub rate_hz: f64,
+}
+
+/// One channel of a run to fit on: its name, unit and samples.
+#[derive(Debug, Clone)]
+pub struct TcalChannel<'a> {
+    /// Channel name (`gyro_x`).
+    pub name: String,
+    /// Unit of the samples (SI).
+    pub unit: String,
+    /// The samples, one per temperature.
+    pub data: &'a [f64],
+}
+
+impl<'a> TcalChannel<'a> {
+    /// A channel called `name`, in `unit`.
+    pub fn new(name: impl Into<String>, unit: impl Into<String>, data: &'a [f64]) -> Self {
+        TcalChannel {
+            name: name.into(),
+            unit: unit.into(),
+            data,
+        }
+    }
 }
 
 /// The model of one channel.
@@ -181,7 +203,7 @@ fn bins_of(run: &Run, index: usize, width: f64) -> Vec<Bin> {
     let mut acc: BTreeMap<(i64, bool), BinSum> = BTreeMap::new();
     let nch = run.channels.len();
     for (i, &t) in run.temp.iter().enumerate() {
-        if !t.is_finite() || run.channels.iter().any(|c| !c.2[i].is_finite()) {
+        if !t.is_finite() || run.channels.iter().any(|c| !c.data[i].is_finite()) {
             continue;
         }
         let key = ((t / width).floor() as i64, rates[i] >= 0.0);
@@ -195,7 +217,7 @@ fn bins_of(run: &Run, index: usize, width: f64) -> Vec<Bin> {
         e.t += t;
         e.rate += rates[i];
         for (k, c) in run.channels.iter().enumerate() {
-            e.x[k] += c.2[i];
+            e.x[k] += c.data[i];
         }
         e.n += 1;
     }
@@ -256,9 +278,9 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
             opts.bin_width_c
         )));
     }
-    let names: Vec<&str> = first.channels.iter().map(|c| c.0.as_str()).collect();
+    let names: Vec<&str> = first.channels.iter().map(|c| c.name.as_str()).collect();
     for r in runs {
-        let these: Vec<&str> = r.channels.iter().map(|c| c.0.as_str()).collect();
+        let these: Vec<&str> = r.channels.iter().map(|c| c.name.as_str()).collect();
         if these != names {
             return Err(ThermalError::Invalid(format!(
                 "runs have different channels: {names:?} and {these:?}"
@@ -344,8 +366,8 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
         let residual_rms = (resid.iter().map(|r| r * r).sum::<f64>() / resid.len() as f64).sqrt();
         let residual_max = resid.iter().fold(0.0f64, |m, r| m.max(r.abs()));
         channels.push(ChannelModel {
-            name: c.0.clone(),
-            unit: c.1.clone(),
+            name: c.name.clone(),
+            unit: c.unit.clone(),
             order,
             coefficients,
             rate_coefficient,
@@ -557,7 +579,7 @@ mod tests {
 
     fn fit_ramp(opts: &FitOptions) -> Result<Model, ThermalError> {
         let (temp, x) = ramp();
-        let channels = vec![("gyro_x".to_string(), "rad/s".to_string(), x.as_slice())];
+        let channels = vec![TcalChannel::new("gyro_x", "rad/s", x.as_slice())];
         fit(
             &[Run {
                 channels: &channels,
@@ -645,7 +667,7 @@ mod tests {
             .collect();
         let rates = dtdt(&temp, 1.0);
         let x: Vec<f64> = temp.iter().zip(&rates).map(|(t, r)| 1e-4 * t + 0.5 * r).collect();
-        let channels = vec![("accel_x".to_string(), "m/s^2".to_string(), x.as_slice())];
+        let channels = vec![TcalChannel::new("accel_x", "m/s^2", x.as_slice())];
         let m = fit(
             &[Run {
                 channels: &channels,

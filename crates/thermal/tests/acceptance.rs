@@ -6,7 +6,7 @@ use imusim::thermal::Profile;
 use imusim::{Simulator, presets};
 use thermal::ThermalError;
 use thermal::surface::{Slicing, surface};
-use thermal::tcal::{FitOptions, Order, Run, fit};
+use thermal::tcal::{FitOptions, Order, Run, TcalChannel, fit};
 
 const DEG: f64 = std::f64::consts::PI / 180.0;
 
@@ -64,7 +64,7 @@ fn bin_means(x: &[f64], t: &[f64]) -> Vec<(f64, f64, f64)> {
 
 /// The compensation of one channel, gyro_x in rad/s, fitted on one run.
 fn fit_gyro_x(x: &[f64], t: &[f64], rate_hz: f64) -> Result<thermal::tcal::Model, ThermalError> {
-    let channels = vec![("gyro_x".to_string(), "rad/s".to_string(), x)];
+    let channels = vec![TcalChannel::new("gyro_x", "rad/s", x)];
     let run = Run {
         channels: &channels,
         temp: t,
@@ -185,7 +185,7 @@ fn degenerate_inputs_are_clear_errors() {
     assert!(e.to_string().contains("nothing to fit"));
 
     let t: Vec<f64> = (0..1000).map(|i| 30.0 + i as f64 * 0.003).collect();
-    let channels = vec![("gyro_x".to_string(), "rad/s".to_string(), x.as_slice())];
+    let channels = vec![TcalChannel::new("gyro_x", "rad/s", x.as_slice())];
     let run = Run {
         channels: &channels,
         temp: &t,

@@ -9,9 +9,11 @@ use serde::Serialize;
 use allan::{Curve, DataType, Options, Stat};
 
 use crate::args::AdevArgs;
-use crate::commands::info::recording_options;
-use crate::commands::info::unit_text;
-use crate::commands::selection::{Channel, read_channels};
+use analysis::reading::unit_text;
+use analysis::selection::SelectedChannel;
+
+use crate::flags::recording_options;
+use crate::print::read_channels;
 
 /// The JSON schema name, versioned: scripts rely on its fields.
 const SCHEMA: &str = "imutherm.adev/1";
@@ -19,7 +21,7 @@ const SCHEMA: &str = "imutherm.adev/1";
 pub fn run(a: &AdevArgs) -> Result<()> {
     let opts = options(a)?;
     let read = recording_options(&a.read)?;
-    let mut channels: Vec<Channel> = Vec::new();
+    let mut channels: Vec<SelectedChannel> = Vec::new();
     for file in &a.files {
         channels.extend(read_channels(file, &a.channels, &read)?.channels);
     }
@@ -117,7 +119,12 @@ struct JsonPoint {
     noise_id: &'static str,
 }
 
-fn write_json(out: &mut impl Write, opts: &Options, channels: &[Channel], curves: &[Curve]) -> Result<()> {
+fn write_json(
+    out: &mut impl Write,
+    opts: &Options,
+    channels: &[SelectedChannel],
+    curves: &[Curve],
+) -> Result<()> {
     let doc = JsonDoc {
         schema: SCHEMA,
         imutherm_version: env!("CARGO_PKG_VERSION"),
@@ -175,7 +182,12 @@ fn deviation_unit(stat: Stat, data_type: DataType, unit: &str) -> String {
     }
 }
 
-fn write_tables(out: &mut impl Write, opts: &Options, channels: &[Channel], curves: &[Curve]) -> Result<()> {
+fn write_tables(
+    out: &mut impl Write,
+    opts: &Options,
+    channels: &[SelectedChannel],
+    curves: &[Curve],
+) -> Result<()> {
     for (i, (ch, c)) in channels.iter().zip(curves).enumerate() {
         if i > 0 {
             writeln!(out)?;

@@ -3,50 +3,16 @@
 use std::io::Write;
 use std::path::Path;
 
-use anyhow::{Result, bail};
+use anyhow::Result;
 use serde::Serialize;
 
-use imu::{Quantity, ReadReport, Recording, RecordingOptions, read_recording_with_report};
+use analysis::reading::unit_text;
+use imu::{ReadReport, Recording, RecordingOptions, read_recording_with_report};
 
-use crate::args::{InfoArgs, ReadArgs};
-use imu::units::parse_unit;
+use crate::args::InfoArgs;
+use crate::flags::recording_options;
 
 const SCHEMA: &str = "imutherm.info/1";
-
-/// Turns the shared read flags into reader options.
-pub fn recording_options(a: &ReadArgs) -> Result<RecordingOptions> {
-    if let Some(r) = a.rate
-        && !(r.is_finite() && r > 0.0)
-    {
-        bail!("--rate {r}: the sample rate must be a positive number of Hz");
-    }
-    if let Some(u) = &a.time_unit
-        && parse_unit(u).is_none_or(|u| u.quantity != Quantity::Time)
-    {
-        bail!("--time-unit {u}: expected s, ms, us or ns");
-    }
-    let units = a
-        .unit
-        .iter()
-        .map(|p| match p.split_once('=') {
-            Some((c, u)) if !c.trim().is_empty() && parse_unit(u).is_some() => {
-                Ok((c.trim().to_string(), u.trim().to_string()))
-            }
-            Some((_, u)) if parse_unit(u).is_none() => bail!(
-                "--unit {p}: unknown unit '{}' (known: m/s^2 g mg ug rad/s mrad/s deg/s deg/h degC degF K)",
-                u.trim()
-            ),
-            _ => bail!("--unit {p}: expected COLUMN=UNIT, e.g. gyro_x=deg/s"),
-        })
-        .collect::<Result<Vec<_>>>()?;
-    Ok(RecordingOptions {
-        rate_hz: a.rate,
-        units,
-        time_column: a.time_column.clone(),
-        time_unit: a.time_unit.clone(),
-        skip_bad_lines: a.skip_bad_lines,
-    })
-}
 
 #[derive(Serialize)]
 struct JsonDoc {
@@ -383,17 +349,4 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
         writeln!(out, "  note         {n}")?;
     }
     Ok(())
-}
-
-/// A unit as printed beside a channel: `rad/s`, or `rad/s (assumed)` when
-/// nothing in the file or on the command line gave it and imutherm took
-/// the channel as SI by its name (a channel of unknown quantity keeps its
-/// own unit, assumed nothing).
-pub fn unit_text(unit: &str, source: &str, quantity: &str) -> String {
-    let u = if unit.is_empty() { "-" } else { unit };
-    if source == imu::UnitSource::Assumed.name() && quantity != Quantity::Other.name() {
-        format!("{u} (assumed)")
-    } else {
-        u.to_string()
-    }
 }

@@ -5,63 +5,43 @@
 use std::io::Write;
 use std::path::Path;
 
-use anyhow::{Context, Result};
-use rayon::prelude::*;
+use anyhow::Result;
 use serde_json::{Value, json};
 
-use allan::noise_terms::{Term, analyze_terms};
-use ins::drift::{CurvePoint, Spread, drift_over_windows, report_times};
-use ins::monte_carlo::{MonteCarloSetup, monte_carlo};
-use ins::prediction::{AxisNoise, NoiseModel, Prediction, PredictionSetup, predict};
-use ins::strapdown::{ImuData, NavOptions, align, align_samples};
+use analysis::navigation::{CHANNELS, MONTE_CARLO_RUNS, Navigated, Plan, raw_and_compensated};
+use ins::drift::{Spread, report_times};
+use ins::prediction::AxisNoise;
+use ins::strapdown::NavOptions;
 use thermal::tcal::Model;
 
 use crate::args::InsArgs;
-use crate::commands::info::recording_options;
-use crate::commands::selection::{Selection, read_channels};
-use crate::commands::tcal::load;
+use crate::flags::recording_options;
+use crate::print::{notes, read_channels};
 
 const SCHEMA: &str = "imutherm.ins/1";
 
-/// The six channels, in the order ins takes them.
-pub(crate) const CHANNELS: [&str; 6] = ["accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z"];
-
-/// Simulated runs of the Monte Carlo, and its seed (fixed: the same file
-/// gives the same figures).
-const MONTE_CARLO_RUNS: usize = 100;
-const MONTE_CARLO_SEED: u64 = 1;
-
-/// One recording navigated: the measured curve, the prediction and the
-/// Monte Carlo at each time.
-pub(crate) struct Navigated {
-    pub(crate) windows: usize,
-    pub(crate) windows_with_gaps: usize,
-    pub(crate) noise: NoiseModel,
-    pub(crate) rows: Vec<Row>,
-}
-
-pub(crate) struct Row {
-    pub(crate) measured: CurvePoint,
-    pub(crate) predicted: Prediction,
-    pub(crate) monte_carlo: Spread,
-}
-
 pub fn run(a: &InsArgs) -> Result<()> {
     let read = recording_options(&a.read)?;
-    let model = a.model.as_deref().map(load).transpose()?;
-    let opts = NavOptions {
-        align_s: a.align,
-        latitude_deg: a.latitude,
-        remove_gyro_bias: true,
+    let model = a.model.as_deref().map(Model::read).transpose()?;
+    let plan = Plan {
+        options: NavOptions {
+            align_s: a.align,
+            latitude_deg: a.latitude,
+            remove_gyro_bias: true,
+        },
+        every_s: a.every,
+        times: report_times(a.horizon),
     };
-    let times = report_times(a.horizon);
     let mut files = Vec::new();
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     for file in &a.files {
         let sel = read_channels(file, &[], &read)?;
         let rate = sel.rate_hz;
-        let (raw, compensated) = raw_and_compensated(file, &sel, model.as_ref(), &opts, a.every, &times)?;
+        let mut noted = Vec::new();
+        let navigated = raw_and_compensated(file, &sel, model.as_ref(), &plan, &mut noted);
+        notes(&noted);
+        let (raw, compensated) = navigated?;
         if a.json {
             let mut doc = file_json(&raw, a, rate);
             doc["file"] = json!(file.display().to_string());
@@ -85,172 +65,6 @@ pub fn run(a: &InsArgs) -> Result<()> {
         writeln!(out)?;
     }
     Ok(())
-}
-
-/// The six channels of a selection, in the order ins takes them.
-pub(crate) fn six_channels(file: &Path, sel: &Selection) -> Result<Vec<Vec<f64>>> {
-    CHANNELS
-        .iter()
-        .map(|name| {
-            sel.channels
-                .iter()
-                .find(|c| c.name == *name)
-                .map(|c| c.data.clone())
-                .with_context(|| {
-                    format!(
-                        "{}: no {name} channel; ins needs the three accelerometer and three gyroscope axes",
-                        file.display()
-                    )
-                })
-        })
-        .collect()
-}
-
-/// A recording navigated as it is and, with a model, compensated.
-pub(crate) fn raw_and_compensated(
-    file: &Path,
-    sel: &Selection,
-    model: Option<&Model>,
-    opts: &NavOptions,
-    every: f64,
-    times: &[f64],
-) -> Result<(Navigated, Option<Navigated>)> {
-    let six = six_channels(file, sel)?;
-    let raw = navigate(file, &six, sel.rate_hz, opts, every, times)?;
-    let compensated = match model {
-        Some(m) => {
-            let comp = compensated_channels(file, sel, m, &six)?;
-            Some(navigate(file, &comp, sel.rate_hz, opts, every, times)?)
-        }
-        None => None,
-    };
-    Ok((raw, compensated))
-}
-
-/// The six channels compensated with `model`, from the selection's
-/// temperature.
-pub(crate) fn compensated_channels(
-    file: &Path,
-    sel: &Selection,
-    model: &Model,
-    six: &[Vec<f64>],
-) -> Result<Vec<Vec<f64>>> {
-    let temp = sel
-        .temperature
-        .as_deref()
-        .with_context(|| format!("{}: no temperature channel to compensate with", file.display()))?;
-    compensate(file, model, six, temp, sel.rate_hz)
-}
-
-/// The recording with the model's correction applied to the channels it
-/// has; the others stay raw.
-fn compensate(
-    file: &Path,
-    model: &Model,
-    six: &[Vec<f64>],
-    temp: &[f64],
-    rate: f64,
-) -> Result<Vec<Vec<f64>>> {
-    let mut out = six.to_vec();
-    let mut out_of_range = 0;
-    for (name, data) in CHANNELS.iter().zip(out.iter_mut()) {
-        if model.channel(name).is_some() {
-            let r = model
-                .apply(name, data, temp, rate)
-                .with_context(|| format!("{}: compensating {name}", file.display()))?;
-            out_of_range = out_of_range.max(r.out_of_range);
-        } else {
-            eprintln!("note: {}: the model has no {name}: navigated raw", file.display());
-        }
-    }
-    if out_of_range > 0 {
-        eprintln!(
-            "warning: {}: {out_of_range} samples outside the fitted {:.1}…{:.1} °C were compensated at the range's edge, not extrapolated",
-            file.display(),
-            model.t_min_c,
-            model.t_max_c
-        );
-    }
-    Ok(out)
-}
-
-/// N, B and K of one channel from the model fit; a term it cannot identify
-/// is 0. The slope method is not a fallback: it reads a bias instability
-/// off the ADEV minimum of any curve, white noise alone included, and that
-/// phantom B would enter the prediction as a bias.
-fn axis_noise(file: &Path, name: &str, data: &[f64], rate: f64) -> Result<AxisNoise> {
-    let (_, terms) = analyze_terms(data, rate, 0.683)
-        .with_context(|| format!("{}: noise terms of {name}", file.display()))?;
-    let get = |t: Term| terms.fit.get(t).value().map_or(0.0, |v| v.value);
-    Ok(AxisNoise {
-        n: get(Term::WhiteNoise),
-        b: get(Term::BiasInstability),
-        k: get(Term::RateRandomWalk),
-    })
-}
-
-pub(crate) fn navigate(
-    file: &Path,
-    six: &[Vec<f64>],
-    rate: f64,
-    opts: &NavOptions,
-    every: f64,
-    times: &[f64],
-) -> Result<Navigated> {
-    let imu = ImuData {
-        accel: [&six[0], &six[1], &six[2]],
-        gyro: [&six[3], &six[4], &six[5]],
-        rate_hz: rate,
-    };
-    let drift = drift_over_windows(&imu, opts, every, times).with_context(|| file.display().to_string())?;
-    let axes: Vec<AxisNoise> = CHANNELS
-        .par_iter()
-        .zip(six.par_iter())
-        .map(|(name, data)| axis_noise(file, name, data, rate))
-        .collect::<Result<_>>()?;
-    let noise = NoiseModel {
-        accel: [axes[0], axes[1], axes[2]],
-        gyro: [axes[3], axes[4], axes[5]],
-    };
-    // The prediction projects the noise with the attitude of the first
-    // window that can be levelled (the sensor is static: one attitude).
-    let na = align_samples(opts.align_s, rate);
-    let first = (0..imu.len().saturating_sub(na))
-        .step_by(na)
-        .find(|&s| imu.finite(s..s + na))
-        .unwrap_or(0);
-    let alignment = align(&imu, first..first + na, opts);
-    let setup =
-        PredictionSetup::from_alignment(&alignment, opts.gravity(), opts.align_s, opts.remove_gyro_bias);
-    let mc = monte_carlo(
-        &noise,
-        opts,
-        &MonteCarloSetup {
-            rate_hz: rate,
-            runs: MONTE_CARLO_RUNS,
-            seed: MONTE_CARLO_SEED,
-            roll_deg: alignment.roll.to_degrees(),
-            pitch_deg: alignment.pitch.to_degrees(),
-        },
-        times,
-    )
-    .with_context(|| format!("{}: Monte Carlo of the identified model", file.display()))?;
-    let rows = drift
-        .curve
-        .iter()
-        .zip(&mc)
-        .map(|(m, c)| Row {
-            measured: *m,
-            predicted: predict(&noise, &setup, m.t_s),
-            monte_carlo: c.horizontal_position_m,
-        })
-        .collect();
-    Ok(Navigated {
-        windows: drift.windows,
-        windows_with_gaps: drift.windows_with_gaps,
-        noise,
-        rows,
-    })
 }
 
 fn spread_json(s: Spread) -> Value {

@@ -5,8 +5,6 @@ pub mod adev;
 #[cfg(feature = "analysis")]
 pub mod demo;
 #[cfg(feature = "analysis")]
-pub mod experiment;
-#[cfg(feature = "analysis")]
 pub mod info;
 #[cfg(feature = "analysis")]
 pub mod ins;
@@ -16,10 +14,6 @@ pub mod noise;
 pub mod record;
 #[cfg(feature = "analysis")]
 pub mod report;
-#[cfg(feature = "analysis")]
-pub mod run_identity;
-#[cfg(feature = "analysis")]
-pub mod selection;
 #[cfg(feature = "analysis")]
 pub mod simulate;
 #[cfg(feature = "analysis")]

@@ -1,7 +1,6 @@
 //! `imutherm noise`: the IEEE 952 noise terms of each axis, with intervals
 //! and units, a thesis-style table over temperature, and Kalibr's imu.yaml.
 
-use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::io::Write;
 use std::path::Path;
@@ -12,86 +11,22 @@ use serde::Serialize;
 
 use allan::noise_terms::{Chosen, Minimum, NoiseTerms, Term, TermEstimate, TermValue, analyze_terms};
 use imu::Quantity;
-use imu::units::STANDARD_GRAVITY;
 
-use crate::args::NoiseArgs;
-use crate::commands::info::recording_options;
-use crate::commands::selection::{Channel, read_channels};
+use analysis::kalibr::{KalibrChannel, kalibr_yaml};
+use analysis::reading::unit_text;
+use analysis::selection::SelectedChannel;
+use analysis::thesis::ThesisTables;
+use analysis::units::{Units, density_of, unit_of};
+
+use crate::args::{NoiseArgs, TermUnits};
+use crate::flags::recording_options;
+use crate::print::read_channels;
 
 const SCHEMA: &str = "imutherm.noise/1";
 
-/// The unit systems terms are printed in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Units {
-    Si,
-    Datasheet,
-    /// The thesis tables: °/√s and °/s for gyros, SI for accelerometers.
-    Thesis,
-}
-
-/// The factor from the SI value of `term` to `units`, and the unit's label.
-/// The SI unit of `term` for a channel of `quantity` in `data_unit`.
-pub fn si_unit(term: Term, quantity: Quantity, data_unit: &str) -> String {
-    unit_of(term, quantity, data_unit, Units::Si).1
-}
-
-fn unit_of(term: Term, quantity: Quantity, data_unit: &str, units: Units) -> (f64, String) {
-    let deg = 180.0 / PI;
-    let ug = 1.0 / (STANDARD_GRAVITY * 1e-6);
-    let (f, label): (f64, &str) = match (quantity, units, term) {
-        (Quantity::AngularRate, Units::Si, t) => match t {
-            Term::Quantization => (1.0, "rad"),
-            Term::WhiteNoise => (1.0, "rad/√s"),
-            Term::BiasInstability => (1.0, "rad/s"),
-            Term::RateRandomWalk => (1.0, "rad/s/√s"),
-            Term::RateRamp => (1.0, "rad/s²"),
-        },
-        (Quantity::AngularRate, Units::Datasheet, t) => match t {
-            Term::Quantization => (deg, "°"),
-            Term::WhiteNoise => (deg * 60.0, "°/√h"),
-            Term::BiasInstability => (deg * 3600.0, "°/h"),
-            Term::RateRandomWalk => (deg * 216_000.0, "°/h/√h"),
-            Term::RateRamp => (deg * 3600.0 * 3600.0, "°/h²"),
-        },
-        (Quantity::AngularRate, Units::Thesis, t) => match t {
-            Term::Quantization => (deg, "°"),
-            Term::WhiteNoise => (deg, "°/√s"),
-            Term::BiasInstability => (deg, "°/s"),
-            Term::RateRandomWalk => (deg, "°/s/√s"),
-            Term::RateRamp => (deg, "°/s²"),
-        },
-        (Quantity::Acceleration, Units::Datasheet, t) => match t {
-            Term::Quantization => (1.0, "m/s"),
-            Term::WhiteNoise => (60.0, "m/s/√h"),
-            Term::BiasInstability => (ug, "µg"),
-            Term::RateRandomWalk => (ug, "µg/√s"),
-            Term::RateRamp => (ug, "µg/s"),
-        },
-        (Quantity::Acceleration, _, t) => match t {
-            Term::Quantization => (1.0, "m/s"),
-            Term::WhiteNoise => (1.0, "m/s/√s"),
-            Term::BiasInstability => (1.0, "m/s²"),
-            Term::RateRandomWalk => (1.0, "m/s²/√s"),
-            Term::RateRamp => (1.0, "m/s³"),
-        },
-        (_, _, t) => {
-            let u = if data_unit.is_empty() { "1" } else { data_unit };
-            let label = match t {
-                Term::Quantization => format!("{u}·s"),
-                Term::WhiteNoise => format!("{u}·√s"),
-                Term::BiasInstability => u.to_string(),
-                Term::RateRandomWalk => format!("{u}/√s"),
-                Term::RateRamp => format!("{u}/s"),
-            };
-            return (1.0, label);
-        }
-    };
-    (f, label.to_string())
-}
-
 struct Analysed {
     file_index: usize,
-    channel: Channel,
+    channel: SelectedChannel,
     terms: NoiseTerms,
 }
 
@@ -117,10 +52,9 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
             },
         )?;
     }
-    let units = match a.units.to_ascii_lowercase().as_str() {
-        "si" => Units::Si,
-        "datasheet" => Units::Datasheet,
-        other => bail!("--units {other}: expected si or datasheet"),
+    let units = match a.units {
+        TermUnits::Si => Units::Si,
+        TermUnits::Datasheet => Units::Datasheet,
     };
     let confidence = a.confidence;
     let read = recording_options(&a.read)?;
@@ -251,7 +185,7 @@ fn write_compact(out: &mut impl Write, analysis: Analysis, units: Units) -> Resu
             out,
             "# {} — {} Hz, {:.0} s{t}; intervals at {:.1} %",
             f.display(),
-            imu::log::round_rate(analysis.rates[i]),
+            imu::log_file::round_rate(analysis.rates[i]),
             samples as f64 / analysis.rates[i],
             100.0 * analysis.confidence
         )?;
@@ -415,7 +349,7 @@ struct JsonValue {
     unit: String,
 }
 
-fn json_value(v: &TermValue, term: Term, ch: &Channel, units: Units) -> JsonValue {
+fn json_value(v: &TermValue, term: Term, ch: &SelectedChannel, units: Units) -> JsonValue {
     let (f, unit) = unit_of(term, ch.quantity, &ch.unit, units);
     JsonValue {
         value: v.value * f,
@@ -425,17 +359,7 @@ fn json_value(v: &TermValue, term: Term, ch: &Channel, units: Units) -> JsonValu
     }
 }
 
-/// N as the datasheets quote it (PS-MPU-9250A-01: °/s/√Hz for the gyro,
-/// µg/√Hz for the accelerometer): the same number as N in per-√s units.
-fn density_of(quantity: Quantity) -> Option<(f64, &'static str)> {
-    match quantity {
-        Quantity::AngularRate => Some((180.0 / PI, "°/s/√Hz")),
-        Quantity::Acceleration => Some((1.0 / (STANDARD_GRAVITY * 1e-6), "µg/√Hz")),
-        _ => None,
-    }
-}
-
-fn density(v: &TermValue, term: Term, ch: &Channel) -> Option<JsonValue> {
+fn density(v: &TermValue, term: Term, ch: &SelectedChannel) -> Option<JsonValue> {
     let (f, unit) = density_of(ch.quantity).filter(|_| term == Term::WhiteNoise)?;
     Some(JsonValue {
         value: v.value * f,
@@ -445,7 +369,7 @@ fn density(v: &TermValue, term: Term, ch: &Channel) -> Option<JsonValue> {
     })
 }
 
-fn json_term(term: Term, est: &TermEstimate, method: &'static str, ch: &Channel) -> JsonTerm {
+fn json_term(term: Term, est: &TermEstimate, method: &'static str, ch: &SelectedChannel) -> JsonTerm {
     match est {
         TermEstimate::Value(v) => JsonTerm {
             term: term.symbol(),
@@ -574,7 +498,7 @@ fn write_json(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<
     Ok(())
 }
 
-fn fmt_est(est: &TermEstimate, term: Term, ch: &Channel, units: Units) -> String {
+fn fmt_est(est: &TermEstimate, term: Term, ch: &SelectedChannel, units: Units) -> String {
     match est {
         TermEstimate::Value(v) => {
             let (f, unit) = unit_of(term, ch.quantity, &ch.unit, units);
@@ -607,7 +531,7 @@ fn write_text(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<
                 out,
                 "{} [{}]",
                 ch.name,
-                crate::commands::info::unit_text(&ch.unit, ch.unit_source.name(), ch.quantity.name())
+                unit_text(&ch.unit, ch.unit_source.name(), ch.quantity.name())
             )?;
             if let Some(m) = &r.terms.slope.sigma_min {
                 let (fct, unit) = unit_of(Term::BiasInstability, ch.quantity, &ch.unit, units);
@@ -703,31 +627,21 @@ fn write_thesis_tables(out: &mut impl Write, analysis: Analysis, units: Units) -
     } else {
         Units::Thesis
     };
-    let mut names: Vec<(String, Quantity, String)> = Vec::new();
-    for r in analysis.analysed {
-        if !names.iter().any(|(n, _, _)| *n == r.channel.name) {
-            names.push((r.channel.name.clone(), r.channel.quantity, r.channel.unit.clone()));
-        }
-    }
-    let header: Vec<String> = (0..analysis.files.len())
-        .map(|i| analysis.temps[i].map_or_else(|| format!("file {}", i + 1), |t| format!("{t:.0}°C")))
-        .collect();
-    let groups = [
-        (Quantity::Acceleration, "Accelerometer"),
-        (Quantity::AngularRate, "Gyroscope"),
-        (Quantity::Other, "Other"),
-    ];
-    for (q, title) in groups {
-        let rows: Vec<&(String, Quantity, String)> = names
+    let tables = ThesisTables::new(
+        analysis.temps.to_vec(),
+        analysis
+            .analysed
             .iter()
-            .filter(|(_, nq, _)| {
-                *nq == q
-                    || (q == Quantity::Other && !matches!(nq, Quantity::Acceleration | Quantity::AngularRate))
-            })
-            .collect();
-        let Some((_, _, unit0)) = rows.first() else {
-            continue;
-        };
+            .map(|r| (r.file_index, &r.channel, &r.terms)),
+    );
+    let header: Vec<String> = tables
+        .columns
+        .iter()
+        .enumerate()
+        .map(|(i, t)| t.map_or_else(|| format!("file {}", i + 1), |t| format!("{t:.0}°C")))
+        .collect();
+    for group in &tables.groups {
+        let (q, title) = (group.quantity, group.title);
         for (term, what) in [
             (
                 Term::WhiteNoise,
@@ -742,21 +656,20 @@ fn write_thesis_tables(out: &mut impl Write, analysis: Analysis, units: Units) -
                 "Bias instability: σ_min (at τ) → B = σ_min/0.664",
             ),
         ] {
-            let (_, unit) = unit_of(term, q, unit0, units);
+            let (_, unit) = unit_of(term, q, group.data_unit(), units);
             let mut line = format!("{title} — {what} [{unit}] (slope method)\n{:<10}", "");
             for h in &header {
                 let _ = write!(line, " {h:>26}");
             }
             writeln!(out, "{line}")?;
             let mut marked = false;
-            for (name, _, _) in &rows {
-                let mut line = format!("{name:<10}");
-                for i in 0..analysis.files.len() {
-                    let cell = analysis
-                        .analysed
-                        .iter()
-                        .find(|r| r.file_index == i && r.channel.name == *name)
-                        .map_or_else(|| "—".to_string(), |r| thesis_cell(r, term, units));
+            for row in &group.rows {
+                let mut line = format!("{:<10}", row.name);
+                for cell in &row.cells {
+                    let cell = cell.map_or_else(
+                        || "—".to_string(),
+                        |c| thesis_cell(c.channel, c.terms, term, units),
+                    );
                     marked |= cell.ends_with('*');
                     let _ = write!(line, " {cell:>26}");
                 }
@@ -774,8 +687,7 @@ fn write_thesis_tables(out: &mut impl Write, analysis: Analysis, units: Units) -
     Ok(())
 }
 
-fn thesis_cell(r: &Analysed, term: Term, units: Units) -> String {
-    let ch = &r.channel;
+fn thesis_cell(ch: &SelectedChannel, terms: &NoiseTerms, term: Term, units: Units) -> String {
     let (f, _) = unit_of(term, ch.quantity, &ch.unit, units);
     let digits = |v: f64| {
         if units == Units::Thesis {
@@ -784,150 +696,43 @@ fn thesis_cell(r: &Analysed, term: Term, units: Units) -> String {
             sig3(v)
         }
     };
-    let fit_or = |fallback: String| match r.terms.fit.get(term) {
+    let fit_or = |fallback: String| match terms.fit.get(term) {
         TermEstimate::Value(v) => format!("{}*", digits(v.value * f)),
         TermEstimate::NotIdentifiable(_) => fallback,
     };
-    let disagree = r.terms.disagreements.iter().any(|(t, _)| *t == term);
+    let disagree = terms.disagreements.iter().any(|(t, _)| *t == term);
     match term {
-        Term::BiasInstability => match (&r.terms.slope.sigma_min, r.terms.slope.get(term)) {
+        Term::BiasInstability => match (&terms.slope.sigma_min, terms.slope.get(term)) {
             (Some(m), TermEstimate::Value(b)) if !disagree => format!(
                 "{} (at {:.1}s) → {}",
                 digits(m.value * f),
                 m.tau.unwrap_or(f64::NAN),
                 digits(b.value * f)
             ),
-            _ => fit_or(match r.terms.slope.bound(term) {
+            _ => fit_or(match terms.slope.bound(term) {
                 Some(b) => format!("no minimum; B ≤ {}", digits(b * f)),
                 None => "not identifiable".to_string(),
             }),
         },
-        _ => match r.terms.slope.get(term) {
+        _ => match terms.slope.get(term) {
             TermEstimate::Value(v) if !disagree => digits(v.value * f),
             _ => fit_or("not identifiable".to_string()),
         },
     }
 }
 
-/// The value written for Kalibr and how it was had: the fit's N; the upper
-/// end of the fit's interval for K (a filter copes with a random walk
-/// overstated, not with one understated, and K is the least certain
-/// term of a record of hours); the upper end of the slope method's
-/// interval where the fit cannot be taken; the term's upper bound where
-/// neither method reads it.
-fn kalibr_value(r: &Analysed, term: Term) -> Option<(f64, String)> {
-    let choice = r.terms.choose(term);
-    match choice.chosen {
-        Chosen::Fit(v) if term == Term::RateRandomWalk => Some((
-            v.hi,
-            format!("upper end of the fit's interval (fit {:.6e})", v.value),
-        )),
-        Chosen::Fit(v) => Some((v.value, "fit".to_string())),
-        Chosen::Slope(v) => Some((
-            v.hi,
-            format!(
-                "upper end of the slope method's interval ({})",
-                choice.note.unwrap_or("the fit cannot separate it")
-            ),
-        )),
-        Chosen::Bound(b) => Some((
-            b,
-            format!(
-                "upper bound: not identifiable in this record{}",
-                choice.note.map(|n| format!(" ({n})")).unwrap_or_default()
-            ),
-        )),
-        Chosen::Nothing => None,
-    }
-}
-
+/// Kalibr's `imu.yaml` ([`kalibr_yaml`]) written to `path`.
 fn write_kalibr(path: &Path, analysis: Analysis, overwrite: bool) -> Result<()> {
-    let mut text = String::new();
-    let _ = writeln!(
-        text,
-        "# Kalibr IMU noise model written by imutherm {} from {}.",
-        env!("CARGO_PKG_VERSION"),
-        analysis
-            .files
-            .iter()
-            .map(|f| f.display().to_string())
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
-    let _ = writeln!(
-        text,
-        "# Continuous-time values (IEEE 952 on the overlapping ADEV): *_noise_density = N, \
-         *_random_walk = K; the worst axis of each sensor is used. Bounds and intervals at {:.1} %.",
-        100.0 * analysis.confidence
-    );
-    let mut values = Vec::new();
-    for (q, sensor, n_unit, k_unit) in [
-        (
-            Quantity::Acceleration,
-            "accelerometer",
-            "m/s^2/sqrt(Hz)",
-            "m/s^3/sqrt(Hz)",
-        ),
-        (
-            Quantity::AngularRate,
-            "gyroscope",
-            "rad/s/sqrt(Hz)",
-            "rad/s^2/sqrt(Hz)",
-        ),
-    ] {
-        let axes: Vec<&Analysed> = analysis
-            .analysed
-            .iter()
-            .filter(|r| r.channel.quantity == q)
-            .collect();
-        if axes.is_empty() {
-            bail!("--kalibr: no {sensor} channels in the input");
-        }
-        for (term, key, unit) in [
-            (Term::WhiteNoise, "noise_density", n_unit),
-            (Term::RateRandomWalk, "random_walk", k_unit),
-        ] {
-            let per_axis: Vec<(String, Option<(f64, String)>)> = axes
-                .iter()
-                .map(|r| {
-                    (
-                        format!("{} ({})", r.channel.name, r.channel.file.display()),
-                        kalibr_value(r, term),
-                    )
-                })
-                .collect();
-            let worst = per_axis
-                .iter()
-                .filter_map(|(_, v)| v.as_ref().map(|v| v.0))
-                .fold(f64::NAN, f64::max);
-            if !(worst.is_finite() && worst > 0.0) {
-                bail!(
-                    "--kalibr: {sensor} {}: no axis has a curve to read it from, not even an upper bound",
-                    term.symbol()
-                );
-            }
-            for (n, v) in &per_axis {
-                let _ = writeln!(
-                    text,
-                    "# {sensor}_{key} {n}: {}",
-                    v.as_ref().map_or_else(
-                        || "nothing to read".to_string(),
-                        |(v, how)| format!("{v:.6e} [{unit}], {how}")
-                    )
-                );
-            }
-            values.push((format!("{sensor}_{key}"), worst, unit));
-        }
-    }
-    for (key, v, unit) in values {
-        let _ = writeln!(text, "{key}: {v:.6e}  # {unit}");
-    }
+    let channels: Vec<KalibrChannel> = analysis
+        .analysed
+        .iter()
+        .map(|r| KalibrChannel {
+            channel: &r.channel,
+            terms: &r.terms,
+        })
+        .collect();
     let rate = analysis.rates.first().copied().unwrap_or(1.0);
-    let _ = writeln!(
-        text,
-        "rostopic: /imu0  # check: the topic your IMU publishes on\nupdate_rate: {}  # Hz, the recording's",
-        imu::log::round_rate(rate)
-    );
+    let text = kalibr_yaml(&channels, analysis.files, rate, analysis.confidence)?;
     imu::output::write_file(
         path,
         text.as_bytes(),

@@ -4,18 +4,22 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 
+use analysis::navigation::{Plan, navigate, six_channels};
+use analysis::noise::analyse_run;
 use imu::read_recording_with_report;
+use ins::drift::report_times;
+use ins::strapdown::NavOptions;
+use report::experiment::{
+    PAGE_MARK, PngDir, adev_figures, command_section, figure, noise_tables, recordings_navigation_section,
+    refuse_foreign_files, time_figures,
+};
 use report::html::Page;
 use report::plots::adev_heatmap;
 use thermal::surface::{Slicing, surface};
 
-use crate::args::ReportArgs;
-use crate::commands::experiment::{
-    PAGE_MARK, PngDir, adev_figures, analyse_run, command_section, noise_tables, refuse_foreign_files,
-    time_figures,
-};
-use crate::commands::info::recording_options;
-use crate::commands::ins::{navigate, six_channels};
+use crate::args::{FigureFormat, ReportArgs};
+use crate::flags::recording_options;
+use crate::print::{notes, read_channels};
 
 /// Temperature span from which a run gets its ADEV-over-temperature maps, °C.
 const SURFACE_SPAN_C: f64 = 5.0;
@@ -44,9 +48,9 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     )?;
     refuse_foreign_files(&a.out, &[("report.html", PAGE_MARK)])?;
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
-    let png = PngDir::new(&a.format, &a.out)?;
+    let png = PngDir::new(a.format == FigureFormat::Png, &a.out)?;
     let mut page = Page::new("imutherm report");
-    command_section(&mut page);
+    command_section(&mut page, &std::env::args().collect::<Vec<_>>().join(" "));
 
     page.heading("Inputs");
     let mut rows = Vec::new();
@@ -71,7 +75,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
             rec.meta.device.clone().unwrap_or_else(|| "—".into()),
             rec.len().to_string(),
             rec.rate_hz
-                .map_or("unknown".into(), |r| format!("{} Hz", imu::log::round_rate(r))),
+                .map_or("unknown".into(), |r| format!("{} Hz", imu::log_file::round_rate(r))),
             rec.duration_s().map_or("—".into(), |d| format!("{d:.1} s")),
             temp.map_or("—".into(), |(lo, m, hi)| format!("{lo:.1} / {m:.1} / {hi:.1}")),
             (rep.problems.len() + rep.unlisted).to_string(),
@@ -109,14 +113,17 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     let analysed = a
         .files
         .iter()
-        .map(|f| analyse_run(f, &read).with_context(|| f.display().to_string()))
-        .collect::<Result<Vec<_>>>()?;
+        .map(|f| analyse_run(f, &read))
+        .collect::<Result<Vec<_>, _>>()?;
+    for run in &analysed {
+        notes(&run.notes);
+    }
     noise_tables(&mut page, &analysed);
     adev_figures(&mut page, &analysed, &png)?;
 
     for f in &changing {
         page.heading(&format!("ADEV over temperature: {}", f.display()));
-        let sel = crate::commands::selection::read_channels(f, &[], &read)?;
+        let sel = read_channels(f, &[], &read)?;
         time_figures(&mut page, &sel, &f.display().to_string(), &png)?;
         let Some(temp) = &sel.temperature else { continue };
         for c in &sel.channels {
@@ -125,15 +132,15 @@ pub fn run(a: &ReportArgs) -> Result<()> {
                 temp,
                 sel.rate_hz,
                 Slicing::Temperature { bin_width_c: 5.0 },
-                0.683,
+                allan::DEFAULT_CONFIDENCE,
             )?;
-            page.figure(
-                &adev_heatmap(&c.name, &c.unit, &rows)?,
+            figure(
+                &mut page,
+                &png,
+                &format!("adev_over_temperature_{}_{}", f.display(), c.name),
                 &format!("{}: σ(τ, T) over 5 °C bins", c.name),
-            );
-            if let Some(p) = png.path(&format!("adev_over_temperature_{}_{}", f.display(), c.name)) {
-                report::plots::adev_heatmap_png(&p, &c.name, &c.unit, &rows)?;
-            }
+                |t| adev_heatmap(t, &c.name, &c.unit, &rows),
+            )?;
         }
     }
 
@@ -144,7 +151,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     // unless it is one of the inputs.
     imu::output::write_file(
         &path,
-        page.finish().as_bytes(),
+        page.finish()?.as_bytes(),
         &imu::output::OutputPolicy {
             overwrite: true,
             inputs: &a.files,
@@ -164,52 +171,17 @@ fn navigation_section(
     files: &[std::path::PathBuf],
     read: &imu::RecordingOptions,
 ) -> Result<()> {
-    use ins::drift::report_times;
-    use ins::strapdown::NavOptions;
-
-    let every = 10.0;
-    let opts = NavOptions::default();
-    let times = report_times(120.0);
-    page.heading("Navigation without GNSS");
-    page.paragraph(&format!(
-        "Strapdown navigation of each static recording from a start point every {every} s, each levelled on \
-         its first {} s (heading 0: a MEMS gyro cannot gyrocompass) and navigated without aiding, so every \
-         metre is error. Predicted: the horizontal position 1σ from the recording's own noise terms (closed \
-         form per term, summed in quadrature). A temperature drift is in no prediction: on a run whose \
-         temperature changes, the measured error above the predicted is the temperature's.",
-        opts.align_s
-    ));
+    let plan = Plan {
+        options: NavOptions::default(),
+        every_s: 10.0,
+        times: report_times(120.0),
+    };
+    let mut navigated = Vec::new();
     for f in files {
-        let sel = crate::commands::selection::read_channels(f, &[], read)?;
-        let navigated =
-            six_channels(f, &sel).and_then(|six| navigate(f, &six, sel.rate_hz, &opts, every, &times));
-        match navigated {
-            Ok(n) => {
-                let rows: Vec<Vec<String>> = n
-                    .rows
-                    .iter()
-                    .map(|r| {
-                        vec![
-                            format!("{}", r.measured.t_s),
-                            format!("{:.3}", r.measured.horizontal_position_m.rms),
-                            format!("{:.3}", r.measured.horizontal_position_m.p50),
-                            format!("{:.3}", r.measured.horizontal_position_m.p95),
-                            format!("{:.3}", r.predicted.total_m),
-                        ]
-                    })
-                    .collect();
-                page.table(
-                    &format!(
-                        "{}: horizontal position error against time since alignment, m ({} windows)",
-                        f.display(),
-                        n.windows
-                    ),
-                    &["t [s]", "RMS", "median", "95th percentile", "predicted 1σ"].map(String::from),
-                    &rows,
-                );
-            }
-            Err(e) => page.paragraph(&format!("{}: not navigated: {e:#}", f.display())),
-        }
+        let sel = read_channels(f, &[], read)?;
+        let n = six_channels(f, &sel).and_then(|six| navigate(f, &six, sel.rate_hz, &plan));
+        navigated.push((f.clone(), n));
     }
+    recordings_navigation_section(page, &plan, &navigated);
     Ok(())
 }

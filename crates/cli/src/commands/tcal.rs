@@ -9,15 +9,17 @@ use serde_json::json;
 
 use imu::output::{AtomicFile, OutputPolicy, check_output, write_file};
 use imu::{LogFormat, RecordingOptions, read_recording, write_recording};
+use thermal::evaluation::{BinMean, SliceMinimum, bin_means, level, spread, surface_minima};
 use thermal::firmware::{self, Calibration, Firmware, Target, sensor_axis};
-use thermal::surface::{Slicing, surface};
-use thermal::tcal::{FitOptions, Model, Order, Run, fit as fit_model};
+use thermal::tcal::{FitOptions, Model, Order, Run, TcalChannel, fit as fit_model};
+
+use analysis::file_identity::digest;
+use analysis::selection::Selection;
+use imu::output::same_file;
 
 use crate::args::{TcalApplyArgs, TcalEvalArgs, TcalFitArgs};
-use crate::commands::info::recording_options;
-use crate::commands::run_identity::{digest, file_id};
-use crate::commands::selection::{Selection, read_channels};
-use crate::commands::tcal_export::usage_error;
+use crate::flags::{recording_options, usage_error};
+use crate::print::read_channels;
 
 /// Reads channels and the temperature of one run.
 fn run_data(file: &Path, channels: &[String], read: &RecordingOptions) -> Result<(Selection, Vec<f64>)> {
@@ -54,12 +56,9 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
         .map(|f| run_data(f, &a.channels, &read))
         .collect::<Result<_>>()?;
     // One run given twice (by two names, or as a copy) would count twice.
-    let digests: Vec<String> = a.files.iter().map(|f| digest(f)).collect::<Result<_>>()?;
+    let digests: Vec<String> = a.files.iter().map(|f| file_digest(f)).collect::<Result<_>>()?;
     for (i, f) in a.files.iter().enumerate() {
-        if let Some(j) = (0..i).find(|&j| {
-            digests[j] == digests[i]
-                || matches!((file_id(&a.files[j]), file_id(f)), (Some(x), Some(y)) if x == y)
-        }) {
+        if let Some(j) = (0..i).find(|&j| digests[j] == digests[i] || same_file(&a.files[j], f)) {
             usage_error(format!(
                 "{} and {} are the same recording: give each run once",
                 a.files[j].display(),
@@ -68,12 +67,12 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
         }
     }
     check_bins(runs.iter().map(|(_, t)| t.as_slice()), a.bin_width)?;
-    let columns: Vec<Vec<(String, String, &[f64])>> = runs
+    let columns: Vec<Vec<TcalChannel>> = runs
         .iter()
         .map(|(sel, _)| {
             sel.channels
                 .iter()
-                .map(|c| (c.name.clone(), c.unit.clone(), c.data.as_slice()))
+                .map(|c| TcalChannel::new(c.name.clone(), c.unit.clone(), &c.data))
                 .collect()
         })
         .collect();
@@ -143,7 +142,7 @@ fn recorded_device_id(files: &[std::path::PathBuf]) -> Option<u32> {
         .iter()
         .map(|f| {
             let reader = imu::table::TableReader::open(f).ok()?;
-            let meta = imu::log::parse_metadata(reader.comments());
+            let meta = imu::log_file::parse_metadata(reader.comments());
             let v = meta.get("device_id")?.trim().to_string();
             match v.strip_prefix("0x") {
                 Some(hex) => u32::from_str_radix(hex, 16).ok(),
@@ -157,10 +156,9 @@ fn recorded_device_id(files: &[std::path::PathBuf]) -> Option<u32> {
     }
 }
 
-/// Reads and validates a model; every error names the file and the field.
-pub(crate) fn load(path: &Path) -> Result<Model> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    Model::from_json(&text).with_context(|| path.display().to_string())
+/// The digest of a run, naming it when it cannot be read.
+fn file_digest(path: &Path) -> Result<String> {
+    digest(path).with_context(|| format!("reading {}", path.display()))
 }
 
 pub fn apply(a: &TcalApplyArgs) -> Result<()> {
@@ -172,7 +170,7 @@ pub fn apply(a: &TcalApplyArgs) -> Result<()> {
         inputs: &inputs,
     };
     check_output(&a.output, &policy)?;
-    let model = load(&a.model)?;
+    let model = Model::read(&a.model)?;
     let read = recording_options(&a.read)?;
     let mut rec = read_recording(&a.file, &read)?;
     let rate = rec.rate_hz.unwrap_or(1.0);
@@ -235,72 +233,14 @@ fn check_bins<'a>(temps: impl Iterator<Item = &'a [f64]>, width: f64) -> Result<
     Ok(())
 }
 
-/// One 1 °C bin: mean temperature, mean value, standard error of the mean.
-#[derive(Clone, Copy)]
-pub(crate) struct BinMean {
-    pub(crate) t: f64,
-    pub(crate) mean: f64,
-    pub(crate) se: f64,
-}
+/// Width of the temperature slices whose ADEV minimum the evaluation
+/// shows, °C.
+const EVAL_SLICE_C: f64 = 5.0;
 
-/// Bin means of `x` over 1 °C bins holding at least `min_samples` samples.
-/// The standard error is that of white samples (0 for a single sample);
-/// correlated noise makes it a lower bound.
-pub(crate) fn bin_means(x: &[f64], t: &[f64], min_samples: usize) -> Vec<BinMean> {
-    let mut bins: std::collections::BTreeMap<i64, (f64, f64, f64, usize)> = Default::default();
-    for (&v, &tt) in x.iter().zip(t) {
-        if v.is_finite() && tt.is_finite() {
-            let e = bins.entry(tt.floor() as i64).or_default();
-            e.0 += tt;
-            e.1 += v;
-            e.2 += v * v;
-            e.3 += 1;
-        }
-    }
-    bins.values()
-        .filter(|b| b.3 >= min_samples.max(1))
-        .map(|&(t, s, s2, n)| {
-            let nf = n as f64;
-            let mean = s / nf;
-            let var = ((s2 - s * mean) / (nf - 1.0)).max(0.0);
-            BinMean {
-                t: t / nf,
-                mean,
-                se: (var / nf).sqrt(),
-            }
-        })
-        .collect()
-}
-
-/// RMS and largest deviation of the bin means from their mean: the bias
-/// left over temperature.
-pub(crate) fn spread(bins: &[BinMean]) -> (f64, f64) {
-    let mean = bins.iter().map(|b| b.mean).sum::<f64>() / bins.len().max(1) as f64;
-    let rms = (bins.iter().map(|b| (b.mean - mean).powi(2)).sum::<f64>() / bins.len().max(1) as f64).sqrt();
-    let max = bins.iter().fold(0.0f64, |m, b| m.max((b.mean - mean).abs()));
-    (rms, max)
-}
-
-/// The mean of the bin means: the reading's level over temperature (for an
-/// accelerometer at rest, gravity's share, which a correction must keep).
-fn level(bins: &[BinMean]) -> f64 {
-    bins.iter().map(|b| b.mean).sum::<f64>() / bins.len().max(1) as f64
-}
-
-/// σ_min of each 5 °C slice of the ADEV surface: (mean T, σ_min, τ).
-fn surface_minima(x: &[f64], t: &[f64], rate: f64) -> Vec<(f64, f64, f64)> {
-    surface(x, t, rate, Slicing::Temperature { bin_width_c: 5.0 }, 0.683)
-        .map(|rows| {
-            rows.iter()
-                .filter_map(|r| {
-                    r.terms
-                        .slope
-                        .sigma_min
-                        .map(|m| (r.t_mean_c, m.value, m.tau.unwrap_or(f64::NAN)))
-                })
-                .collect()
-        })
-        .unwrap_or_default()
+/// RMS and largest deviation of the bin means.
+fn spread_of(bins: &[BinMean]) -> (f64, f64) {
+    let s = spread(bins);
+    (s.rms, s.max)
 }
 
 struct EvalRow {
@@ -312,8 +252,8 @@ struct EvalRow {
     after: Vec<BinMean>,
     /// After the firmware's own correction from the exported parameters.
     as_loaded: Option<Vec<BinMean>>,
-    adev_before: Vec<(f64, f64, f64)>,
-    adev_after: Vec<(f64, f64, f64)>,
+    adev_before: Vec<SliceMinimum>,
+    adev_after: Vec<SliceMinimum>,
     out_of_range: usize,
 }
 
@@ -323,14 +263,13 @@ struct EvalRow {
 /// inode) or, failing that, its name.
 fn was_fitted_on(model: &Model, file: &Path) -> Result<bool> {
     if !model.fitted_on_digests.is_empty() {
-        let d = digest(file)?;
+        let d = file_digest(file)?;
         return Ok(model.fitted_on_digests.contains(&d));
     }
-    let id = file_id(file);
     Ok(model
         .fitted_on
         .iter()
-        .any(|f| Path::new(f) == file || (id.is_some() && file_id(Path::new(f)) == id)))
+        .any(|f| Path::new(f) == file || same_file(Path::new(f), file)))
 }
 
 /// The exported parameter file and the firmware's view of it.
@@ -377,7 +316,7 @@ fn as_loaded(model: &Model, firmware: Firmware, params: Option<&Path>) -> Result
 }
 
 pub fn eval(a: &TcalEvalArgs) -> Result<()> {
-    let model = load(&a.model)?;
+    let model = Model::read(&a.model)?;
     let read = recording_options(&a.read)?;
     let loaded = a
         .export
@@ -410,8 +349,8 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
                 before: bin_means(&ch.data, &temp, 2),
                 after: bin_means(&comp, &temp, 2),
                 as_loaded,
-                adev_before: surface_minima(&ch.data, &temp, sel.rate_hz),
-                adev_after: surface_minima(&comp, &temp, sel.rate_hz),
+                adev_before: surface_minima(&ch.data, &temp, sel.rate_hz, EVAL_SLICE_C),
+                adev_after: surface_minima(&comp, &temp, sel.rate_hz, EVAL_SLICE_C),
                 channel: ch.name,
                 unit: ch.unit,
                 out_of_range: report.out_of_range,
@@ -431,17 +370,17 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
                 .map(|b| json!({"t_c": b.t, "mean": b.mean, "lo": b.mean - 1.96 * b.se, "hi": b.mean + 1.96 * b.se}))
                 .collect::<Vec<_>>()
         };
-        let minima = |m: &[(f64, f64, f64)]| {
+        let minima = |m: &[SliceMinimum]| {
             m.iter()
-                .map(|m| json!({"t_c": m.0, "sigma_min": m.1, "tau": m.2}))
+                .map(|m| json!({"t_c": m.t_c, "sigma_min": m.sigma_min, "tau": m.tau}))
                 .collect::<Vec<_>>()
         };
         let mut doc = json!({
             "schema": "imutherm.tcal-eval/1",
             "model": a.model.display().to_string(),
             "rows": rows.iter().map(|r| {
-                let (rb, mb) = spread(&r.before);
-                let (ra, ma) = spread(&r.after);
+                let (rb, mb) = spread_of(&r.before);
+                let (ra, ma) = spread_of(&r.after);
                 let mut row = json!({
                     "file": r.file, "held_out": r.held_out, "channel": r.channel, "unit": r.unit,
                     "bias_rms_before": rb, "bias_max_before": mb,
@@ -452,7 +391,7 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
                     "adev_minimum_over_temperature_after": minima(&r.adev_after),
                 });
                 if let Some(l) = &r.as_loaded {
-                    let (rl, ml) = spread(l);
+                    let (rl, ml) = spread_of(l);
                     row["bias_rms_as_loaded"] = json!(rl);
                     row["level_before"] = json!(level(&r.before));
                     row["level_as_loaded"] = json!(level(l));
@@ -501,8 +440,8 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
         }
     }
     for r in &rows {
-        let (rb, mb) = spread(&r.before);
-        let (ra, ma) = spread(&r.after);
+        let (rb, mb) = spread_of(&r.before);
+        let (ra, ma) = spread_of(&r.after);
         let reduction = if rb > 0.0 { 100.0 * (1.0 - ra / rb) } else { 0.0 };
         table.push(format!(
             "{:<24} {:<8} {} RMS {:.3e} → {:.3e} {} ({reduction:.1} % less), max {:.3e} → {:.3e}{}",
@@ -521,7 +460,7 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
             }
         ));
         if let Some(l) = &r.as_loaded {
-            let (rl, ml) = spread(l);
+            let (rl, ml) = spread_of(l);
             let reduction = if rb > 0.0 { 100.0 * (1.0 - rl / rb) } else { 0.0 };
             table.push(format!(
                 "{:<24} {:<8} as loaded RMS {:.3e} {} ({reduction:.1} % less), max {:.3e}, level {:.4} → {:.4}",
@@ -538,7 +477,7 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
             .adev_before
             .iter()
             .zip(&r.adev_after)
-            .map(|(b, a)| format!("{:.0} °C {:.2e}→{:.2e}", b.0, b.1, a.1))
+            .map(|(b, a)| format!("{:.0} °C {:.2e}→{:.2e}", b.t_c, b.sigma_min, a.sigma_min))
             .collect();
         if !pairs.is_empty() {
             table.push(format!("{:<24} {:<8}   σ_min: {}", "", "", pairs.join(", ")));

@@ -3,29 +3,13 @@
 use std::io::Write;
 
 use anyhow::{Context, Result};
-use clap::CommandFactory;
-use clap::error::ErrorKind;
 
+use imu::output::same_file;
 use thermal::firmware::{Firmware, Target, export as export_params};
+use thermal::tcal::Model;
 
-use crate::args::{Cli, FirmwareArg, TcalExportArgs};
-use crate::commands::run_identity::same_file;
-use crate::commands::tcal::load;
-
-impl From<FirmwareArg> for Firmware {
-    fn from(f: FirmwareArg) -> Firmware {
-        match f {
-            FirmwareArg::Px4 => Firmware::Px4,
-            FirmwareArg::ArduPilot => Firmware::ArduPilot,
-        }
-    }
-}
-
-/// Ends the program as a usage error (status 2), as clap does for a bad
-/// flag: for what only becomes wrong in combination with another flag.
-pub fn usage_error(message: impl std::fmt::Display) -> ! {
-    Cli::command().error(ErrorKind::ValueValidation, message).exit()
-}
+use crate::args::TcalExportArgs;
+use crate::flags::usage_error;
 
 /// Refuses a calibration slot the firmware does not have.
 pub fn check_instance(firmware: Firmware, instance: Option<u8>) {
@@ -45,12 +29,15 @@ pub fn check_instance(firmware: Firmware, instance: Option<u8>) {
 pub fn run(a: &TcalExportArgs) -> Result<()> {
     let firmware = Firmware::from(a.firmware);
     check_instance(firmware, a.instance);
+    // The one check that the output is not the model: a usage error,
+    // before anything is read (so it is not repeated when the file is
+    // written).
     if let Some(out) = &a.output
         && same_file(out, &a.model)
     {
         usage_error(format!("-o {}: that is the model being exported", out.display()));
     }
-    let model = load(&a.model)?;
+    let model = Model::read(&a.model)?;
     let target = Target {
         instance: a.instance,
         device_id: a.device_id,
@@ -67,7 +54,7 @@ pub fn run(a: &TcalExportArgs) -> Result<()> {
                 exported.text.as_bytes(),
                 &imu::output::OutputPolicy {
                     overwrite: a.overwrite,
-                    inputs: std::slice::from_ref(&a.model),
+                    inputs: &[],
                 },
             )?;
             eprintln!("wrote {} ({} parameters)", path.display(), firmware.name());

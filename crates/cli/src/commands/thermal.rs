@@ -9,23 +9,22 @@ use serde_json::json;
 use allan::noise_terms::{Term, TermEstimate};
 use thermal::surface::{Slicing, SurfaceRow, surface};
 
-use crate::args::ThermalArgs;
-use crate::commands::info::recording_options;
-use crate::commands::selection::read_channels;
+use crate::args::{SliceBy, ThermalArgs};
+use crate::flags::recording_options;
+use crate::print::read_channels;
 
 const SCHEMA: &str = "imutherm.thermal/1";
 
 pub fn run(a: &ThermalArgs) -> Result<()> {
     let confidence = a.confidence;
-    let slicing = match a.by.to_ascii_lowercase().as_str() {
-        "temperature" | "temp" => Slicing::Temperature {
+    let slicing = match a.by {
+        SliceBy::Temperature => Slicing::Temperature {
             bin_width_c: a.bin_width,
         },
-        "time" => Slicing::Time {
+        SliceBy::Time => Slicing::Time {
             window_s: a.window,
             step_s: a.step.unwrap_or(a.window / 2.0),
         },
-        other => bail!("--by {other}: expected temperature or time"),
     };
     let read = recording_options(&a.read)?;
     let sel = read_channels(&a.file, &a.channels, &read)?;

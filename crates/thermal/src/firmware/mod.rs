@@ -14,7 +14,7 @@ pub mod px4;
 use thiserror::Error;
 
 use imu::Quantity;
-use imu::log::classify_header;
+use imu::log_file::classify_header;
 
 use crate::ModelError;
 use crate::tcal::Model;
@@ -292,7 +292,7 @@ fn float32_text(parameter: &str, value: f64) -> Result<String, FirmwareError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tcal::{FitOptions, Order, Run, fit};
+    use crate::tcal::{FitOptions, Order, Run, TcalChannel, fit};
 
     /// Gyro and accelerometer x whose bias is a cubic over 20 → 70 °C.
     fn model(order: usize, t_ref: Option<f64>) -> Model {
@@ -301,8 +301,8 @@ mod tests {
         let gyro: Vec<f64> = temp.iter().map(|&t| bias(t)).collect();
         let accel: Vec<f64> = temp.iter().map(|&t| 9.81 + 20.0 * bias(t)).collect();
         let channels = vec![
-            ("gyro_x".to_string(), "rad/s".to_string(), gyro.as_slice()),
-            ("accel_x".to_string(), "m/s^2".to_string(), accel.as_slice()),
+            TcalChannel::new("gyro_x", "rad/s", gyro.as_slice()),
+            TcalChannel::new("accel_x", "m/s^2", accel.as_slice()),
         ];
         let run = Run {
             channels: &channels,

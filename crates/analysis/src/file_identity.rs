@@ -1,26 +1,22 @@
-//! Whether two paths hold one recording: the same file under another name
-//! (device and inode), or the same bytes under any name (a digest the model
-//! keeps, so a fitted run is still recognised after it was copied or moved).
+//! Whether two paths hold one recording by their bytes: a digest the model
+//! keeps, so that a fitted run is still recognised after it was copied or
+//! moved (the same file under another name is `imu::output::same_file`).
 
 use std::fs::File;
 use std::hash::Hasher;
 use std::io::Read;
 use std::path::Path;
 
-use anyhow::{Context, Result};
-
 /// A fingerprint of a file's bytes: FNV-1a 64 and the length
 /// (`fnv1a64:0123456789abcdef:1048576`). Not a defence against forgery,
 /// only a way to tell one recording from another.
-pub fn digest(path: &Path) -> Result<String> {
-    let mut file = File::open(path).with_context(|| format!("reading {}", path.display()))?;
+pub fn digest(path: &Path) -> std::io::Result<String> {
+    let mut file = File::open(path)?;
     let mut hasher = fnv::FnvHasher::default();
     let mut buf = vec![0u8; 1 << 16];
     let mut len: u64 = 0;
     loop {
-        let n = file
-            .read(&mut buf)
-            .with_context(|| format!("reading {}", path.display()))?;
+        let n = file.read(&mut buf)?;
         if n == 0 {
             break;
         }
@@ -30,31 +26,10 @@ pub fn digest(path: &Path) -> Result<String> {
     Ok(format!("fnv1a64:{:016x}:{len}", hasher.finish()))
 }
 
-/// The file's device and inode, when it exists.
-#[cfg(unix)]
-pub fn file_id(path: &Path) -> Option<(u64, u64)> {
-    use std::os::unix::fs::MetadataExt;
-    std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
-}
-
-/// Without inodes, the canonical path stands in for the file's identity.
-#[cfg(not(unix))]
-pub fn file_id(path: &Path) -> Option<(u64, u64)> {
-    use std::hash::{DefaultHasher, Hash};
-    let canon = std::fs::canonicalize(path).ok()?;
-    let mut h = DefaultHasher::new();
-    canon.hash(&mut h);
-    Some((0, h.finish()))
-}
-
-/// Whether `a` and `b` are one file (both must exist).
-pub fn same_file(a: &Path, b: &Path) -> bool {
-    matches!((file_id(a), file_id(b)), (Some(x), Some(y)) if x == y)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use imu::output::same_file;
 
     #[test]
     fn a_link_is_the_same_file_and_a_copy_has_the_same_digest() {

@@ -1,15 +1,16 @@
-//! Which channels of a file a command analyses, read in SI with their gaps.
+//! Which channels of a file an analysis takes, read in SI with their gaps.
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Result, bail};
-
-use imu::log::{ColumnKind, classify_with_overrides, read_recording_from};
+use imu::log_file::{ColumnKind, classify_with_overrides, read_recording_from};
 use imu::table::TableReader;
 use imu::{Quantity, RecordingOptions};
 
-/// One column to analyse.
-pub struct Channel {
+use crate::AnalysisError;
+
+/// One column to analyse (a file's column as selected, not the data
+/// model's [`imu::Channel`]).
+pub struct SelectedChannel {
     /// The file it is read from.
     pub file: PathBuf,
     /// 1-based column number in the file.
@@ -33,18 +34,27 @@ pub struct Channel {
 /// The channels read from one file, and what else a command needs of it.
 pub struct Selection {
     /// The selected channels.
-    pub channels: Vec<Channel>,
+    pub channels: Vec<SelectedChannel>,
     /// Mean of the file's temperature channel, °C.
     pub temperature_mean_c: Option<f64>,
     /// The file's temperature channel, °C, sample by sample.
     pub temperature: Option<Vec<f64>>,
     /// Sample rate, Hz.
     pub rate_hz: f64,
+    /// What the reader found and did, one line each (`warning: …`,
+    /// `note: …`), for the caller to show: an analysis never rests on
+    /// filled or dropped samples unsaid.
+    pub notes: Vec<String>,
 }
 
 /// Reads the wanted channels of one file, converted to SI, with gaps where
 /// the file has them.
-pub fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) -> Result<Selection> {
+pub fn read_channels(
+    file: &Path,
+    wanted: &[String],
+    read: &RecordingOptions,
+) -> Result<Selection, AnalysisError> {
+    let mut notes = Vec::new();
     // The header alone decides what is selected, before the body is read.
     let reader = TableReader::open(file)?;
     let headers = reader.names().to_vec();
@@ -82,12 +92,13 @@ pub fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) ->
         };
         let found = match group {
             Some(g) if !g.is_empty() => g,
-            Some(_) => bail!(
-                "{}: no '{}' channels (columns: {})",
-                file.display(),
-                w.trim(),
-                headers.join(", ")
-            ),
+            Some(_) => {
+                return Err(AnalysisError::NoGroup {
+                    file: file.to_path_buf(),
+                    group: w.trim().to_string(),
+                    columns: headers.join(", "),
+                });
+            }
             None => match kinds.iter().position(|k| k.name.eq_ignore_ascii_case(w.trim())) {
                 Some(i) => vec![i],
                 None => vec![reader.column_index(w)?],
@@ -103,19 +114,19 @@ pub fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) ->
     let (mut rec, report) = read_recording_from(reader, read)?;
     for p in &report.problems {
         match p.line {
-            Some(line) => eprintln!("warning: {}:{line}: {}", file.display(), p.message),
-            None => eprintln!("warning: {}: {}", file.display(), p.message),
+            Some(line) => notes.push(format!("warning: {}:{line}: {}", file.display(), p.message)),
+            None => notes.push(format!("warning: {}: {}", file.display(), p.message)),
         }
     }
     if report.unlisted > 0 {
-        eprintln!(
+        notes.push(format!(
             "warning: {}: {} more problems not listed",
             file.display(),
             report.unlisted
-        );
+        ));
     }
     for n in &report.notes {
-        eprintln!("note: {}: {n}", file.display());
+        notes.push(format!("note: {}: {n}", file.display()));
     }
     // What the reader did to the samples, repeated here so that an
     // analysis never rests on filled or dropped samples unsaid.
@@ -126,11 +137,11 @@ pub fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) ->
             .filter(|p| p.kind == imu::ProblemKind::TimeGap)
             .map(|p| p.count)
             .sum();
-        eprintln!(
+        notes.push(format!(
             "note: {}: samples placed on the time column's clock ({} Hz, jitter {:.2e} s): {} gap{} filled \
              with {filled} empty samples, {} duplicate and {} backward stamps kept, {} repeated row{} dropped",
             file.display(),
-            imu::log::round_rate(t.rate_hz),
+            imu::log_file::round_rate(t.rate_hz),
             t.jitter_s,
             t.gaps.len(),
             if t.gaps.len() == 1 { "" } else { "s" },
@@ -138,30 +149,29 @@ pub fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) ->
             t.backwards.len(),
             report.dropped_samples,
             if report.dropped_samples == 1 { "" } else { "s" },
-        );
+        ));
     }
     let rate_hz = match rec.rate_hz {
         Some(r) => r,
         None => {
-            eprintln!(
+            notes.push(format!(
                 "note: {}: no sample rate given (--rate), recorded (# sample_rate_hz:) or timed; assuming 1 Hz",
                 file.display()
-            );
+            ));
             1.0
         }
     };
     let mut out = Vec::with_capacity(select.len());
     for idx in select {
         let Some(pos) = rec.channels.iter().position(|c| c.source_name == headers[idx]) else {
-            bail!(
-                "{}: column {} ({}) is the time column, not a channel to analyse",
-                file.display(),
-                idx + 1,
-                headers[idx]
-            );
+            return Err(AnalysisError::TimeColumn {
+                file: file.to_path_buf(),
+                column: idx + 1,
+                name: headers[idx].clone(),
+            });
         };
         let ch = &mut rec.channels[pos];
-        out.push(Channel {
+        out.push(SelectedChannel {
             file: file.to_path_buf(),
             column: idx + 1,
             name: ch.name.clone(),
@@ -193,5 +203,6 @@ pub fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) ->
         temperature_mean_c,
         temperature,
         rate_hz,
+        notes,
     })
 }

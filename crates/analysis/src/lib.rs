@@ -1,0 +1,55 @@
+//! # analysis — imutherm's analyses as values
+//!
+//! What the `imutherm` binary, the report and the Python package share, so
+//! that none of them repeats the pipeline:
+//! - [`selection`]: which channels of a file are analysed, read in SI with
+//!   their gaps, and what the reader noted on the way;
+//! - [`reading`]: the reader's options from what a user gives;
+//! - [`units`]: the unit systems of noise terms (SI, datasheet, thesis);
+//! - [`noise`]: each run's ADEV and noise terms;
+//! - [`thesis`]: the thesis's noise tables as one model, drawn as text or
+//!   HTML by their callers;
+//! - [`kalibr`]: Kalibr's `imu.yaml`;
+//! - [`navigation`]: what the noise costs in metres without GNSS;
+//! - [`experiment`]: the thesis's whole experiment (noise terms, ADEV over
+//!   temperature, compensation fitted and evaluated on a held-out run,
+//!   navigation) as one value.
+//!
+//! **What it is not:** no plots and no HTML (`report`), no printing and no
+//! flags (the `imutherm` binary), no statistics of its own (`allan`,
+//! `thermal`, `ins` compute; this crate chooses what to compute on what).
+//! Errors are [`AnalysisError`]s naming the file and channel at fault.
+//!
+//! ```
+//! use allan::noise_terms::Term;
+//! use analysis::selection::read_channels;
+//! use analysis::units::si_unit;
+//! use imu::RecordingOptions;
+//!
+//! let dir = tempfile::tempdir()?;
+//! let path = dir.path().join("run.csv");
+//! // A gyro and its temperature, in rad/s and °C by their names.
+//! let rows: String = (0..200).map(|i| format!("{},{}\n", (i % 7) as f64 * 1e-3, 30.0 + i as f64 * 0.01)).collect();
+//! std::fs::write(&path, format!("gyro_x,temperature\n{rows}"))?;
+//! let read = RecordingOptions { rate_hz: Some(100.0), ..RecordingOptions::default() };
+//! let sel = read_channels(&path, &[], &read)?;
+//! let gyro = &sel.channels[0];
+//! assert_eq!((gyro.name.as_str(), sel.rate_hz), ("gyro_x", 100.0));
+//! assert_eq!(si_unit(Term::WhiteNoise, gyro.quantity, &gyro.unit), "rad/√s");
+//! assert!((sel.temperature_mean_c.unwrap() - 30.995).abs() < 1e-9);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+mod error;
+
+pub mod experiment;
+pub mod file_identity;
+pub mod kalibr;
+pub mod navigation;
+pub mod noise;
+pub mod reading;
+pub mod selection;
+pub mod thesis;
+pub mod units;
+
+pub use error::AnalysisError;

@@ -1,0 +1,78 @@
+//! Each run's noise terms: every inertial channel's overlapping ADEV and
+//! the terms identified on it (IEEE 952 Annex C, both methods).
+
+use std::path::Path;
+
+use rayon::prelude::*;
+
+use allan::Point;
+use allan::noise_terms::{Chosen, NoiseTerms, Term, analyze_terms};
+use imu::{Quantity, RecordingOptions};
+
+use crate::AnalysisError;
+use crate::selection::{SelectedChannel, read_channels};
+use crate::units::deg;
+
+/// Confidence of the ADEV bands and term intervals in an experiment's
+/// figures and tables.
+pub const FIGURE_CONFIDENCE: f64 = 0.95;
+
+/// One channel of one run, analysed.
+pub struct ChannelNoise {
+    /// The channel.
+    pub channel: SelectedChannel,
+    /// Its OADEV at octave taus, [`FIGURE_CONFIDENCE`] intervals.
+    pub points: Vec<Point>,
+    /// Its noise terms.
+    pub terms: NoiseTerms,
+}
+
+/// One run's channels, analysed.
+pub struct RunNoise {
+    /// The inertial channels, in the file's order.
+    pub channels: Vec<ChannelNoise>,
+    /// The run's mean temperature, °C.
+    pub temperature_mean_c: Option<f64>,
+    /// What the reader found ([`crate::selection::Selection::notes`]).
+    pub notes: Vec<String>,
+}
+
+/// Reads the inertial channels of a run and identifies their noise terms.
+pub fn analyse_run(path: &Path, read: &RecordingOptions) -> Result<RunNoise, AnalysisError> {
+    let sel = read_channels(path, &[], read)?;
+    let rate = sel.rate_hz;
+    let channels = sel
+        .channels
+        .into_par_iter()
+        .map(|channel| {
+            let (points, terms) = analyze_terms(&channel.data, rate, FIGURE_CONFIDENCE).map_err(
+                AnalysisError::allan(format!("{}: {}", path.display(), channel.name)),
+            )?;
+            Ok(ChannelNoise {
+                channel,
+                points,
+                terms,
+            })
+        })
+        .collect::<Result<Vec<_>, AnalysisError>>()?;
+    Ok(RunNoise {
+        channels,
+        temperature_mean_c: sel.temperature_mean_c,
+        notes: sel.notes,
+    })
+}
+
+/// The value of `term` that holds ([`NoiseTerms::choose`]), in the
+/// thesis's units, to four decimals: the fit's, the slope method's marked
+/// "(slope)" where the fit cannot separate the term, an upper bound as
+/// "≤ …", a "*" where the methods disagree.
+pub fn held_value(quantity: Quantity, terms: &NoiseTerms, term: Term) -> String {
+    let f = deg(quantity);
+    let c = terms.choose(term);
+    match c.chosen {
+        Chosen::Fit(v) => format!("{:.4}{}", v.value * f, if c.disagree { "*" } else { "" }),
+        Chosen::Slope(v) => format!("{:.4} (slope)", v.value * f),
+        Chosen::Bound(b) => format!("≤ {:.4}", b * f),
+        Chosen::Nothing => "—".to_string(),
+    }
+}

@@ -1,0 +1,120 @@
+//! How a recording is read: the reader's options from what a user gives
+//! (`--rate`, `--unit COL=UNIT`, the time column), and a unit as shown.
+
+use imu::units::parse_unit;
+use imu::{Quantity, RecordingOptions};
+
+use crate::AnalysisError;
+
+/// What a user may say about how to read a file, before it is checked.
+#[derive(Debug, Clone, Default)]
+pub struct ReadingChoices {
+    /// The sample rate, Hz, overriding the file's.
+    pub rate_hz: Option<f64>,
+    /// `COLUMN=UNIT` pairs, overriding the header's units.
+    pub units: Vec<String>,
+    /// The time column's name.
+    pub time_column: Option<String>,
+    /// The time column's unit when its header has none.
+    pub time_unit: Option<String>,
+    /// Malformed rows become gaps instead of errors.
+    pub skip_bad_lines: bool,
+}
+
+/// Checks the choices and turns them into the reader's options; every
+/// error names the flag and the value at fault.
+pub fn recording_options(c: &ReadingChoices) -> Result<RecordingOptions, AnalysisError> {
+    let refuse = |m: String| Err(AnalysisError::Option(m));
+    if let Some(r) = c.rate_hz
+        && !(r.is_finite() && r > 0.0)
+    {
+        return refuse(format!(
+            "--rate {r}: the sample rate must be a positive number of Hz"
+        ));
+    }
+    if let Some(u) = &c.time_unit
+        && parse_unit(u).is_none_or(|u| u.quantity != Quantity::Time)
+    {
+        return refuse(format!("--time-unit {u}: expected s, ms, us or ns"));
+    }
+    let units = c
+        .units
+        .iter()
+        .map(|p| match p.split_once('=') {
+            Some((col, u)) if !col.trim().is_empty() && parse_unit(u).is_some() => {
+                Ok((col.trim().to_string(), u.trim().to_string()))
+            }
+            Some((_, u)) if parse_unit(u).is_none() => Err(AnalysisError::Option(format!(
+                "--unit {p}: unknown unit '{}' (known: m/s^2 g mg ug rad/s mrad/s deg/s deg/h degC degF K)",
+                u.trim()
+            ))),
+            _ => Err(AnalysisError::Option(format!(
+                "--unit {p}: expected COLUMN=UNIT, e.g. gyro_x=deg/s"
+            ))),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(RecordingOptions {
+        rate_hz: c.rate_hz,
+        units,
+        time_column: c.time_column.clone(),
+        time_unit: c.time_unit.clone(),
+        skip_bad_lines: c.skip_bad_lines,
+    })
+}
+
+/// A unit as printed beside a channel: `rad/s`, or `rad/s (assumed)` when
+/// nothing in the file or on the command line gave it and imutherm took
+/// the channel as SI by its name (a channel of unknown quantity keeps its
+/// own unit, assumed nothing).
+pub fn unit_text(unit: &str, source: &str, quantity: &str) -> String {
+    let u = if unit.is_empty() { "-" } else { unit };
+    if source == imu::UnitSource::Assumed.name() && quantity != Quantity::Other.name() {
+        format!("{u} (assumed)")
+    } else {
+        u.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_bad_choice_names_its_flag_and_a_good_one_passes() {
+        let bad_rate = ReadingChoices {
+            rate_hz: Some(-1.0),
+            ..Default::default()
+        };
+        assert!(
+            recording_options(&bad_rate)
+                .unwrap_err()
+                .to_string()
+                .starts_with("--rate -1")
+        );
+        let bad_unit = ReadingChoices {
+            units: vec!["gyro_x=furlong".into()],
+            ..Default::default()
+        };
+        assert!(
+            recording_options(&bad_unit)
+                .unwrap_err()
+                .to_string()
+                .contains("unknown unit 'furlong'")
+        );
+        let good = ReadingChoices {
+            units: vec![" gyro_x = deg/s".into()],
+            ..Default::default()
+        };
+        assert_eq!(
+            recording_options(&good).unwrap().units,
+            vec![("gyro_x".to_string(), "deg/s".to_string())]
+        );
+    }
+
+    #[test]
+    fn only_an_assumed_unit_of_a_known_quantity_is_marked() {
+        assert_eq!(unit_text("rad/s", "assumed", "angular_rate"), "rad/s (assumed)");
+        assert_eq!(unit_text("", "assumed", "other"), "-");
+        assert_eq!(unit_text("rad/s", "header", "angular_rate"), "rad/s");
+    }
+}

@@ -1,0 +1,579 @@
+//! The parts of an experiment's page shared by `imutherm demo` and
+//! `imutherm report`: the output folder, the command, each run's noise
+//! terms in the thesis's tables, the ADEV figures, the raw data.
+
+use std::path::{Path, PathBuf};
+
+use allan::noise_terms::{Minimum, NoiseTerms, Term, TermEstimate};
+use analysis::AnalysisError;
+use analysis::experiment::{COMPARED_AT_S, Experiment};
+use analysis::navigation::{Navigated, Plan};
+use analysis::noise::{ChannelNoise, RunNoise, held_value};
+use analysis::selection::Selection;
+use analysis::thesis::ThesisTables;
+use analysis::units::{deg, si_unit};
+use imu::Quantity;
+use thermal::evaluation::{BinMean, spread};
+use thermal::surface::SurfaceRow;
+
+use crate::PlotError;
+use crate::ReportError;
+use crate::html::Page;
+use crate::plots::{
+    Asymptote, Curve, Drawn, Target, adev_heatmap, adev_plot, bias_plot, temperature_colour, time_plot,
+};
+
+/// The mark near the start of a log imutherm wrote.
+pub const LOG_MARK: &str = "# format: imutherm-log/1";
+/// The mark near the start of a page imutherm wrote.
+pub const PAGE_MARK: &str = "<title>imutherm";
+
+/// Refuses an output directory in which one of the names a command writes
+/// (`(name, mark)`) holds a file imutherm did not write, before any work:
+/// the command replaces its own files, never someone else's under the same
+/// name. A file is imutherm's when `mark` is in its first 4 KiB.
+pub fn refuse_foreign_files(dir: &Path, own: &[(&str, &str)]) -> Result<(), ReportError> {
+    use std::io::Read;
+    for (name, mark) in own {
+        let path = dir.join(name);
+        let Ok(file) = std::fs::File::open(&path) else {
+            continue;
+        };
+        let mut head = Vec::new();
+        // A directory under the name, or an unreadable file, is not ours.
+        let _ = file.take(4096).read_to_end(&mut head);
+        if !String::from_utf8_lossy(&head).contains(mark) {
+            return Err(ReportError::Foreign(path));
+        }
+    }
+    Ok(())
+}
+
+/// The page's "Command" section: the command line that made it and the
+/// version, so that a report can be made again.
+pub fn command_section(page: &mut Page, command_line: &str) {
+    page.heading("Command");
+    page.code(&format!(
+        "{command_line} (imutherm {})",
+        env!("CARGO_PKG_VERSION")
+    ));
+}
+
+/// Where PNG copies of the figures go, when asked for.
+pub struct PngDir(pub Option<PathBuf>);
+
+impl PngDir {
+    /// PNG copies in `out/figures` when `png`, none otherwise.
+    pub fn new(png: bool, out: &Path) -> Result<PngDir, ReportError> {
+        if !png {
+            return Ok(PngDir(None));
+        }
+        let dir = out.join("figures");
+        std::fs::create_dir_all(&dir).map_err(|cause| ReportError::Io {
+            path: dir.clone(),
+            cause,
+        })?;
+        Ok(PngDir(Some(dir)))
+    }
+
+    /// The file for a figure called `name`, if PNGs are wanted.
+    pub fn path(&self, name: &str) -> Option<PathBuf> {
+        let safe: String = name
+            .chars()
+            .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+            .collect();
+        self.0.as_ref().map(|d| d.join(format!("{safe}.png")))
+    }
+}
+
+/// A figure on the page and, when PNGs are wanted, the same plot as the
+/// PNG file `png_name`: one plotting function draws both.
+pub fn figure(
+    page: &mut Page,
+    png: &PngDir,
+    png_name: &str,
+    caption: &str,
+    plot: impl Fn(Target) -> Result<Drawn, PlotError>,
+) -> Result<(), ReportError> {
+    if let Some(svg) = plot(Target::Svg)?.into_svg() {
+        page.figure(&svg, caption);
+    }
+    if let Some(p) = png.path(png_name) {
+        plot(Target::Png(&p))?;
+    }
+    Ok(())
+}
+
+/// The fitted noise terms of a channel as ADEV asymptotes (IEEE 952
+/// Annex C), and its ADEV minimum as a marker.
+fn guides(r: &ChannelNoise, run: &str) -> (Vec<Asymptote>, Option<(f64, f64, String)>) {
+    let u = &r.channel.unit;
+    let units = |t: Term| si_unit(t, r.channel.quantity, u);
+    let lines = Term::ALL
+        .iter()
+        .filter_map(|&t| {
+            let v = r.terms.fit.get(t).value()?.value;
+            // σ(τ) of the term alone, as σ(1 s)·τ^slope.
+            let at_1s = t.variance_basis(1.0).sqrt() * v;
+            Some(Asymptote {
+                label: format!("{} = {:.3e} {} ({run}, fit)", t.symbol(), v, units(t)),
+                at_1s,
+                slope: t.slope(),
+            })
+        })
+        .collect();
+    let marker = r.terms.slope.sigma_min.and_then(|m| {
+        m.tau.map(|tau| {
+            (
+                tau,
+                m.value,
+                format!("σ_min = {:.3e} {u} at τ = {tau:.1} s", m.value),
+            )
+        })
+    });
+    (lines, marker)
+}
+
+/// The thesis's tables ([`ThesisTables`]): per sensor, the slope method's
+/// N, σ_min and the fit's B, rows = axes, columns = the runs' mean
+/// temperatures.
+pub fn noise_tables(page: &mut Page, runs: &[RunNoise]) {
+    let tables = ThesisTables::new(
+        runs.iter().map(|r| r.temperature_mean_c).collect(),
+        runs.iter()
+            .enumerate()
+            .flat_map(|(i, r)| r.channels.iter().map(move |c| (i, &c.channel, &c.terms))),
+    );
+    page.heading("Noise parameters (thesis layout)");
+    let header: Vec<String> = std::iter::once("axis".to_string())
+        .chain(
+            tables
+                .columns
+                .iter()
+                .map(|t| t.map_or("—".into(), |t| format!("{t:.0} °C"))),
+        )
+        .collect();
+    for (q, nunit, bunit) in [
+        (Quantity::Acceleration, "m/s/√s", "m/s²"),
+        (Quantity::AngularRate, "°/√s", "°/s"),
+    ] {
+        let rows = tables.group(q).map_or(&[][..], |g| g.rows.as_slice());
+        let table = |cell: &dyn Fn(&NoiseTerms) -> String| -> Vec<Vec<String>> {
+            rows.iter()
+                .map(|row| {
+                    std::iter::once(row.name.to_string())
+                        .chain(row.cells.iter().map(|c| c.map_or("—".into(), |c| cell(c.terms))))
+                        .collect()
+                })
+                .collect()
+        };
+        let n_rows = table(&|terms| {
+            let disagree = terms.disagreements.iter().any(|(t, _)| *t == Term::WhiteNoise);
+            match terms.slope.get(Term::WhiteNoise) {
+                TermEstimate::Value(v) if !disagree => format!("{:.4}", v.value * deg(q)),
+                // A slope the method cannot read, or one the fit
+                // contradicts, is not printed as if it held.
+                _ => format!("{} (fit)", held_value(q, terms, Term::WhiteNoise)),
+            }
+        });
+        page.table(
+            &format!(
+                "{} random walk N [{nunit}] (slope method at τ = 1 s)",
+                if q == Quantity::AngularRate {
+                    "Angle"
+                } else {
+                    "Velocity"
+                }
+            ),
+            &header,
+            &n_rows,
+        );
+        let b_rows = table(&|terms| match terms.slope.sigma_min {
+            Some(m) if terms.slope.minimum == Minimum::Found => {
+                format!("{:.4} (at {:.1} s)", m.value * deg(q), m.tau.unwrap_or(f64::NAN))
+            }
+            Some(m) => format!(
+                "no minimum within the record; σ ≤ {:.4} at {:.1} s",
+                m.hi * deg(q),
+                m.tau.unwrap_or(f64::NAN)
+            ),
+            None => "—".into(),
+        });
+        page.table(
+            &format!("Bias instability as the thesis quotes it: σ_min [{bunit}] (at τ); B = σ_min/0.664"),
+            &header,
+            &b_rows,
+        );
+        let fit_rows = table(&|terms| match terms.fit.get(Term::BiasInstability) {
+            TermEstimate::Value(v) => format!(
+                "{:.4} [{:.4}, {:.4}]",
+                v.value * deg(q),
+                v.lo * deg(q),
+                v.hi * deg(q)
+            ),
+            TermEstimate::NotIdentifiable(_) => "not identifiable".into(),
+        });
+        page.table(
+            &format!("Bias instability B from the model fit [{bunit}], 95 % interval"),
+            &header,
+            &fit_rows,
+        );
+    }
+}
+
+/// The ADEV of each channel with one curve per run.
+pub fn adev_figures(page: &mut Page, runs: &[RunNoise], png: &PngDir) -> Result<(), ReportError> {
+    // Curves coloured on a cold-to-hot scale by the runs' temperatures.
+    let (t_lo, t_hi) = runs
+        .iter()
+        .filter_map(|r| r.temperature_mean_c)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), t| {
+            (a.min(t), b.max(t))
+        });
+    // One plot per sensor and run: its three axes together.
+    for r in runs {
+        let (rs, t) = (&r.channels, r.temperature_mean_c);
+        let run = t.map_or("—".to_string(), |t| format!("{t:.0} °C"));
+        for q in [Quantity::Acceleration, Quantity::AngularRate] {
+            let curves: Vec<Curve> = rs
+                .iter()
+                .filter(|r| r.channel.quantity == q)
+                .map(|r| Curve::plain(r.channel.name.clone(), &r.points))
+                .collect();
+            let Some(unit) = rs
+                .iter()
+                .find(|r| r.channel.quantity == q)
+                .map(|r| r.channel.unit.clone())
+            else {
+                continue;
+            };
+            let what = if q == Quantity::AngularRate {
+                "gyroscope"
+            } else {
+                "accelerometer"
+            };
+            let title = format!("{what} at {run}");
+            figure(
+                page,
+                png,
+                &format!("adev_{title}"),
+                &format!("{title}: the three axes, 95 % bands"),
+                |t| adev_plot(t, &title, &unit, &curves),
+            )?;
+        }
+    }
+    let first: &[ChannelNoise] = runs.first().map_or(&[], |r| r.channels.as_slice());
+    page.heading("Allan deviation at each temperature");
+    for name in first.iter().map(|r| r.channel.name.clone()).collect::<Vec<_>>() {
+        let curves: Vec<Curve> = runs
+            .iter()
+            .enumerate()
+            .filter_map(|(i, run)| {
+                let (rs, t) = (&run.channels, run.temperature_mean_c);
+                rs.iter().find(|r| r.channel.name == name).map(|r| {
+                    let label = t.map_or("—".into(), |t| format!("{t:.0} °C"));
+                    // The fitted terms of the first run, drawn as dashed
+                    // asymptotes; more would hide the curves.
+                    let (asymptotes, marker) = if i == 0 {
+                        guides(r, &label)
+                    } else {
+                        (Vec::new(), None)
+                    };
+                    Curve {
+                        label,
+                        points: &r.points,
+                        asymptotes,
+                        marker,
+                        colour: t.map(|t| temperature_colour((t - t_lo) / (t_hi - t_lo).max(1e-9))),
+                    }
+                })
+            })
+            .collect();
+        let unit = first
+            .iter()
+            .find(|r| r.channel.name == name)
+            .map_or(String::new(), |r| r.channel.unit.clone());
+        figure(
+            page,
+            png,
+            &format!("adev_{name}"),
+            &format!("{name}: overlapping ADEV, 95 % bands"),
+            |t| adev_plot(t, &name, &unit, &curves),
+        )?;
+    }
+    Ok(())
+}
+
+/// The raw samples of a run against time, accelerometers and gyroscopes
+/// apart, each with the temperature below.
+pub fn time_figures(page: &mut Page, sel: &Selection, title: &str, png: &PngDir) -> Result<(), ReportError> {
+    for (q, what) in [
+        (Quantity::Acceleration, "accelerometer"),
+        (Quantity::AngularRate, "gyroscope"),
+    ] {
+        let chans: Vec<(String, &[f64])> = sel
+            .channels
+            .iter()
+            .filter(|c| c.quantity == q)
+            .map(|c| (c.name.clone(), c.data.as_slice()))
+            .collect();
+        let Some(unit) = sel
+            .channels
+            .iter()
+            .find(|c| c.quantity == q)
+            .map(|c| c.unit.clone())
+        else {
+            continue;
+        };
+        let heading = format!("{title}: {what}");
+        figure(
+            page,
+            png,
+            &format!("time_{heading}"),
+            &format!("{title}: {what} samples (min/max per pixel column) and temperature"),
+            |t| {
+                time_plot(
+                    t,
+                    &heading,
+                    &unit,
+                    &chans,
+                    sel.rate_hz,
+                    sel.temperature.as_deref(),
+                )
+            },
+        )?;
+    }
+    Ok(())
+}
+
+/// The cooling run's ADEV over temperature: a 3D surface and a heat map
+/// per channel.
+pub fn surface_section(page: &mut Page, exp: &Experiment, png: &PngDir) -> Result<(), ReportError> {
+    let cool = &exp.cooling;
+    page.heading("Cooling run: ADEV over temperature (3D ADEV)");
+    for (c, rows) in cool.channels.iter().zip(&exp.surfaces) {
+        page.surface3d(&c.name, &c.unit, &surface_slices(rows));
+    }
+    for (c, rows) in cool.channels.iter().zip(&exp.surfaces) {
+        figure(
+            page,
+            png,
+            &format!("adev_over_temperature_{}", c.name),
+            &format!("{}: σ(τ, T) over 5 °C bins of the cooling run", c.name),
+            |t| adev_heatmap(t, &c.name, &c.unit, rows),
+        )?;
+    }
+    Ok(())
+}
+
+/// A surface as the 3D view takes it: (mean temperature, [(τ, σ)]) per slice.
+fn surface_slices(rows: &[SurfaceRow]) -> Vec<(f64, Vec<(f64, f64)>)> {
+    rows.iter()
+        .map(|r| (r.t_mean_c, r.points.iter().map(|p| (p.tau, p.dev)).collect()))
+        .collect()
+}
+
+/// The compensation fitted on the cooling run, on the held-out heating
+/// run: bias plots, the residual bias and the ADEV minimum before and after.
+pub fn compensation_section(page: &mut Page, exp: &Experiment, png: &PngDir) -> Result<(), ReportError> {
+    let model = &exp.model;
+    page.heading("Temperature compensation (fitted on cooling, evaluated on heating)");
+    let mut comp_rows = Vec::new();
+    for c in &exp.compensation {
+        let (name, unit) = (&c.name, &c.unit);
+        let points = |bins: &[BinMean]| -> Vec<(f64, f64)> { bins.iter().map(|b| (b.t, b.mean)).collect() };
+        let (raw, compensated) = (points(&c.before), points(&c.after));
+        let cm = model
+            .channel(name)
+            .ok_or_else(|| ReportError::Missing(format!("the model has no channel {name}")))?;
+        // The same unit: its raw bias is p(T) itself.
+        let curve = |t: f64| cm.bias(model, t.clamp(model.t_min_c, model.t_max_c));
+        let title = format!("{name}: bias against temperature");
+        figure(
+            page,
+            png,
+            &format!("compensation_{name}"),
+            &format!("{name}: 1 °C bin means of the heating run, raw and compensated, and the fitted p(T)"),
+            |t| bias_plot(t, &title, unit, &raw, &compensated, &curve),
+        )?;
+        let (rb, ra) = (spread(&c.before).rms, spread(&c.after).rms);
+        comp_rows.push(vec![
+            name.clone(),
+            format!("{}", cm.order),
+            format!("{rb:.3e} {unit}"),
+            format!("{ra:.3e} {unit}"),
+            format!("{:.1} %", 100.0 * (1.0 - ra / rb)),
+        ]);
+    }
+    page.table(
+        "residual bias over temperature on the held-out heating run (RMS of 1 °C bin means)",
+        &["channel", "order", "raw", "compensated", "reduction"].map(String::from),
+        &comp_rows,
+    );
+    let mut adev_rows = Vec::new();
+    for c in &exp.compensation {
+        for ((t, b), (_, a)) in c.adev_before.iter().zip(&c.adev_after) {
+            adev_rows.push(vec![
+                c.name.clone(),
+                format!("{t:.1}"),
+                format!("{b:.3e} {}", c.unit),
+                format!("{a:.3e} {}", c.unit),
+            ]);
+        }
+    }
+    page.table(
+        "ADEV over temperature on the heating run, before and after compensation: σ_min per 10 °C bin",
+        &["channel", "T [°C]", "raw", "compensated"].map(String::from),
+        &adev_rows,
+    );
+    Ok(())
+}
+
+/// What the noise and the temperature cost in metres: the cooling run
+/// navigated without aiding from many start points, raw and compensated,
+/// measured beside the prediction from its noise terms; and the 60 s drift
+/// for longer alignment windows.
+pub fn navigation_section(page: &mut Page, exp: &Experiment) {
+    let nav = &exp.navigation;
+    let (raw, comp) = (&nav.raw, &nav.compensated);
+    let (every, opts) = (nav.plan.every_s, &nav.plan.options);
+    page.heading("Navigation without GNSS: the cooling run, raw and compensated");
+    page.paragraph(&format!(
+        "Strapdown navigation of the cooling run from a start point every {every} s ({} windows), each \
+         levelled on its first {} s (heading 0: a MEMS gyro cannot gyrocompass; the gyro's mean over \
+         the window taken as its bias) and navigated without aiding. The sensor is static, so every \
+         metre is error. Predicted: the horizontal position 1σ from the noise terms identified on the \
+         run itself (closed form per term, summed in quadrature; bias instability bounded as a bias); \
+         the temperature drift is in no prediction, so on the raw run the measured error above the \
+         predicted is the temperature's.",
+        raw.windows, opts.align_s
+    ));
+    let rows: Vec<Vec<String>> = raw
+        .rows
+        .iter()
+        .zip(&comp.rows)
+        .map(|(r, c)| {
+            vec![
+                format!("{}", r.measured.t_s),
+                format!("{:.3}", r.measured.horizontal_position_m.rms),
+                format!("{:.3}", r.measured.horizontal_position_m.p95),
+                format!("{:.3}", r.predicted.total_m),
+                format!("{:.3}", c.measured.horizontal_position_m.rms),
+                format!("{:.3}", c.measured.horizontal_position_m.p95),
+                format!("{:.3}", c.predicted.total_m),
+            ]
+        })
+        .collect();
+    page.table(
+        "horizontal position error against time since alignment, m (RMS and 95th percentile over the windows)",
+        &[
+            "t [s]",
+            "raw RMS",
+            "raw p95",
+            "raw predicted 1σ",
+            "compensated RMS",
+            "compensated p95",
+            "compensated predicted 1σ",
+        ]
+        .map(String::from),
+        &rows,
+    );
+    let rows: Vec<Vec<String>> = nav
+        .by_alignment
+        .iter()
+        .map(|(align_s, r, c)| {
+            vec![
+                format!("{align_s}"),
+                format!("{r:.2}"),
+                format!("{c:.2}"),
+                format!("{:.2}", c / r),
+            ]
+        })
+        .collect();
+    page.table(
+        "60 s without GNSS, by alignment window: horizontal position RMS, m",
+        &["alignment [s]", "raw", "compensated", "compensated / raw"].map(String::from),
+        &rows,
+    );
+    page.paragraph(&navigation_summary(raw, comp));
+}
+
+/// One sentence on what the compensation buys at 60 s, and why not more.
+fn navigation_summary(raw: &Navigated, comp: &Navigated) -> String {
+    let at60 = |n: &Navigated| {
+        n.rows
+            .iter()
+            .find(|r| r.measured.t_s == COMPARED_AT_S)
+            .map(|r| (r.measured.horizontal_position_m.rms, r.predicted.total_m))
+    };
+    match (at60(raw), at60(comp)) {
+        (Some((r, _)), Some((c, floor))) => {
+            let head = format!(
+                "60 s without GNSS: raw {r:.1} m, compensated {c:.1} m ({:.0} % of raw).",
+                100.0 * c / r
+            );
+            // Within the Monte Carlo's and the windows' spread of the floor,
+            // or above it: say which, from the figures.
+            if c <= 1.2 * floor {
+                format!(
+                    "{head} The compensated run is at the floor its own noise terms predict ({floor:.1} m): \
+                     what is left is white noise and bias instability, which no temperature model removes."
+                )
+            } else {
+                format!(
+                    "{head} The compensated run stays above the floor its noise terms predict ({floor:.1} m): \
+                     the model leaves part of the temperature drift."
+                )
+            }
+        }
+        _ => String::new(),
+    }
+}
+
+/// What each recording's noise costs in metres (`imutherm ins` with its
+/// defaults), one table per recording; a recording that could not be
+/// navigated says why instead.
+pub fn recordings_navigation_section(
+    page: &mut Page,
+    plan: &Plan,
+    navigated: &[(PathBuf, Result<Navigated, AnalysisError>)],
+) {
+    page.heading("Navigation without GNSS");
+    page.paragraph(&format!(
+        "Strapdown navigation of each static recording from a start point every {} s, each levelled on \
+         its first {} s (heading 0: a MEMS gyro cannot gyrocompass) and navigated without aiding, so every \
+         metre is error. Predicted: the horizontal position 1σ from the recording's own noise terms (closed \
+         form per term, summed in quadrature). A temperature drift is in no prediction: on a run whose \
+         temperature changes, the measured error above the predicted is the temperature's.",
+        plan.every_s, plan.options.align_s
+    ));
+    for (f, navigated) in navigated {
+        match navigated {
+            Ok(n) => {
+                let rows: Vec<Vec<String>> = n
+                    .rows
+                    .iter()
+                    .map(|r| {
+                        vec![
+                            format!("{}", r.measured.t_s),
+                            format!("{:.3}", r.measured.horizontal_position_m.rms),
+                            format!("{:.3}", r.measured.horizontal_position_m.p50),
+                            format!("{:.3}", r.measured.horizontal_position_m.p95),
+                            format!("{:.3}", r.predicted.total_m),
+                        ]
+                    })
+                    .collect();
+                page.table(
+                    &format!(
+                        "{}: horizontal position error against time since alignment, m ({} windows)",
+                        f.display(),
+                        n.windows
+                    ),
+                    &["t [s]", "RMS", "median", "95th percentile", "predicted 1σ"].map(String::from),
+                    &rows,
+                );
+            }
+            Err(e) => page.paragraph(&format!("{}: not navigated: {e}", f.display())),
+        }
+    }
+}
