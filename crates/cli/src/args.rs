@@ -213,6 +213,7 @@ A temperature bin keeps the samples taken while the temperature was inside it; t
 rest are gaps, so no Allan term joins two visits to the bin. A time window is labelled
 with its mean temperature and its temperature change.";
 
+#[cfg(feature = "analysis")]
 #[derive(Debug, Args)]
 pub struct ThermalArgs {
     /// A recording with a temperature channel.

@@ -366,6 +366,7 @@ pub fn usage_error(message: impl std::fmt::Display) -> ! {
 }
 
 /// The shared read flags as the reader's options, checked.
+#[cfg(feature = "analysis")]
 pub fn recording_options(a: &crate::args::ReadArgs) -> anyhow::Result<imu::RecordingOptions> {
     Ok(analysis::reading::recording_options(
         &analysis::reading::ReadingChoices {
@@ -379,6 +380,7 @@ pub fn recording_options(a: &crate::args::ReadArgs) -> anyhow::Result<imu::Recor
 }
 
 /// The firmware a `--firmware`, `--for` or `--export` flag names.
+#[cfg(feature = "analysis")]
 impl From<crate::args::FirmwareArg> for thermal::firmware::Firmware {
     fn from(f: crate::args::FirmwareArg) -> thermal::firmware::Firmware {
         match f {

@@ -10,6 +10,7 @@ compile_error!("imutherm needs the feature `analysis`, `record` or both");
 mod args;
 mod commands;
 mod flags;
+#[cfg(feature = "analysis")]
 mod print;
 
 use std::process::ExitCode;
