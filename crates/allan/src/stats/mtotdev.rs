@@ -282,6 +282,13 @@ impl Sum {
 ///
 /// Cost O((N − 3m + 1)·m) time and O(m) scratch (see the module notes).
 pub fn mtotdev(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
+    mtotdev_with_progress(phase, m, tau0, &|_| {})
+}
+
+/// [`mtotdev`], reporting its work as it goes: `progress` receives the
+/// windows × m done since its last call, in blocks of 256 windows, so the
+/// calls add up to [`crate::work::operations`] for the statistic.
+pub fn mtotdev_with_progress(phase: &[f64], m: usize, tau0: f64, progress: &dyn Fn(u64)) -> Option<Estimate> {
     let n = phase.len();
     let len = m.checked_mul(3)?;
     if m == 0 || len > n || !valid_tau0(tau0) || !phase.iter().all(|v| v.is_finite()) {
@@ -303,6 +310,7 @@ pub fn mtotdev(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
             q.push(acc);
         }
         sum.add(folds.block(&q, m, count));
+        progress((count * m) as u64);
     }
     // Σ_n Σ_i (m-sum difference)² / (m² · 6m · 2 (mτ0)² · (N − 3m + 1)).
     let mf = m as f64;
@@ -316,7 +324,12 @@ pub fn mtotdev(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
 /// the bias correction (divide by √[`TTOTVAR_BIAS`] for SP 1065's published
 /// values). In the unit of the phase. `n` and `None` as [`mtotdev`].
 pub fn ttotdev(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
-    let e = mtotdev(phase, m, tau0)?;
+    ttotdev_with_progress(phase, m, tau0, &|_| {})
+}
+
+/// [`ttotdev`], reporting its work as [`mtotdev_with_progress`] does.
+pub fn ttotdev_with_progress(phase: &[f64], m: usize, tau0: f64, progress: &dyn Fn(u64)) -> Option<Estimate> {
+    let e = mtotdev_with_progress(phase, m, tau0, progress)?;
     let tau = m as f64 * tau0;
     Some(Estimate {
         dev: tau * e.dev / 3f64.sqrt(),
