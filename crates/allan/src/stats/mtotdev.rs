@@ -47,6 +47,22 @@
 //! per-window values), no copy of the series. Over a tau grid reaching
 //! N/3 that is still O(N²).
 //!
+//! # What prefix sums can and cannot carry
+//!
+//! Written out, a window's sum Σ_i (third difference of the folded partial
+//! sums)² splits into three kinds of term:
+//!
+//! - the trend's own square, s²·Σ_j g_j²: the half-average slope s is a
+//!   difference of two window sums, O(1) from prefix sums of x, and Σ g_j²
+//!   depends on m alone;
+//! - the cross terms s·Σ_j g_j·D_j, with D_j a fixed ±1 combination of
+//!   partial sums at positions k + j, k + m − j, k + 2m − j …: a linear form
+//!   in the window with weights polynomial in the position, so O(1) per
+//!   window from prefix sums of x, i·x, i²·x and i³·x;
+//! - the squares Σ_j D_j², which mix x(k + j) with x(k + m − j) (and the
+//!   other folds) inside one square. These are what no running sum carries,
+//!   as the next section shows; they alone make the cost O(m) per window.
+//!
 //! # Why not below O(N·m) per τ
 //!
 //! Only one of the 6m positions of the 9m-point extension lies wholly
