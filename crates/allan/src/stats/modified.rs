@@ -60,16 +60,22 @@ fn window_squares(
     let mut sum = 0.0;
     let mut n = 0usize;
     let mut start = 0;
+    // The interval's second differences, each formed once (the running
+    // sum takes every one twice, m windows apart) in a loop that
+    // vectorises; the running sum then only reads them.
+    let mut diffs: Vec<f64> = Vec::with_capacity(resync + m);
     while start < terms {
         let end = (start + resync).min(terms);
-        let mut s = (start..start + m).map(d).sum::<f64>();
+        diffs.clear();
+        diffs.extend((start..end + m - 1).map(d));
+        let mut s = diffs[..m].iter().sum::<f64>();
         if usable(start) {
             sum += s * s;
             n += 1;
         }
-        for j in start + 1..end {
-            s += d(j + m - 1) - d(j - 1);
-            if usable(j) {
+        for (k, (&enter, &leave)) in diffs[m..].iter().zip(&diffs[..end - start - 1]).enumerate() {
+            s += enter - leave;
+            if usable(start + 1 + k) {
                 sum += s * s;
                 n += 1;
             }
