@@ -2,6 +2,9 @@
 //!
 //! - the total deviations and Thêo1 at a few averaging factors, as time per
 //!   window and unit of m (their cost is O((N − 3m)·m) per τ);
+//! - OADEV, MDEV and HDEV at single τ on 10^7 points against one read pass
+//!   over them (the memory bandwidth, measured in the same run, on one
+//!   thread): the ratio is the statistic's time in memory passes;
 //! - `analyze` with every τ (`TauSpec::All`) against the statistic alone,
 //!   the difference being noise identification, EDF and intervals.
 //!
@@ -76,6 +79,8 @@ fn main() {
         }
     }
 
+    bandwidth_ratios();
+
     if n > 200_000 {
         // Every τ is O(N²) in all: minutes at 10^6 on a small machine.
         println!("\n(analyze with every τ skipped above N = 200000)");
@@ -111,6 +116,50 @@ fn main() {
             );
         }
     }
+}
+
+/// Phase points of the bandwidth section: 80 MB, well beyond any cache.
+const PASS_POINTS: usize = 10_000_000;
+
+/// One read pass over `x` in four lanes (what the memory bus allows).
+fn one_pass(x: &[f64]) -> f64 {
+    let (chunks, tail) = x.as_chunks::<4>();
+    let mut lanes = [0.0f64; 4];
+    for c in chunks {
+        for l in 0..4 {
+            lanes[l] += c[l];
+        }
+    }
+    lanes.iter().sum::<f64>() + tail.iter().sum::<f64>()
+}
+
+/// The O(N) statistics at one τ each against one memory pass over the
+/// same phase points, measured in the same run on one thread: the ratio
+/// is how many passes' worth of time a τ costs (goal ≤ 1.5).
+fn bandwidth_ratios() {
+    let rate = white(PASS_POINTS - 1, 11);
+    let series = PhaseSeries::new(&rate, DataType::Freq, 1.0).expect("finite samples");
+    let phase = series.points();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("thread pool");
+    pool.install(|| {
+        let pass = best(5, || one_pass(phase));
+        let bytes = std::mem::size_of_val(phase) as f64;
+        println!(
+            "\n-- O(N) statistics against one memory pass ({} points, {:.1} GB/s on one thread) --",
+            phase.len(),
+            bytes / pass / 1e9
+        );
+        println!("{:<8} {:>8} {:>10} {:>14}", "stat", "m", "time s", "passes");
+        for stat in [Stat::Oadev, Stat::Mdev, Stat::Hdev] {
+            for m in [1usize, 16, 256, 4096] {
+                let t = best(3, || stats::compute(stat, &series, m));
+                println!("{:<8} {m:>8} {t:>10.4} {:>14.2}", stat.name(), t / pass);
+            }
+        }
+    });
 }
 
 /// Running sum, a random-walk FM rate from a white FM one.

@@ -98,9 +98,20 @@ pub fn analyze(data: &[f64], opts: &Options) -> Result<Curve, AllanError> {
 /// [`analyze`], taking the samples by value so that they are turned into
 /// phase in place: memory stays at the size of the data.
 pub fn analyze_vec(data: Vec<f64>, opts: &Options) -> Result<Curve, AllanError> {
+    analyze_vec_with_progress(data, opts, &|_| {})
+}
+
+/// [`analyze_vec`], reporting the statistic's work as it goes: the calls
+/// to `progress` add up to [`crate::work::workload`]'s operations (for
+/// data without NaN edges, which are trimmed before the grid is made).
+pub fn analyze_vec_with_progress(
+    data: Vec<f64>,
+    opts: &Options,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Curve, AllanError> {
     let samples = data.len();
     let series = PhaseSeries::from_vec(data, opts.data_type, opts.rate_hz)?;
-    let points = analyze_series(&series, opts)?;
+    let points = analyze_series_with_progress(&series, opts, progress)?;
     Ok(Curve {
         stat: opts.stat,
         data_type: opts.data_type,
@@ -116,6 +127,16 @@ pub fn analyze_vec(data: Vec<f64>, opts: &Options) -> Result<Curve, AllanError> 
 /// type are those it was built with; the ones in `opts` are not used). Taus
 /// run in parallel.
 pub fn analyze_series(series: &PhaseSeries, opts: &Options) -> Result<Vec<Point>, AllanError> {
+    analyze_series_with_progress(series, opts, &|_| {})
+}
+
+/// [`analyze_series`], reporting the statistic's work as
+/// [`analyze_vec_with_progress`] does.
+pub fn analyze_series_with_progress(
+    series: &PhaseSeries,
+    opts: &Options,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<Point>, AllanError> {
     let stat = opts.stat;
     if !(opts.confidence > 0.0 && opts.confidence < 1.0) {
         return Err(AllanError::InvalidConfidence(opts.confidence));
@@ -143,7 +164,7 @@ pub fn analyze_series(series: &PhaseSeries, opts: &Options) -> Result<Vec<Point>
     let clean = series.longest_clean_stretch();
     let n_valid = n_phase.saturating_sub(series.nan_samples() - series.trimmed_samples());
 
-    let estimates = stats::compute_many(stat, series, &ms);
+    let estimates = stats::compute_many_with_progress(stat, series, &ms, progress);
     let found: Vec<(usize, Estimate, NoiseId)> = ms
         .par_iter()
         .zip(estimates)

@@ -41,8 +41,12 @@ pub mod noise_id;
 pub mod noise_terms;
 pub mod stats;
 pub mod taus;
+pub mod work;
 
-pub use analysis::{Curve, DEFAULT_CONFIDENCE, Options, Point, analyze, analyze_series, analyze_vec};
+pub use analysis::{
+    Curve, DEFAULT_CONFIDENCE, Options, Point, analyze, analyze_series, analyze_series_with_progress,
+    analyze_vec, analyze_vec_with_progress,
+};
 pub use error::AllanError;
 pub use noise_id::NoiseIdMethod;
 pub use phase::PhaseSeries;

@@ -279,3 +279,35 @@ fn time_column_gives_the_rate_and_its_gaps_become_gaps() {
     assert!((ch["rate_hz"].as_f64().unwrap() - 100.0).abs() < 1e-6);
     assert!(String::from_utf8_lossy(&out.stderr).contains("timed.csv:202: 3 missing samples"));
 }
+
+#[test]
+fn json_stays_one_clean_document_while_the_total_deviations_run() {
+    // Every τ of MTOTDEV and Thêo1: the statistics that report progress
+    // block by block. Whatever goes to stderr, stdout is the JSON alone.
+    let body: String = (0..900)
+        .map(|i| format!("{}\n", ((i * 7919) % 101) as f64 / 101.0))
+        .collect();
+    let (_d, p) = file("walk.txt", body);
+    for stat in ["mtotdev", "theo1"] {
+        let out = succeed(
+            imutherm()
+                .args(["adev", "--stat", stat, "--taus", "all", "--json"])
+                .arg(&p),
+        );
+        let text = String::from_utf8(out.stdout.clone()).unwrap();
+        assert!(
+            text.starts_with('{') && text.ends_with("}\n"),
+            "{stat}: {text:.80}"
+        );
+        assert_eq!(text.matches('\n').count(), 1, "{stat}");
+        assert!(!text.contains(['\r', '\u{1b}']), "{stat}");
+        let doc = json_of(&out);
+        assert_eq!(doc["stat"], stat);
+        assert!(
+            doc["channels"][0]["points"].as_array().unwrap().len() > 100,
+            "{stat}"
+        );
+        // Not a terminal: no bar, so no control characters on stderr either.
+        assert!(!support::stderr_of(&out).contains('\u{1b}'), "{stat}");
+    }
+}

@@ -32,6 +32,7 @@
 //! assert_eq!(table.columns[1], vec![0.2, 0.4]);
 //! ```
 
+mod decimal;
 pub mod error;
 pub mod header;
 pub mod log_file;

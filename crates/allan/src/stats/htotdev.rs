@@ -69,6 +69,13 @@ pub const HTOTVAR_BIAS: f64 = 0.995;
 /// Cost O((N − 3m)·m) time and O(1) scratch for m ≥ 2 (see the module
 /// notes); O(N) time and one copy of the series at m = 1.
 pub fn htotdev(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
+    htotdev_with_progress(phase, m, tau0, &|_| {})
+}
+
+/// [`htotdev`], reporting its work as it goes: `progress` receives the
+/// windows × m done since its last call (the whole series at once at
+/// m = 1), so the calls add up to [`crate::work::operations`].
+pub fn htotdev_with_progress(phase: &[f64], m: usize, tau0: f64, progress: &dyn Fn(u64)) -> Option<Estimate> {
     let n = phase.len();
     let len = m.checked_mul(3)?;
     if m == 0 || n == 0 || len > n - 1 || !valid_tau0(tau0) || !phase.iter().all(|v| v.is_finite()) {
@@ -76,7 +83,9 @@ pub fn htotdev(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
     }
     if m == 1 {
         let series = PhaseSeries::new(phase, DataType::Phase, 1.0 / tau0).ok()?;
-        return super::ohdev(&series, 1);
+        let e = super::ohdev(&series, 1);
+        progress(n as u64);
+        return e;
     }
     let terms = n - len;
     let mut folds = Folds::new();
@@ -85,6 +94,7 @@ pub fn htotdev(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
         let count = Folds::BLOCK.min(terms - first);
         // The phase points are the partial sums of the rate values.
         sum.add(folds.block(&phase[first..first + count + len], m, count));
+        progress((count * m) as u64);
     }
     // Window sums are of τ0·y: Σ_n Σ_i (m-sum difference)² /
     // (τ0² m² · 6 · 6m · (N − 3m)).

@@ -35,6 +35,19 @@ pub struct Estimate {
 /// blocked sweep for all factors; everything else runs factor by factor in
 /// parallel.
 pub fn compute_many(stat: Stat, series: &PhaseSeries, ms: &[usize]) -> Vec<Option<Estimate>> {
+    compute_many_with_progress(stat, series, ms, &|_| {})
+}
+
+/// [`compute_many`], reporting its work as it goes: the calls to
+/// `progress` add up to [`crate::work::operations`] summed over `ms` (the
+/// O(N·m) statistics report every block of windows; the others each
+/// factor, or the whole sweep, as it ends).
+pub fn compute_many_with_progress(
+    stat: Stat,
+    series: &PhaseSeries,
+    ms: &[usize],
+    progress: &(dyn Fn(u64) + Sync),
+) -> Vec<Option<Estimate>> {
     use rayon::prelude::*;
     let order = match stat {
         Stat::Oadev => Some((differences::Order::Second, 2.0)),
@@ -43,8 +56,13 @@ pub fn compute_many(stat: Stat, series: &PhaseSeries, ms: &[usize]) -> Vec<Optio
     };
     match order {
         Some((order, norm)) if !series.has_gaps() => {
-            differences::sum_squared_overlapped_many(series.points(), ms, order)
-                .into_iter()
+            let sums = differences::sum_squared_overlapped_many(series.points(), ms, order);
+            progress(
+                ms.iter()
+                    .map(|&m| crate::work::operations(stat, series.len(), m))
+                    .sum(),
+            );
+            sums.into_iter()
                 .zip(ms)
                 .map(|((sum, n), &m)| {
                     (n > 0).then(|| {
@@ -57,23 +75,41 @@ pub fn compute_many(stat: Stat, series: &PhaseSeries, ms: &[usize]) -> Vec<Optio
                 })
                 .collect()
         }
-        _ => ms.par_iter().map(|&m| compute(stat, series, m)).collect(),
+        _ => ms
+            .par_iter()
+            .map(|&m| compute_with_progress(stat, series, m, progress))
+            .collect(),
     }
 }
 
 /// Computes `stat` at averaging factor m.
 pub fn compute(stat: Stat, series: &PhaseSeries, m: usize) -> Option<Estimate> {
+    compute_with_progress(stat, series, m, &|_| {})
+}
+
+/// [`compute`], reporting its work as [`compute_many_with_progress`] does.
+pub fn compute_with_progress(
+    stat: Stat,
+    series: &PhaseSeries,
+    m: usize,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Option<Estimate> {
+    let (points, tau0) = (series.points(), series.tau0());
+    let linear = |e: Option<Estimate>| {
+        progress(crate::work::operations(stat, series.len(), m));
+        e
+    };
     match stat {
-        Stat::Adev => adev(series, m),
-        Stat::Oadev => oadev(series, m),
-        Stat::Mdev => mdev(series, m),
-        Stat::Tdev => tdev(series, m),
-        Stat::Hdev => hdev(series, m),
-        Stat::Ohdev => ohdev(series, m),
-        Stat::Totdev => totdev(series, m),
-        Stat::Mtotdev => mtotdev::mtotdev(series.points(), m, series.tau0()),
-        Stat::Ttotdev => mtotdev::ttotdev(series.points(), m, series.tau0()),
-        Stat::Htotdev => htotdev::htotdev(series.points(), m, series.tau0()),
-        Stat::Theo1 => theo1::theo1(series.points(), m, series.tau0()),
+        Stat::Adev => linear(adev(series, m)),
+        Stat::Oadev => linear(oadev(series, m)),
+        Stat::Mdev => linear(mdev(series, m)),
+        Stat::Tdev => linear(tdev(series, m)),
+        Stat::Hdev => linear(hdev(series, m)),
+        Stat::Ohdev => linear(ohdev(series, m)),
+        Stat::Totdev => linear(totdev(series, m)),
+        Stat::Mtotdev => mtotdev::mtotdev_with_progress(points, m, tau0, progress),
+        Stat::Ttotdev => mtotdev::ttotdev_with_progress(points, m, tau0, progress),
+        Stat::Htotdev => htotdev::htotdev_with_progress(points, m, tau0, progress),
+        Stat::Theo1 => theo1::theo1_with_progress(points, m, tau0, progress),
     }
 }

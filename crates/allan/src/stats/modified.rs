@@ -12,41 +12,26 @@ use crate::phase::PhaseSeries;
 /// Steps between exact recomputations of the running window sum.
 const RESYNC: usize = 1024;
 
+/// Resync intervals whose running sums run side by side.
+const LANES: usize = 4;
+
 /// Modified Allan deviation at averaging factor m.
 pub fn mdev(series: &PhaseSeries, m: usize) -> Option<Estimate> {
     let x = series.points();
     if m == 0 || x.len() < 3 * m {
         return None;
     }
-    let terms = x.len() - 3 * m + 1;
-    // A second difference with a missing phase point counts as zero in the
-    // running sum; every window that holds it is skipped below anyway.
-    let d = |i: usize| {
-        let v = x[i + 2 * m] - 2.0 * x[i + m] + x[i];
-        if v.is_nan() { 0.0 } else { v }
+    let (sum, n) = match series.gap_index() {
+        None => window_squares(x, m, |_| true, |v| v),
+        // A second difference with a missing phase point counts as zero in
+        // the running sum; every window that holds it is skipped anyway.
+        Some(g) => window_squares(
+            x,
+            m,
+            |j| !g.span_has_gap(j, j + 3 * m - 1),
+            |v: f64| if v.is_nan() { 0.0 } else { v },
+        ),
     };
-    let window = |j: usize| (j..j + m).map(d).sum::<f64>();
-    let resync = RESYNC.max(m);
-    let gaps = series.gap_index();
-
-    let mut sum = 0.0;
-    let mut n = 0usize;
-    let mut s = 0.0;
-    for j in 0..terms {
-        if j % resync == 0 {
-            s = window(j);
-        } else {
-            s += d(j + m - 1) - d(j - 1);
-        }
-        let usable = match gaps {
-            None => true,
-            Some(g) => !g.span_has_gap(j, j + 3 * m - 1),
-        };
-        if usable {
-            sum += s * s;
-            n += 1;
-        }
-    }
     (n > 0).then(|| {
         let tau = m as f64 * series.tau0();
         let mf = m as f64;
@@ -57,6 +42,82 @@ pub fn mdev(series: &PhaseSeries, m: usize) -> Option<Estimate> {
     })
 }
 
+/// Σ over the usable windows j of (Σ_{i=j}^{j+m−1} second difference)², and
+/// their count. The window sum runs, recomputed exactly every
+/// max(RESYNC, m) windows; the windows are taken a resync interval at a
+/// time, so no step pays for a division to find the interval's start (the
+/// sums and their order are those of one loop with `j % interval == 0`).
+/// `clean` maps a NaN difference to what the running sum takes; on data
+/// without gaps it is the identity and `usable` always true, so that loop
+/// carries no test at all.
+#[inline(always)]
+fn window_squares(
+    x: &[f64],
+    m: usize,
+    usable: impl Fn(usize) -> bool,
+    clean: impl Fn(f64) -> f64,
+) -> (f64, usize) {
+    let terms = x.len() - 3 * m + 1;
+    let d = |i: usize| clean(x[i + 2 * m] - 2.0 * x[i + m] + x[i]);
+    let resync = RESYNC.max(m);
+    let mut sum = 0.0;
+    let mut n = 0usize;
+    let mut start = 0;
+    // The interval's second differences, each formed once (the running
+    // sum takes every one twice, m windows apart) in a loop that
+    // vectorises; the running sum then only reads them.
+    let mut diffs: Vec<f64> = Vec::with_capacity(LANES * resync + m);
+    // Whole groups of LANES intervals run side by side: each interval's
+    // running sum is a chain of dependent additions, and interleaving
+    // independent chains lets the core overlap them. The sums within each
+    // interval are those of the one-interval loop below; only the order in
+    // which the intervals' squares are added together differs.
+    while start + LANES * resync <= terms {
+        diffs.clear();
+        diffs.extend((start..start + LANES * resync + m - 1).map(d));
+        let mut s = [0.0; LANES];
+        let mut sums = [0.0; LANES];
+        for (l, s) in s.iter_mut().enumerate() {
+            *s = diffs[l * resync..l * resync + m].iter().sum::<f64>();
+            if usable(start + l * resync) {
+                sums[l] += *s * *s;
+                n += 1;
+            }
+        }
+        for k in 1..resync {
+            for l in 0..LANES {
+                let at = l * resync + k;
+                s[l] += diffs[at + m - 1] - diffs[at - 1];
+                if usable(start + at) {
+                    sums[l] += s[l] * s[l];
+                    n += 1;
+                }
+            }
+        }
+        sum += (sums[0] + sums[1]) + (sums[2] + sums[3]);
+        start += LANES * resync;
+    }
+    while start < terms {
+        let end = (start + resync).min(terms);
+        diffs.clear();
+        diffs.extend((start..end + m - 1).map(d));
+        let mut s = diffs[..m].iter().sum::<f64>();
+        if usable(start) {
+            sum += s * s;
+            n += 1;
+        }
+        for (k, (&enter, &leave)) in diffs[m..].iter().zip(&diffs[..end - start - 1]).enumerate() {
+            s += enter - leave;
+            if usable(start + 1 + k) {
+                sum += s * s;
+                n += 1;
+            }
+        }
+        start = end;
+    }
+    (sum, n)
+}
+
 /// Time deviation, τ·MDEV/√3 (SP 1065 eq. 16), in seconds of phase (or the
 /// integrated unit of the rate data: rad for a gyro, m/s for an accelerometer).
 pub fn tdev(series: &PhaseSeries, m: usize) -> Option<Estimate> {
@@ -64,4 +125,107 @@ pub fn tdev(series: &PhaseSeries, m: usize) -> Option<Estimate> {
         dev: e.dev * m as f64 * series.tau0() / 3f64.sqrt(),
         n: e.n,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::DataType;
+    use proptest::prelude::*;
+
+    /// SP 1065 eq. 15 as written: every window's m second differences
+    /// summed afresh, windows holding a gap skipped. O(N·m).
+    fn mdev_direct(x: &[f64], m: usize, tau0: f64) -> Option<(f64, usize)> {
+        let mut sum = 0.0;
+        let mut n = 0;
+        for j in 0..=x.len().checked_sub(3 * m)? {
+            if x[j..j + 3 * m].iter().any(|v| v.is_nan()) {
+                continue;
+            }
+            let s: f64 = (j..j + m).map(|i| x[i + 2 * m] - 2.0 * x[i + m] + x[i]).sum();
+            sum += s * s;
+            n += 1;
+        }
+        let tau = m as f64 * tau0;
+        (n > 0).then(|| ((sum / (2.0 * (m * m) as f64 * tau * tau * n as f64)).sqrt(), n))
+    }
+
+    #[test]
+    fn interleaved_intervals_equal_the_direct_definition_on_long_series() {
+        // Long enough for several groups of interleaved resync intervals
+        // and a remainder, with and without gaps.
+        let mut acc = 0.0;
+        let mut x: Vec<f64> = (0..23_457)
+            .map(|i| {
+                acc += ((i * 7919) % 1009) as f64 / 1009.0 - 0.5;
+                acc
+            })
+            .collect();
+        for gapped in [false, true] {
+            if gapped {
+                for i in [5_000, 5_001, 12_345, 20_000] {
+                    x[i] = f64::NAN;
+                }
+            }
+            let series = PhaseSeries::new(&x, DataType::Phase, 1.0).unwrap();
+            // m = 3000 with gaps: every window holds one, and both say so.
+            for m in [1, 2, 7, 64, 1000, 2048, 3000] {
+                let (got, want) = (mdev(&series, m), mdev_direct(series.points(), m, 1.0));
+                if gapped && m == 3000 {
+                    assert_eq!((got, want), (None, None));
+                    continue;
+                }
+                let (got, (dev, n)) = (got.unwrap(), want.unwrap());
+                assert_eq!(got.n, n, "m={m} gapped={gapped}");
+                assert!(
+                    ((got.dev - dev) / dev).abs() < 1e-12,
+                    "m={m} gapped={gapped}: {} vs {dev}",
+                    got.dev
+                );
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        #[test]
+        fn running_sum_equals_the_direct_definition(
+            len in 3usize..3000,
+            m_seed in 0usize..1000,
+            seed in 0u64..1000,
+            gaps in proptest::collection::vec(0.0f64..1.0, 0..6),
+        ) {
+            let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+            let mut acc = 0.0;
+            let mut x: Vec<f64> = (0..len)
+                .map(|_| {
+                    state ^= state << 13;
+                    state ^= state >> 7;
+                    state ^= state << 17;
+                    acc += (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+                    acc
+                })
+                .collect();
+            // Gaps inside the series (a NaN at an edge is trimmed).
+            for g in gaps {
+                let i = 1 + (g * (len.saturating_sub(2)) as f64) as usize;
+                if i + 1 < len {
+                    x[i] = f64::NAN;
+                }
+            }
+            let m = 1 + m_seed % (len / 3).max(1);
+            let series = PhaseSeries::new(&x, DataType::Phase, 2.0).unwrap();
+            let got = mdev(&series, m);
+            let want = mdev_direct(series.points(), m, series.tau0());
+            match (got, want) {
+                (Some(g), Some((dev, n))) => {
+                    prop_assert_eq!(g.n, n);
+                    prop_assert!(((g.dev - dev) / dev).abs() < 1e-12, "m={} {} vs {}", m, g.dev, dev);
+                }
+                (None, None) => {}
+                other => prop_assert!(false, "m={}: {:?}", m, other),
+            }
+        }
+    }
 }

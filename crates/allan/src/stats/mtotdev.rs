@@ -47,6 +47,22 @@
 //! per-window values), no copy of the series. Over a tau grid reaching
 //! N/3 that is still O(N²).
 //!
+//! # What prefix sums can and cannot carry
+//!
+//! Written out, a window's sum Σ_i (third difference of the folded partial
+//! sums)² splits into three kinds of term:
+//!
+//! - the trend's own square, s²·Σ_j g_j²: the half-average slope s is a
+//!   difference of two window sums, O(1) from prefix sums of x, and Σ g_j²
+//!   depends on m alone;
+//! - the cross terms s·Σ_j g_j·D_j, with D_j a fixed ±1 combination of
+//!   partial sums at positions k + j, k + m − j, k + 2m − j …: a linear form
+//!   in the window with weights polynomial in the position, so O(1) per
+//!   window from prefix sums of x, i·x, i²·x and i³·x;
+//! - the squares Σ_j D_j², which mix x(k + j) with x(k + m − j) (and the
+//!   other folds) inside one square. These are what no running sum carries,
+//!   as the next section shows; they alone make the cost O(m) per window.
+//!
 //! # Why not below O(N·m) per τ
 //!
 //! Only one of the 6m positions of the 9m-point extension lies wholly
@@ -282,6 +298,13 @@ impl Sum {
 ///
 /// Cost O((N − 3m + 1)·m) time and O(m) scratch (see the module notes).
 pub fn mtotdev(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
+    mtotdev_with_progress(phase, m, tau0, &|_| {})
+}
+
+/// [`mtotdev`], reporting its work as it goes: `progress` receives the
+/// windows × m done since its last call, in blocks of 256 windows, so the
+/// calls add up to [`crate::work::operations`] for the statistic.
+pub fn mtotdev_with_progress(phase: &[f64], m: usize, tau0: f64, progress: &dyn Fn(u64)) -> Option<Estimate> {
     let n = phase.len();
     let len = m.checked_mul(3)?;
     if m == 0 || len > n || !valid_tau0(tau0) || !phase.iter().all(|v| v.is_finite()) {
@@ -303,6 +326,7 @@ pub fn mtotdev(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
             q.push(acc);
         }
         sum.add(folds.block(&q, m, count));
+        progress((count * m) as u64);
     }
     // Σ_n Σ_i (m-sum difference)² / (m² · 6m · 2 (mτ0)² · (N − 3m + 1)).
     let mf = m as f64;
@@ -316,7 +340,12 @@ pub fn mtotdev(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
 /// the bias correction (divide by √[`TTOTVAR_BIAS`] for SP 1065's published
 /// values). In the unit of the phase. `n` and `None` as [`mtotdev`].
 pub fn ttotdev(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
-    let e = mtotdev(phase, m, tau0)?;
+    ttotdev_with_progress(phase, m, tau0, &|_| {})
+}
+
+/// [`ttotdev`], reporting its work as [`mtotdev_with_progress`] does.
+pub fn ttotdev_with_progress(phase: &[f64], m: usize, tau0: f64, progress: &dyn Fn(u64)) -> Option<Estimate> {
+    let e = mtotdev_with_progress(phase, m, tau0, progress)?;
     let tau = m as f64 * tau0;
     Some(Estimate {
         dev: tau * e.dev / 3f64.sqrt(),

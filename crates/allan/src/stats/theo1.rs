@@ -73,6 +73,13 @@ pub fn theo1_tau(m: usize, tau0: f64) -> f64 {
 ///
 /// Cost O((N − m)·m/2) time, no scratch.
 pub fn theo1(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
+    theo1_with_progress(phase, m, tau0, &|_| {})
+}
+
+/// [`theo1`], reporting its work as it goes: `progress` receives the terms
+/// of the double sum done since its last call, one block of spans at a
+/// time, so the calls add up to [`crate::work::operations`].
+pub fn theo1_with_progress(phase: &[f64], m: usize, tau0: f64, progress: &dyn Fn(u64)) -> Option<Estimate> {
     let n = phase.len();
     if m == 0 || !m.is_multiple_of(2) || m >= n || !valid_tau0(tau0) || !phase.iter().all(|v| v.is_finite()) {
         return None;
@@ -92,6 +99,7 @@ pub fn theo1(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
             let inner_hi = &phase[start + h + delta..start + h + delta + len];
             sum.add(bend_squares(first, inner_lo, last, inner_hi) / (h - delta) as f64);
         }
+        progress((len * h) as u64);
     }
     let tau = m as f64 * tau0;
     let var = sum.value() / (0.75 * outer as f64 * tau * tau);

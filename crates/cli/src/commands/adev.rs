@@ -1,8 +1,9 @@
 //! `imutherm adev`: Allan-family deviations of the columns of plain files.
 
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 
 use anyhow::{Context, Result};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -27,6 +28,23 @@ pub fn run(a: &AdevArgs) -> Result<()> {
     }
     // The samples are handed over and turned into phase in place.
     let data: Vec<Vec<f64>> = channels.iter_mut().map(|c| std::mem::take(&mut c.data)).collect();
+    let operations: u64 = channels
+        .iter()
+        .zip(&data)
+        .map(|(ch, d)| {
+            let opts = Options {
+                rate_hz: ch.rate_hz,
+                ..opts.clone()
+            };
+            allan::work::workload(d.len(), &opts).operations
+        })
+        .sum();
+    let seconds = estimated_seconds(opts.stat, operations);
+    if let Some(note) = estimate_note(opts.stat, operations, seconds) {
+        eprintln!("{note}");
+    }
+    let bar = progress_bar(operations, seconds);
+    let report = |ops: u64| bar.inc(ops);
     let curves: Vec<Result<Curve>> = channels
         .par_iter()
         .zip(data)
@@ -36,7 +54,7 @@ pub fn run(a: &AdevArgs) -> Result<()> {
                 ..opts.clone()
             };
             let samples = data.len();
-            allan::analyze_vec(data, &opts).with_context(|| {
+            allan::analyze_vec_with_progress(data, &opts, &report).with_context(|| {
                 format!(
                     "{}: column {} ({}): {} samples, data ends at line {}",
                     ch.file.display(),
@@ -48,6 +66,7 @@ pub fn run(a: &AdevArgs) -> Result<()> {
             })
         })
         .collect();
+    bar.finish_and_clear();
     let curves = curves.into_iter().collect::<Result<Vec<_>>>()?;
 
     for (ch, curve) in channels.iter().zip(&curves) {
@@ -69,6 +88,51 @@ pub fn run(a: &AdevArgs) -> Result<()> {
     }
     out.flush()?;
     Ok(())
+}
+
+/// Estimates above this many seconds are announced before the work starts.
+const ANNOUNCE_SECONDS: f64 = 3.0;
+
+/// Estimates above this many seconds get a progress bar (on a terminal).
+const BAR_SECONDS: f64 = 1.0;
+
+/// The wall time `operations` of `stat` should take on all cores, from one
+/// operation's time measured here and now.
+fn estimated_seconds(stat: Stat, operations: u64) -> f64 {
+    let cores = rayon::current_num_threads().max(1) as f64;
+    operations as f64 * allan::work::seconds_per_operation(stat) / cores
+}
+
+/// What to say before a long computation (the total deviations and Thêo1
+/// are O(N·m) per τ, so O(N²) over a grid): `None` for a short one.
+fn estimate_note(stat: Stat, operations: u64, seconds: f64) -> Option<String> {
+    (seconds > ANNOUNCE_SECONDS).then(|| {
+        let time = match seconds {
+            s if s < 120.0 => format!("{s:.0} s"),
+            s if s < 7200.0 => format!("{:.0} min", s / 60.0),
+            s => format!("{:.1} h", s / 3600.0),
+        };
+        format!(
+            "note: {stat} will take about {time} on {} cores ({operations:.3e} operations); \
+             its cost grows with N·m per τ",
+            rayon::current_num_threads().max(1),
+            operations = operations as f64
+        )
+    })
+}
+
+/// A bar on stderr for long runs when stderr is a terminal; hidden
+/// otherwise, so logs and pipes get no control characters (and stdout,
+/// where `--json` goes, never sees it).
+fn progress_bar(operations: u64, seconds: f64) -> ProgressBar {
+    if !(seconds > BAR_SECONDS && std::io::stderr().is_terminal()) {
+        return ProgressBar::hidden();
+    }
+    ProgressBar::with_draw_target(Some(operations), ProgressDrawTarget::stderr()).with_style(
+        ProgressStyle::with_template("{spinner} computing [{bar:40}] {percent:>3} %, {eta} left")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    )
 }
 
 fn options(a: &AdevArgs) -> Result<Options> {
@@ -234,4 +298,36 @@ fn write_tables(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_runs_are_announced_in_a_readable_unit() {
+        assert_eq!(estimate_note(Stat::Mtotdev, 1_000, 0.5), None);
+        let note = estimate_note(Stat::Mtotdev, 2_500_000_000_000, 232.0).unwrap();
+        assert!(
+            note.contains("about 4 min") && note.contains("2.500e12 operations"),
+            "{note}"
+        );
+        assert!(
+            estimate_note(Stat::Htotdev, 1, 53.0 * 3600.0)
+                .unwrap()
+                .contains("about 53.0 h")
+        );
+        assert!(
+            estimate_note(Stat::Theo1, 1, 10.0)
+                .unwrap()
+                .contains("about 10 s")
+        );
+    }
+
+    #[test]
+    fn the_estimate_scales_with_the_operations() {
+        let one = estimated_seconds(Stat::Mtotdev, 1_000_000_000);
+        assert!(one > 0.0 && one.is_finite(), "{one}");
+        assert_eq!(estimated_seconds(Stat::Mtotdev, 0), 0.0);
+    }
 }

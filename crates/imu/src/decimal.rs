@@ -1,0 +1,295 @@
+//! Reading numbers from text: plain decimals (`-0.0123456`, what loggers
+//! write) in one pass over their digits, everything else (exponents, more
+//! than 19 digits, `nan`, `inf`) by `fast_float2`.
+//!
+//! The plain path is, for up to 15 or 16 digits, Clinger's fast path (W. D. Clinger, "How to read
+//! floating point numbers accurately", PLDI 1990): when the digits form an
+//! integer w ≤ 2^53 and the decimal point stands k ≤ 22 places from the
+//! end, w and 10^k are both exact doubles and the one IEEE division w / 10^k
+//! is correctly rounded, so the result is the one `fast_float2` (and
+//! `str::parse`) gives, bit for bit. Longer mantissas (up to 19 digits) are
+//! divided exactly in integers instead (see `long_quotient`).
+
+/// 10^k, exact in a double for k ≤ 22.
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18,
+    1e19, 1e20, 1e21, 1e22,
+];
+
+/// The number at the start of `s` and the bytes it takes, as
+/// `fast_float2::parse_partial` reads it; `None` when `s` does not start
+/// with one.
+#[inline(always)]
+pub(crate) fn parse_prefix(s: &[u8]) -> Option<(f64, usize)> {
+    match parse_plain(s) {
+        Some(r) => Some(r),
+        None => parse_general(s),
+    }
+}
+
+/// Out of line, so that the plain path stays small enough to inline into
+/// the row loop.
+#[cold]
+#[inline(never)]
+fn parse_general(s: &[u8]) -> Option<(f64, usize)> {
+    match fast_float2::parse_partial::<f64, _>(s) {
+        Ok((v, used)) if used > 0 => Some((v, used)),
+        _ => None,
+    }
+}
+
+/// All of `field` as a number (`nan` is one: a gap).
+pub(crate) fn parse_field(field: &[u8]) -> Option<f64> {
+    match parse_prefix(field) {
+        Some((v, used)) if used == field.len() => Some(v),
+        _ => None,
+    }
+}
+
+/// 10^k as an integer, k ≤ 8.
+const POW10_INT: [u64; 9] = [
+    1,
+    10,
+    100,
+    1_000,
+    10_000,
+    100_000,
+    1_000_000,
+    10_000_000,
+    100_000_000,
+];
+
+/// The run of ASCII digits at the start of an 8-byte word (byte 0 first),
+/// at most 8: (its value, its length). Branch-free SWAR: a byte is a digit
+/// when neither `b − '0'` nor `b + 0x46` sets its top bit; a borrow from a
+/// byte below `'0'` only reaches bytes after it, so the first non-digit is
+/// found exactly. The digits are moved to the word's top (zeros in front)
+/// and folded pairwise: 2, 4, then 8 digits at a time.
+#[inline(always)]
+fn digit_run(word: u64) -> (u64, usize) {
+    let low = word.wrapping_sub(0x3030_3030_3030_3030);
+    let not_digit = (low | word.wrapping_add(0x4646_4646_4646_4646)) & 0x8080_8080_8080_8080;
+    let len = (not_digit.trailing_zeros() / 8) as usize;
+    if len == 0 {
+        return (0, 0);
+    }
+    let v = low << (8 * (8 - len));
+    let v = (v.wrapping_mul(10)).wrapping_add(v >> 8) & 0x00ff_00ff_00ff_00ff;
+    let v = (v.wrapping_mul(100)).wrapping_add(v >> 16) & 0x0000_ffff_0000_ffff;
+    ((v.wrapping_mul(10000)).wrapping_add(v >> 32) & 0xffff_ffff, len)
+}
+
+/// Digits from `s[i..]` folded into `w`: (w, index after the digits,
+/// number of digits). Arithmetic wraps; callers refuse more than 19 digits.
+#[inline(always)]
+fn digits(s: &[u8], mut i: usize, mut w: u64) -> (u64, usize, usize) {
+    let start = i;
+    while let Some(chunk) = s.get(i..i + 8) {
+        let (value, len) = digit_run(u64::from_le_bytes(chunk.try_into().unwrap_or_default()));
+        w = w.wrapping_mul(POW10_INT[len]).wrapping_add(value);
+        i += len;
+        if len < 8 {
+            return (w, i, i - start);
+        }
+    }
+    // The last few bytes of the input, one at a time.
+    while let Some(&b) = s.get(i) {
+        let d = b.wrapping_sub(b'0');
+        if d > 9 {
+            break;
+        }
+        w = w.wrapping_mul(10).wrapping_add(u64::from(d));
+        i += 1;
+    }
+    (w, i, i - start)
+}
+
+/// `[+-]digits[.digits]` (either side of the point may be empty, not
+/// both) that Clinger's fast path reads exactly; `None` for anything else.
+#[inline(always)]
+pub(crate) fn parse_plain(s: &[u8]) -> Option<(f64, usize)> {
+    let (negative, i) = match s.first() {
+        Some(b'-') => (true, 1),
+        Some(b'+') => (false, 1),
+        _ => (false, 0),
+    };
+    let (w, mut i, int_digits) = digits(s, i, 0);
+    let mut frac_digits = 0;
+    let mut w = w;
+    if s.get(i) == Some(&b'.') {
+        let (w2, j, n) = digits(s, i + 1, w);
+        w = w2;
+        i = j;
+        frac_digits = n;
+    }
+    let total = int_digits + frac_digits;
+    // An exponent, or too many digits for a u64: the general reader decides.
+    if total == 0 || total > 19 || matches!(s.get(i), Some(b'e' | b'E')) {
+        return None;
+    }
+    let v = if w <= 1 << 53 {
+        w as f64 / POW10[frac_digits]
+    } else {
+        long_quotient(w, frac_digits)
+    };
+    Some((if negative { -v } else { v }, i))
+}
+
+/// w / 10^k correctly rounded, for 2^53 < w < 2^64 and k ≤ 19 (a full
+/// precision double printed shortest, as loggers write them): one integer
+/// division. The numerator is w·2^s with s chosen so that the quotient q
+/// has exactly 64 bits; the remainder, as a sticky bit in q's last place
+/// (11 places below the rounding position, so it only breaks a tie that
+/// is not one), makes the correctly rounded u64 → f64 conversion round the
+/// exact quotient. Scaling by 2^−s is exact: the result is ≥ 2^53 / 10^19,
+/// far from the subnormals.
+#[inline]
+fn long_quotient(w: u64, k: usize) -> f64 {
+    if k == 0 {
+        // An integer: the conversion itself rounds correctly.
+        return w as f64;
+    }
+    let d = POW10_U64[k];
+    let bits = |x: u64| 64 - x.leading_zeros() as i32;
+    let mut shift = 64 + bits(d) - bits(w);
+    if ((u128::from(w) << shift) >> 64) >= u128::from(d) {
+        shift -= 1;
+    }
+    let n = u128::from(w) << shift;
+    let q = n / u128::from(d);
+    let sticky = u128::from(n != q * u128::from(d));
+    // q < 2^64 by the choice of shift.
+    let q = (q | sticky) as u64;
+    q as f64 * f64::from_bits(((1023 - shift) as u64) << 52)
+}
+
+/// 10^k as an integer, k ≤ 19.
+const POW10_U64: [u64; 20] = {
+    let mut t = [1u64; 20];
+    let mut k = 1;
+    while k < 20 {
+        t[k] = t[k - 1] * 10;
+        k += 1;
+    }
+    t
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn reference(s: &[u8]) -> Option<(f64, usize)> {
+        match fast_float2::parse_partial::<f64, _>(s) {
+            Ok((v, used)) if used > 0 => Some((v, used)),
+            _ => None,
+        }
+    }
+
+    fn same(s: &[u8]) {
+        let got = parse_prefix(s);
+        let want = reference(s);
+        match (got, want) {
+            (Some((a, n)), Some((b, m))) => {
+                assert_eq!(n, m, "{:?}", String::from_utf8_lossy(s));
+                assert!(
+                    a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
+                    "{:?}: {a} vs {b}",
+                    String::from_utf8_lossy(s)
+                );
+            }
+            (None, None) => {}
+            _ => panic!("{:?}: {got:?} vs {want:?}", String::from_utf8_lossy(s)),
+        }
+    }
+
+    #[test]
+    fn edge_cases_read_as_fast_float2_reads_them() {
+        for s in [
+            "0",
+            "-0",
+            "-0.0",
+            "+1",
+            "1.",
+            ".5",
+            "-.5",
+            ".",
+            "-",
+            "+",
+            "",
+            "1e5",
+            "1.5E-3",
+            "1e",
+            "nan",
+            "-nan",
+            "inf",
+            "-infinity",
+            "0.0123456\n",
+            "12345678901234567890",
+            "9007199254740993",
+            "9007199254740992",
+            "0.00000000000000000000001",
+            "1234567890123456789",
+            "1.2.3",
+            "1,5",
+            "  1",
+            "1 ",
+            "0x10",
+            "00000000001.5",
+            "0.30000000000000004",
+            "-0.036011234567890123",
+        ] {
+            same(s.as_bytes());
+        }
+    }
+
+    #[test]
+    fn long_mantissas_divide_exactly() {
+        // 16 to 19 digits with the point anywhere: the integer division
+        // path, against fast_float2's Eisel–Lemire and big-number paths.
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        for _ in 0..200_000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let digits = format!("{}", state % 10_000_000_000_000_000_000);
+            let point = (state >> 40) as usize % (digits.len() + 1);
+            let s = format!("{}.{}", &digits[..point], &digits[point..]);
+            same(s.as_bytes());
+        }
+        // Ties and near-ties: 2^53 + 1 and neighbours over powers of ten.
+        for w in [
+            9_007_199_254_740_993_u64,
+            9_007_199_254_740_995,
+            18_014_398_509_481_990,
+            u64::MAX / 10,
+        ] {
+            let digits = w.to_string();
+            for k in 0..=digits.len() {
+                let (int, frac) = digits.split_at(digits.len() - k);
+                same(format!("{int}.{frac}").as_bytes());
+            }
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn plain_decimals_read_bit_for_bit(int in 0u64..10_000_000_000, frac in 0u64..u64::MAX, width in 0usize..21, neg: bool, tail in "[0-9eE.,\n x+-]{0,3}") {
+            let frac = format!("{frac:020}");
+            let s = format!("{}{int}.{}{tail}", if neg { "-" } else { "" }, &frac[..width]);
+            same(s.as_bytes());
+        }
+
+        #[test]
+        fn any_bytes_read_as_fast_float2_reads_them(s in "[0-9.eE+-]{0,24}[a-z ,]?") {
+            same(s.as_bytes());
+        }
+
+        #[test]
+        fn every_double_read_back_exactly(x: f64) {
+            let mut buf = ryu::Buffer::new();
+            same(buf.format(x).as_bytes());
+            same(format!("{x:.7}").as_bytes());
+        }
+    }
+}
