@@ -74,8 +74,9 @@ pub fn run(a: &ReportArgs) -> Result<()> {
             f.display().to_string(),
             rec.meta.device.clone().unwrap_or_else(|| "—".into()),
             rec.len().to_string(),
-            rec.rate_hz
-                .map_or("unknown".into(), |r| format!("{} Hz", imu::log_file::round_rate(r))),
+            rec.rate_hz.map_or("unknown".into(), |r| {
+                format!("{} Hz", imu::log_file::round_rate(r))
+            }),
             rec.duration_s().map_or("—".into(), |d| format!("{d:.1} s")),
             temp.map_or("—".into(), |(lo, m, hi)| format!("{lo:.1} / {m:.1} / {hi:.1}")),
             (rep.problems.len() + rep.unlisted).to_string(),
