@@ -18,7 +18,7 @@
 use nalgebra::{DMatrix, DVector};
 use statrs::distribution::{ContinuousCDF, Normal};
 
-use super::{Term, TermEstimate, TermValue};
+use super::{PerTerm, Term, TermEstimate, TermValue};
 use crate::Point;
 
 /// Reweighting passes: the weights settle within a few.
@@ -27,8 +27,8 @@ const PASSES: usize = 4;
 /// The fit's result.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FitResult {
-    /// Every term, in [`Term::ALL`] order.
-    pub terms: Vec<(Term, TermEstimate)>,
+    /// Every term's estimate.
+    pub terms: PerTerm<TermEstimate>,
     /// χ² of the fit over its degrees of freedom (≈ 1 for a good fit).
     pub chi2_reduced: Option<f64>,
     /// Points fitted.
@@ -44,7 +44,19 @@ pub struct FitResult {
 impl FitResult {
     /// The estimate of one term.
     pub fn get(&self, term: Term) -> &TermEstimate {
-        &self.terms[Term::ALL.iter().position(|t| *t == term).unwrap_or(0)].1
+        self.terms.get(term)
+    }
+}
+
+/// The term's column in the design matrix, whose columns follow
+/// [`Term::ALL`].
+fn column(term: Term) -> usize {
+    match term {
+        Term::Quantization => 0,
+        Term::WhiteNoise => 1,
+        Term::BiasInstability => 2,
+        Term::RateRandomWalk => 3,
+        Term::RateRamp => 4,
     }
 }
 
@@ -198,10 +210,7 @@ fn fit_once(points: &[Point], confidence: f64) -> (FitResult, Vec<(f64, f64)>) {
         .collect();
     let n = pts.len();
     let not_enough = |why: &str| FitResult {
-        terms: Term::ALL
-            .iter()
-            .map(|&t| (t, TermEstimate::NotIdentifiable(why.to_string())))
-            .collect(),
+        terms: PerTerm::from_fn(|_| TermEstimate::NotIdentifiable(why.to_string())),
         chi2_reduced: None,
         points: n,
         confidence,
@@ -271,55 +280,39 @@ fn fit_once(points: &[Point], confidence: f64) -> (FitResult, Vec<(f64, f64)>) {
             .map(|(&k, c)| c * Term::ALL[k].variance_basis(tau))
             .sum()
     };
-    let terms = Term::ALL
-        .iter()
-        .enumerate()
-        .map(|(k, &term)| {
-            let pos = sol.active.iter().position(|&j| j == k);
-            // Neighbouring taus of an OADEV curve share most of their data,
-            // so the independent-points covariance is too optimistic. No
-            // coefficient is known better than the single most telling
-            // point determines it alone (the full-correlation bound), and
-            // that bound is kept when larger.
-            let single = (0..n)
-                .map(|i| model[i] * (2.0 / edf[i]).sqrt() / a[(i, k)])
-                .filter(|v| v.is_finite())
-                .fold(f64::INFINITY, f64::min);
-            let sd = match (pos, &cov) {
-                (Some(j), Some(cv)) => (cv[(j, j)] * inflate).max(0.0).sqrt().max(single),
-                // An inactive term: the spread a coefficient of it alone
-                // would have had — its detectable size.
-                _ => {
-                    let fw: f64 = (0..n).map(|i| w[i] * a[(i, k)].powi(2)).sum();
-                    (inflate / fw).sqrt()
-                }
-            };
-            let c = pos.map_or(0.0, |j| sol.coef[j]);
-            let (lo, hi) = (c - z * sd, c + z * sd);
-            if pos.is_some() && lo > 0.0 {
-                return (
-                    term,
-                    TermEstimate::Value(TermValue {
-                        value: c.sqrt(),
-                        lo: lo.sqrt(),
-                        hi: hi.sqrt(),
-                        tau: None,
-                    }),
-                );
+    let terms = PerTerm::from_fn(|term| {
+        let k = column(term);
+        let pos = sol.active.iter().position(|&j| j == k);
+        // Neighbouring taus of an OADEV curve share most of their data,
+        // so the independent-points covariance is too optimistic. No
+        // coefficient is known better than the single most telling
+        // point determines it alone (the full-correlation bound), and
+        // that bound is kept when larger.
+        let single = (0..n)
+            .map(|i| model[i] * (2.0 / edf[i]).sqrt() / a[(i, k)])
+            .filter(|v| v.is_finite())
+            .fold(f64::INFINITY, f64::min);
+        let sd = match (pos, &cov) {
+            (Some(j), Some(cv)) => (cv[(j, j)] * inflate).max(0.0).sqrt().max(single),
+            // An inactive term: the spread a coefficient of it alone
+            // would have had — its detectable size.
+            _ => {
+                let fw: f64 = (0..n).map(|i| w[i] * a[(i, k)].powi(2)).sum();
+                (inflate / fw).sqrt()
             }
-            (
-                term,
-                TermEstimate::NotIdentifiable(why_not(
-                    term,
-                    k,
-                    hi.max(0.0),
-                    tau_min,
-                    tau_max,
-                    &model_without,
-                )),
-            )
-        })
-        .collect();
+        };
+        let c = pos.map_or(0.0, |j| sol.coef[j]);
+        let (lo, hi) = (c - z * sd, c + z * sd);
+        if pos.is_some() && lo > 0.0 {
+            return TermEstimate::Value(TermValue {
+                value: c.sqrt(),
+                lo: lo.sqrt(),
+                hi: hi.sqrt(),
+                tau: None,
+            });
+        }
+        TermEstimate::NotIdentifiable(why_not(term, k, hi.max(0.0), tau_min, tau_max, &model_without))
+    });
     let misses = (0..n)
         .map(|i| (pts[i].tau, (y[i] - model[i]) / (model[i] * (2.0 / edf[i]).sqrt())))
         .collect();

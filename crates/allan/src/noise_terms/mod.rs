@@ -172,6 +172,51 @@ pub struct NoiseTerms {
     pub disagreements: Vec<(Term, String)>,
 }
 
+/// One value per noise term, each in a field of its own: a term's
+/// estimate is had by naming the term, never by its position in a list.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PerTerm<T> {
+    /// Q.
+    pub quantization: T,
+    /// N.
+    pub white_noise: T,
+    /// B.
+    pub bias_instability: T,
+    /// K.
+    pub rate_random_walk: T,
+    /// R.
+    pub rate_ramp: T,
+}
+
+impl<T> PerTerm<T> {
+    /// `f` of each term, called in [`Term::ALL`] order.
+    pub fn from_fn(mut f: impl FnMut(Term) -> T) -> Self {
+        PerTerm {
+            quantization: f(Term::Quantization),
+            white_noise: f(Term::WhiteNoise),
+            bias_instability: f(Term::BiasInstability),
+            rate_random_walk: f(Term::RateRandomWalk),
+            rate_ramp: f(Term::RateRamp),
+        }
+    }
+
+    /// The value of `term`.
+    pub fn get(&self, term: Term) -> &T {
+        match term {
+            Term::Quantization => &self.quantization,
+            Term::WhiteNoise => &self.white_noise,
+            Term::BiasInstability => &self.bias_instability,
+            Term::RateRandomWalk => &self.rate_random_walk,
+            Term::RateRamp => &self.rate_ramp,
+        }
+    }
+
+    /// Each term with its value, in [`Term::ALL`] order.
+    pub fn iter(&self) -> impl Iterator<Item = (Term, &T)> {
+        Term::ALL.into_iter().map(move |t| (t, self.get(t)))
+    }
+}
+
 /// What to show for a term: the estimate that holds, and how it was had.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Chosen {
@@ -317,5 +362,19 @@ pub fn identify(dense: &[Point], sparse: &[Point], confidence: f64) -> NoiseTerm
         slope,
         fit,
         disagreements,
+    }
+}
+
+#[cfg(test)]
+mod per_term_tests {
+    use super::*;
+
+    #[test]
+    fn each_term_has_its_own_field() {
+        let per = PerTerm::from_fn(|t| t);
+        for t in Term::ALL {
+            assert_eq!(*per.get(t), t);
+        }
+        assert_eq!(per.iter().map(|(t, _)| t).collect::<Vec<_>>(), Term::ALL);
     }
 }

@@ -13,7 +13,9 @@
 //! still falling at its longest supported τ has no minimum within the
 //! record, and B is then only bounded from above.
 
-use super::{Term, TermEstimate, TermValue, ThesisReading, flicker_floor, thesis_reading, upper_bound};
+use super::{
+    PerTerm, Term, TermEstimate, TermValue, ThesisReading, flicker_floor, thesis_reading, upper_bound,
+};
 use crate::Point;
 
 /// Largest distance between the curve's slope and a term's slope for the
@@ -46,8 +48,8 @@ pub enum Minimum {
 /// The slope method's result.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SlopeResult {
-    /// Every term, in [`Term::ALL`] order.
-    pub terms: Vec<(Term, TermEstimate)>,
+    /// Every term's estimate.
+    pub terms: PerTerm<TermEstimate>,
     /// The ADEV minimum σ_min with its interval and τ, among the points
     /// with at least [`MIN_EDF`] degrees of freedom: what the thesis tables
     /// quote as bias instability "at τ s".
@@ -66,8 +68,7 @@ pub struct SlopeResult {
 impl SlopeResult {
     /// The estimate of one term.
     pub fn get(&self, term: Term) -> &TermEstimate {
-        // Every term is present by construction.
-        &self.terms[Term::ALL.iter().position(|t| *t == term).unwrap_or(0)].1
+        self.terms.get(term)
     }
 
     /// The upper bound of a term the method could not read.
@@ -181,10 +182,7 @@ pub fn slope_method(points: &[Point]) -> SlopeResult {
     if usable.len() < 3 {
         let why = "not identifiable: fewer than 3 points on the ADEV curve".to_string();
         return SlopeResult {
-            terms: Term::ALL
-                .iter()
-                .map(|&t| (t, TermEstimate::NotIdentifiable(why.clone())))
-                .collect(),
+            terms: PerTerm::from_fn(|_| TermEstimate::NotIdentifiable(why.clone())),
             sigma_min: None,
             minimum: Minimum::Unknown,
             stretches: Vec::new(),
@@ -229,96 +227,92 @@ pub fn slope_method(points: &[Point]) -> SlopeResult {
     let supported_tau = usable[last_supported].tau;
 
     let mut found_stretches = Vec::new();
-    let terms: Vec<(Term, TermEstimate)> = Term::ALL
-        .iter()
-        .map(|&term| {
-            let est = if term == Term::BiasInstability {
-                match minimum {
-                    Minimum::Found => {
-                        let f = flicker_floor();
-                        TermEstimate::Value(TermValue {
-                            value: pm.dev / f,
-                            lo: pm.dev_lo / f,
-                            hi: pm.dev_hi / f,
-                            tau: Some(pm.tau),
-                        })
-                    }
-                    Minimum::StillFalling => TermEstimate::NotIdentifiable(format!(
-                        "not identifiable: no minimum within the record (the ADEV still falls at τ = \
+    let terms = PerTerm::from_fn(|term| {
+        if term == Term::BiasInstability {
+            match minimum {
+                Minimum::Found => {
+                    let f = flicker_floor();
+                    TermEstimate::Value(TermValue {
+                        value: pm.dev / f,
+                        lo: pm.dev_lo / f,
+                        hi: pm.dev_hi / f,
+                        tau: Some(pm.tau),
+                    })
+                }
+                Minimum::StillFalling => TermEstimate::NotIdentifiable(format!(
+                    "not identifiable: no minimum within the record (the ADEV still falls at τ = \
                          {supported_tau:.4} s, the longest with ≥ {MIN_EDF} degrees of freedom); needs a \
                          longer recording"
-                    )),
-                    Minimum::RisesFromStart => TermEstimate::NotIdentifiable(format!(
-                        "not identifiable: the ADEV rises from the shortest τ ({tau_min:.4} s) on"
-                    )),
-                    Minimum::Unknown => TermEstimate::NotIdentifiable(
-                        "not identifiable: too few points on the ADEV curve".to_string(),
-                    ),
-                }
-            } else {
-                let target = term.slope();
-                // Falling terms show before the minimum, rising ones after
-                // it; with no minimum found, the falling terms may be read
-                // anywhere and the rising ones nowhere.
-                let range = match (term.slope() < 0.0, minimum) {
-                    (true, Minimum::Found) => 0..=min_index,
-                    (true, _) => 0..=last,
-                    (false, Minimum::Found | Minimum::RisesFromStart) => min_index..=last,
-                    (false, _) => last + 1..=last,
-                };
-                let mut runs = if range.is_empty() {
-                    Vec::new()
-                } else {
-                    stretches(&usable, &slopes, target, range)
-                };
-                let mut rejected = None;
-                if term == Term::Quantization {
-                    // Quantization dominates from the shortest τ: its −1
-                    // line starts in the first octave, with the curve
-                    // falling from τ0 on. A −1 stretch after a rise is the
-                    // flank of a bump; one that does not reach τ0's octave
-                    // is a tone's or a filter's ripple.
-                    let before = runs.len();
-                    runs.retain(|&(a, _)| {
-                        usable[a].tau <= 2.0 * tau_min * (1.0 + 1e-9) && (0..a).all(|j| slopes[j] < -0.5)
-                    });
-                    if runs.len() < before {
-                        rejected = Some(
-                            "not identifiable: the only slope −1 on the curve does not start at the shortest τ \
-                             (a bump, a tone or a filter, not quantization)",
-                        );
-                    }
-                }
-                match (!runs.is_empty()).then(|| read_stretches(&usable, &runs, term)) {
-                    Some((value, run)) => {
-                        found_stretches.push((term, usable[run.0].tau, usable[run.1].tau));
-                        TermEstimate::Value(value)
-                    }
-                    None => {
-                        let need = if term.is_short_tau() {
-                            format!("needs τ below {tau_min:.4} s (a higher sample rate)")
-                        } else {
-                            format!("needs τ beyond {tau_max:.4} s (a longer recording)")
-                        };
-                        TermEstimate::NotIdentifiable(rejected.map_or_else(
-                            || {
-                                format!(
-                                    "not identifiable: no stretch of the curve (a factor {STRETCH_FACTOR} in τ) \
-                                     holds slope {target:+}; {need}"
-                                )
-                            },
-                            str::to_string,
-                        ))
-                    }
-                }
+                )),
+                Minimum::RisesFromStart => TermEstimate::NotIdentifiable(format!(
+                    "not identifiable: the ADEV rises from the shortest τ ({tau_min:.4} s) on"
+                )),
+                Minimum::Unknown => TermEstimate::NotIdentifiable(
+                    "not identifiable: too few points on the ADEV curve".to_string(),
+                ),
+            }
+        } else {
+            let target = term.slope();
+            // Falling terms show before the minimum, rising ones after
+            // it; with no minimum found, the falling terms may be read
+            // anywhere and the rising ones nowhere.
+            let range = match (term.slope() < 0.0, minimum) {
+                (true, Minimum::Found) => 0..=min_index,
+                (true, _) => 0..=last,
+                (false, Minimum::Found | Minimum::RisesFromStart) => min_index..=last,
+                (false, _) => last + 1..=last,
             };
-            (term, est)
-        })
-        .collect();
+            let mut runs = if range.is_empty() {
+                Vec::new()
+            } else {
+                stretches(&usable, &slopes, target, range)
+            };
+            let mut rejected = None;
+            if term == Term::Quantization {
+                // Quantization dominates from the shortest τ: its −1
+                // line starts in the first octave, with the curve
+                // falling from τ0 on. A −1 stretch after a rise is the
+                // flank of a bump; one that does not reach τ0's octave
+                // is a tone's or a filter's ripple.
+                let before = runs.len();
+                runs.retain(|&(a, _)| {
+                    usable[a].tau <= 2.0 * tau_min * (1.0 + 1e-9) && (0..a).all(|j| slopes[j] < -0.5)
+                });
+                if runs.len() < before {
+                    rejected = Some(
+                        "not identifiable: the only slope −1 on the curve does not start at the shortest τ \
+                             (a bump, a tone or a filter, not quantization)",
+                    );
+                }
+            }
+            match (!runs.is_empty()).then(|| read_stretches(&usable, &runs, term)) {
+                Some((value, run)) => {
+                    found_stretches.push((term, usable[run.0].tau, usable[run.1].tau));
+                    TermEstimate::Value(value)
+                }
+                None => {
+                    let need = if term.is_short_tau() {
+                        format!("needs τ below {tau_min:.4} s (a higher sample rate)")
+                    } else {
+                        format!("needs τ beyond {tau_max:.4} s (a longer recording)")
+                    };
+                    TermEstimate::NotIdentifiable(rejected.map_or_else(
+                        || {
+                            format!(
+                                "not identifiable: no stretch of the curve (a factor {STRETCH_FACTOR} in τ) \
+                                     holds slope {target:+}; {need}"
+                            )
+                        },
+                        str::to_string,
+                    ))
+                }
+            }
+        }
+    });
     let bounds = terms
         .iter()
         .filter(|(_, e)| e.value().is_none())
-        .filter_map(|(t, _)| upper_bound(*t, &usable, MIN_EDF).map(|b| (*t, b)))
+        .filter_map(|(t, _)| upper_bound(t, &usable, MIN_EDF).map(|b| (t, b)))
         .collect();
     SlopeResult {
         terms,
