@@ -6,7 +6,9 @@ use std::path::Path;
 use anyhow::{Result, bail};
 use serde::Serialize;
 
-use imu::{Quantity, ReadReport, Recording, RecordingOptions, read_recording_with_report};
+use imu::{Quantity, ReadReport, Recording, RecordingOptions};
+
+use crate::commands::robot_logs::{self, Stream};
 
 use crate::args::{InfoArgs, ReadArgs};
 use imu::units::parse_unit;
@@ -39,6 +41,7 @@ pub fn recording_options(a: &ReadArgs) -> Result<RecordingOptions> {
             _ => bail!("--unit {p}: expected COLUMN=UNIT, e.g. gyro_x=deg/s"),
         })
         .collect::<Result<Vec<_>>>()?;
+    crate::commands::robot_logs::remember(a);
     Ok(RecordingOptions {
         rate_hz: a.rate,
         units,
@@ -83,6 +86,14 @@ struct FileInfo {
     /// numbers.
     #[serde(skip_serializing_if = "Option::is_none")]
     logger: Option<serde_json::Map<String, serde_json::Value>>,
+    /// Every stream of a robot log (bag, ULog, DataFlash): topic or
+    /// instance, messages, mean rate, temperature source.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    streams: Vec<Stream>,
+    /// What a robot log's stream is read with: its metadata (stream, time
+    /// source and why, device id).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    log_metadata: Vec<(String, String)>,
 }
 
 #[derive(Serialize)]
@@ -143,8 +154,16 @@ fn describe(data: &[f64]) -> (Option<(f64, f64, f64, f64)>, usize) {
     (Some((mean, std, lo, hi)), nan)
 }
 
-fn file_info(path: &Path, rec: &Recording, report: &ReadReport, opts: &RecordingOptions) -> FileInfo {
+fn file_info(
+    path: &Path,
+    rec: &Recording,
+    report: &ReadReport,
+    opts: &RecordingOptions,
+    streams: Vec<Stream>,
+) -> FileInfo {
+    let robot = robot_logs::format_of(path);
     let format = match rec.meta.get("format") {
+        _ if robot.is_some() => robot.unwrap_or_default(),
         Some(f) if f.starts_with("imutherm-log") => "imutherm log",
         _ if rec
             .channels
@@ -157,6 +176,8 @@ fn file_info(path: &Path, rec: &Recording, report: &ReadReport, opts: &Recording
     };
     let rate_source = if opts.rate_hz.is_some() {
         "given"
+    } else if report.timing.is_some() && robot.is_some() {
+        "derived from the message times"
     } else if report.timing.is_some() {
         "derived from the time column"
     } else if rec.rate_hz.is_some() {
@@ -243,15 +264,22 @@ fn file_info(path: &Path, rec: &Recording, report: &ReadReport, opts: &Recording
                 })
                 .collect()
         }),
+        log_metadata: if robot.is_some() {
+            rec.meta.entries.clone()
+        } else {
+            Vec::new()
+        },
+        streams,
     }
 }
 
 pub fn run(a: &InfoArgs) -> Result<()> {
     let opts = recording_options(&a.read)?;
+    robot_logs::list_every_stream();
     let mut infos = Vec::new();
     for path in &a.files {
-        let (rec, report) = read_recording_with_report(path, &opts)?;
-        infos.push(file_info(path, &rec, &report, &opts));
+        let (rec, report, streams) = robot_logs::read_recording_with_report(path, &opts)?;
+        infos.push(file_info(path, &rec, &report, &opts, streams));
     }
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
@@ -287,7 +315,44 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
     if let Some(t) = &f.start_time {
         writeln!(out, "  start        {t}")?;
     }
-    writeln!(out, "  samples      {} ({} lines)", f.samples, f.lines)?;
+    if f.streams.is_empty() {
+        writeln!(out, "  samples      {} ({} lines)", f.samples, f.lines)?;
+    } else {
+        let finite = f.channels.first().map_or(0, |c| f.samples - c.nan_samples);
+        writeln!(
+            out,
+            "  samples      {} slots on the clock, {finite} of them messages ({} messages read)",
+            f.samples, f.lines
+        )?;
+        writeln!(
+            out,
+            "  {:<4} {:<28} {:<12} {:>9} {:>12}  temperature",
+            "", "stream", "kind", "messages", "mean rate"
+        )?;
+        for s in &f.streams {
+            writeln!(
+                out,
+                "  {:<4} {:<28} {:<12} {:>9} {:>12}  {}",
+                if s.selected { "read" } else { "" },
+                s.name,
+                s.kind,
+                s.messages,
+                s.rate_hz
+                    .map_or("—".to_string(), |r| format!("{} Hz", imu::log::round_rate(r))),
+                s.temperature_source
+            )?;
+        }
+        for (k, v) in &f.log_metadata {
+            if let Some(label) = match k.as_str() {
+                "device_id" => Some("device id"),
+                "instance" => Some("instance"),
+                "frame_id" => Some("frame id"),
+                _ => None,
+            } {
+                writeln!(out, "  {label:<12} {v}")?;
+            }
+        }
+    }
     match f.rate_hz {
         Some(r) => {
             let jitter = f

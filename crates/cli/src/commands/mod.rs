@@ -8,6 +8,7 @@ pub mod ins;
 pub mod noise;
 pub mod record;
 pub mod report;
+pub mod robot_logs;
 pub mod run_identity;
 pub mod selection;
 pub mod simulate;

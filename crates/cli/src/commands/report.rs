@@ -4,7 +4,6 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 
-use imu::read_recording_with_report;
 use report::html::Page;
 use report::plots::adev_heatmap;
 use thermal::surface::{Slicing, surface};
@@ -53,7 +52,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     let mut problems = Vec::new();
     let mut changing = Vec::new();
     for f in &a.files {
-        let (rec, rep) = read_recording_with_report(f, &read)?;
+        let (rec, rep, _) = crate::commands::robot_logs::read_recording_with_report(f, &read)?;
         let temp = rec.temperature().map(|t| {
             let v: Vec<f64> = t.data.iter().copied().filter(|x| x.is_finite()).collect();
             let (lo, hi) = v.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {

@@ -45,6 +45,9 @@ pub struct Selection {
 /// Reads the wanted channels of one file, converted to SI, with gaps where
 /// the file has them.
 pub fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) -> Result<Selection> {
+    if let Some(sel) = crate::commands::robot_logs::read_channels(file, wanted, read)? {
+        return Ok(sel);
+    }
     // The header alone decides what is selected, before the body is read.
     let reader = TableReader::open(file)?;
     let headers = reader.names().to_vec();
