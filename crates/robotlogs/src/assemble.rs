@@ -343,13 +343,22 @@ pub fn assemble(
 
     let mut grid = grid.into_iter();
     let mut channels = Vec::with_capacity(7);
-    for (q, src) in [
-        (Quantity::Acceleration, "linear_acceleration"),
-        (Quantity::AngularRate, "angular_velocity"),
-    ] {
-        for axis in Axis::ALL {
+    let ros = [
+        [
+            "linear_acceleration.x",
+            "linear_acceleration.y",
+            "linear_acceleration.z",
+        ],
+        ["angular_velocity.x", "angular_velocity.y", "angular_velocity.z"],
+    ];
+    let fields = s.axis_fields.unwrap_or(ros);
+    for (q, names) in [Quantity::Acceleration, Quantity::AngularRate]
+        .into_iter()
+        .zip(fields)
+    {
+        for (axis, field) in Axis::ALL.into_iter().zip(names) {
             let mut ch = Channel::inertial(q, axis, grid.next().unwrap_or_default());
-            ch.source_name = format!("{}.{src}.{}", s.name, axis.letter());
+            ch.source_name = format!("{}.{field}", s.name);
             channels.push(ch);
         }
     }
