@@ -77,13 +77,13 @@ fn describe(s: &ImuStream) -> String {
 }
 
 /// Picks the IMU stream.
-fn choose<'a>(path: &Path, d: &'a Decoded, c: &Choice) -> Result<&'a ImuStream, LogError> {
+fn choose(path: &Path, d: &Decoded, c: &Choice) -> Result<usize, LogError> {
     let list = || d.imu.iter().map(describe).collect::<Vec<_>>().join("; ");
     if d.imu.iter().all(ImuStream::is_empty) {
         return Err(LogError::new(path, LogErrorKind::NoImuStream));
     }
     if let Some(t) = &c.topic {
-        return d.imu.iter().find(|s| &s.name == t).ok_or_else(|| {
+        return d.imu.iter().position(|s| &s.name == t).ok_or_else(|| {
             LogError::new(
                 path,
                 LogErrorKind::NoSuchStream {
@@ -94,10 +94,12 @@ fn choose<'a>(path: &Path, d: &'a Decoded, c: &Choice) -> Result<&'a ImuStream, 
         });
     }
     if let Some(i) = c.instance {
-        let found: Vec<&ImuStream> = d.imu.iter().filter(|s| s.instance == Some(i)).collect();
+        let found: Vec<usize> = (0..d.imu.len())
+            .filter(|&k| d.imu[k].instance == Some(i))
+            .collect();
         return found
             .iter()
-            .find(|s| is_default_candidate(s, &d.imu))
+            .find(|&&k| is_default_candidate(&d.imu[k], &d.imu))
             .or(found.first())
             .copied()
             .ok_or_else(|| {
@@ -110,17 +112,15 @@ fn choose<'a>(path: &Path, d: &'a Decoded, c: &Choice) -> Result<&'a ImuStream, 
                 )
             });
     }
-    let candidates: Vec<&ImuStream> = d
-        .imu
-        .iter()
-        .filter(|s| !s.is_empty() && is_default_candidate(s, &d.imu))
+    let candidates: Vec<usize> = (0..d.imu.len())
+        .filter(|&k| !d.imu[k].is_empty() && is_default_candidate(&d.imu[k], &d.imu))
         .collect();
     match candidates.as_slice() {
-        [one] => Ok(one),
-        [first, ..] if c.first_if_several => Ok(first),
+        [one] => Ok(*one),
+        [first, ..] if c.first_if_several => Ok(*first),
         [] => Err(LogError::new(path, LogErrorKind::NoImuStream)),
         many => {
-            let flag = if many.iter().all(|s| s.instance.is_some()) {
+            let flag = if many.iter().all(|&k| d.imu[k].instance.is_some()) {
                 "--instance"
             } else {
                 "--topic"
@@ -130,7 +130,11 @@ fn choose<'a>(path: &Path, d: &'a Decoded, c: &Choice) -> Result<&'a ImuStream, 
                 LogErrorKind::SeveralStreams {
                     count: many.len(),
                     flag,
-                    list: many.iter().map(|s| describe(s)).collect::<Vec<_>>().join("; "),
+                    list: many
+                        .iter()
+                        .map(|&k| describe(&d.imu[k]))
+                        .collect::<Vec<_>>()
+                        .join("; "),
                 },
             ))
         }
@@ -172,17 +176,17 @@ fn choose_temp<'a>(path: &Path, d: &'a Decoded, c: &Choice) -> Result<Option<&'a
 }
 
 /// The times to use, which they are, and why.
-fn time_source(s: &ImuStream) -> (Vec<f64>, bool, String) {
+fn time_source(s: &mut ImuStream) -> (Vec<f64>, bool, String) {
     let zero = s.stamp.iter().filter(|v| !v.is_finite()).count();
     if zero == 0 && !s.stamp.is_empty() {
         (
-            s.stamp.clone(),
+            std::mem::take(&mut s.stamp),
             true,
             format!("{}: every message has one", s.stamp_name),
         )
     } else if zero == s.stamp.len() {
         (
-            s.log_time.clone(),
+            std::mem::take(&mut s.log_time),
             false,
             format!(
                 "{}: the {} is zero in every message",
@@ -191,7 +195,7 @@ fn time_source(s: &ImuStream) -> (Vec<f64>, bool, String) {
         )
     } else {
         (
-            s.log_time.clone(),
+            std::mem::take(&mut s.log_time),
             false,
             format!(
                 "{}: the {} is zero in {zero} of {} messages, and one clock must time them all",
@@ -232,32 +236,76 @@ fn interpolate(t: &[f64], v: &[f64], at: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// Every stream of the log, none selected yet; an IMU stream's
+/// temperature source as it would be read.
+fn summaries(d: &Decoded) -> Vec<StreamInfo> {
+    let mut streams: Vec<StreamInfo> = d
+        .imu
+        .iter()
+        .map(|x| StreamInfo {
+            name: x.name.clone(),
+            kind: "imu",
+            instance: x.instance,
+            msg_type: x.msg_type.clone(),
+            messages: x.len(),
+            rate_hz: x.mean_rate_hz(),
+            temperature: if x.temp.is_some() {
+                TempSource::Inline(format!("{}.temperature", x.name)).to_string()
+            } else {
+                match d.temps.as_slice() {
+                    [one] => TempSource::Topic(one.name.clone()).to_string(),
+                    _ => TempSource::None.to_string(),
+                }
+            },
+            selected: false,
+        })
+        .collect();
+    streams.extend(d.temps.iter().map(|x| StreamInfo {
+        name: x.name.clone(),
+        kind: "temperature",
+        instance: None,
+        msg_type: x.msg_type.clone(),
+        messages: x.value.len(),
+        rate_hz: mean_rate(&x.log_time),
+        temperature: String::new(),
+        selected: false,
+    }));
+    streams
+}
+
 /// Builds the recording of the chosen stream, with the report of its clock.
 pub fn assemble(
     path: &Path,
     format: &str,
-    d: Decoded,
+    mut d: Decoded,
     c: &Choice,
 ) -> Result<(Recording, ReadReport, Vec<StreamInfo>), LogError> {
-    let s = choose(path, &d, c)?;
-    let temp_topic = if s.temp.is_some() && c.temp_topic.is_none() {
+    let idx = choose(path, &d, c)?;
+    let temp_topic: Option<usize> = if d.imu[idx].temp.is_some() && c.temp_topic.is_none() {
         None
     } else {
-        choose_temp(path, &d, c)?
+        choose_temp(path, &d, c)?.and_then(|t| d.temps.iter().position(|x| x.name == t.name))
     };
-    let (t_abs, stamped, why) = time_source(s);
-    let t0 = t_abs.iter().copied().find(|v| v.is_finite()).unwrap_or(0.0);
-    let t: Vec<f64> = t_abs.iter().map(|v| v - t0).collect();
+    let mut streams = summaries(&d);
+    // The chosen stream's samples move into the recording: memory stays
+    // near the decoded data, with no second copy of the stream.
+    let mut s = std::mem::take(&mut d.imu[idx]);
+    let messages = s.len();
+    let (mut t, stamped, why) = time_source(&mut s);
+    s.stamp = Vec::new();
+    s.log_time = Vec::new();
+    let t0 = t.iter().copied().find(|v| v.is_finite()).unwrap_or(0.0);
+    t.iter_mut().for_each(|v| *v -= t0);
 
     let mut report = ReadReport {
-        rows: s.len(),
-        lines: s.len() as u64,
+        rows: messages,
+        lines: messages as u64,
         ..ReadReport::default()
     };
     report.notes.extend(d.notes.iter().cloned());
     report.notes.push(format!("time source: {why}"));
 
-    let (temp, temp_source) = match (temp_topic, &s.temp) {
+    let (temp, temp_source) = match (temp_topic.map(|k| &d.temps[k]), s.temp.take()) {
         (Some(tt), _) => {
             let use_stamp = stamped && tt.stamp.iter().all(|v| v.is_finite());
             let tt_t = if use_stamp { &tt.stamp } else { &tt.log_time };
@@ -268,21 +316,27 @@ pub fn assemble(
             )
         }
         (None, Some(inline)) => (
-            Some(inline.clone()),
+            Some(inline),
             TempSource::Inline(format!("{}.temperature", s.name)),
         ),
         (None, None) => (None, TempSource::None),
     };
 
+    let has_temp = temp.is_some();
     let mut columns: Vec<Vec<f64>> = Vec::with_capacity(7);
-    columns.extend(s.accel.iter().cloned());
-    columns.extend(s.gyro.iter().cloned());
-    if let Some(tc) = &temp {
-        columns.push(tc.clone());
-    }
+    columns.extend(std::mem::take(&mut s.accel));
+    columns.extend(std::mem::take(&mut s.gyro));
+    columns.extend(temp);
     let timing = analyze_timestamps(&t);
     let rate = c.rate_hz.or(timing.as_ref().map(|tm| tm.rate_hz));
+    // On its own clock without a gap or a repeated stamp, every message
+    // already sits in its slot: the grid is the columns as they are.
+    let in_place = c.rate_hz.is_none()
+        && timing
+            .as_ref()
+            .is_some_and(|tm| tm.gaps.is_empty() && tm.duplicates.is_empty());
     let (grid, dropped) = match rate {
+        Some(_) if in_place => (columns, Vec::new()),
         Some(r) => regularize(&t, r, &columns)
             .ok_or_else(|| LogError::new(path, LogErrorKind::BadClock(s.name.clone())))?,
         None => (columns, Vec::new()),
@@ -362,7 +416,7 @@ pub fn assemble(
             channels.push(ch);
         }
     }
-    if temp.is_some() {
+    if has_temp {
         let mut ch = Channel::temperature(grid.next().unwrap_or_default());
         ch.source_name = temp_source.to_string();
         channels.push(ch);
@@ -399,40 +453,15 @@ pub fn assemble(
         None => format!("{format} {}", s.name),
     });
 
-    let chosen = s.name.clone();
-    let mut streams: Vec<StreamInfo> = d
-        .imu
-        .iter()
-        .map(|x| StreamInfo {
-            name: x.name.clone(),
-            kind: "imu",
-            instance: x.instance,
-            msg_type: x.msg_type.clone(),
-            messages: x.len(),
-            rate_hz: x.mean_rate_hz(),
-            temperature: if x.name == chosen {
-                temp_source.to_string()
-            } else if x.temp.is_some() {
-                TempSource::Inline(format!("{}.temperature", x.name)).to_string()
-            } else {
-                match d.temps.as_slice() {
-                    [one] => TempSource::Topic(one.name.clone()).to_string(),
-                    _ => TempSource::None.to_string(),
-                }
-            },
-            selected: x.name == chosen,
-        })
-        .collect();
-    streams.extend(d.temps.iter().map(|x| StreamInfo {
-        name: x.name.clone(),
-        kind: "temperature",
-        instance: None,
-        msg_type: x.msg_type.clone(),
-        messages: x.value.len(),
-        rate_hz: mean_rate(&x.log_time),
-        temperature: String::new(),
-        selected: matches!(&temp_source, TempSource::Topic(n) if *n == x.name),
-    }));
+    for x in &mut streams {
+        if x.kind == "imu" && x.name == s.name {
+            x.temperature = temp_source.to_string();
+            x.selected = true;
+        }
+        if x.kind == "temperature" {
+            x.selected = matches!(&temp_source, TempSource::Topic(n) if *n == x.name);
+        }
+    }
     Ok((rec, report, streams))
 }
 
