@@ -62,6 +62,7 @@ fn every_ros_storage_gives_the_samples_the_writer_was_given() {
         "ros/imu_zstd.mcap",
         "ros/imu_lz4_big_endian.mcap",
         "ros/bag_mcap",
+        "ros/bag_split",
         "ros/bag_sqlite3",
         "ros/bag_sqlite3/bag_sqlite3.db3",
         "ros/imu_none.bag",
