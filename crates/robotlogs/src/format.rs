@@ -60,9 +60,15 @@ pub fn of_bytes(head: &[u8]) -> Option<Format> {
 }
 
 /// The format of `path`; `None` for anything else (a text log, a pipe).
+/// Only regular files are opened to look: a pipe, a FIFO or a device can
+/// be read once, and that once belongs to the text reader.
 pub fn detect(path: &Path) -> Option<Format> {
-    if path.is_dir() {
+    let meta = std::fs::metadata(path).ok()?;
+    if meta.is_dir() {
         return path.join("metadata.yaml").is_file().then_some(Format::Ros2BagDir);
+    }
+    if !meta.is_file() {
+        return None;
     }
     let mut head = [0u8; 16];
     let mut f = File::open(path).ok()?;
@@ -104,4 +110,35 @@ pub fn bag_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
         listed.sort();
     }
     Ok(listed)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn formats_are_told_by_their_first_bytes() {
+        assert_eq!(of_bytes(b"\x89MCAP0\r\n\x01"), Some(Format::Mcap));
+        assert_eq!(of_bytes(b"SQLite format 3\0"), Some(Format::Sqlite));
+        assert_eq!(of_bytes(b"#ROSBAG V2.0\n"), Some(Format::Ros1Bag));
+        assert_eq!(of_bytes(b"ULog\x01\x12\x35\x01"), Some(Format::ULog));
+        assert_eq!(of_bytes(&[0xA3, 0x95, 128, 128]), Some(Format::DataFlash));
+        assert_eq!(of_bytes(&[0xA3, 0x95, 4]), None);
+        assert_eq!(of_bytes(b"gyro_x,gyro_y\n"), None);
+        assert_eq!(of_bytes(b""), None);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_fifo_is_not_opened_to_look() {
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if !made.is_ok_and(|s| s.success()) {
+            eprintln!("skipped: mkfifo is not available");
+            return;
+        }
+        // Opening a FIFO without a writer would block: detect must return.
+        assert_eq!(detect(&fifo), None);
+    }
 }
