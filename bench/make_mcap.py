@@ -48,7 +48,7 @@ def main(out, size_mb):
             g = rng.standard_normal((10000, 3)) * 0.003
             a = rng.standard_normal((10000, 3)) * 0.02 + [0.0, 0.0, 9.80665]
             for i in range(10000):
-                t, data = message(k, map(float, g[i]), map(float, a[i]))
+                t, data = message(k, [float(v) for v in g[i]], [float(v) for v in a[i]])
                 w.add_message(ch, log_time=t, publish_time=t, data=data, sequence=k)
                 k += 1
         w.finish()
