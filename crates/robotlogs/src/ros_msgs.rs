@@ -82,6 +82,13 @@ impl<'a> Cursor<'a> {
         })
     }
 
+    /// Steps over `n` f64 fields (orientation, covariances) unread.
+    fn skip_f64s(&mut self, n: usize) -> Result<(), String> {
+        self.take(8)?;
+        self.take_bytes(8 * (n - 1))?;
+        Ok(())
+    }
+
     fn f64s<const N: usize>(&mut self) -> Result<[f64; N], String> {
         let mut out = [0.0; N];
         for v in &mut out {
@@ -159,10 +166,11 @@ fn ros1(buf: &[u8]) -> Cursor<'_> {
 
 fn imu(mut c: Cursor<'_>, is_ros1: bool) -> Result<ImuMsg, String> {
     let (stamp, frame_id) = c.header(is_ros1)?;
-    c.f64s::<4>()?; // orientation
-    c.f64s::<9>()?;
+    // orientation (4) and its covariance (9), unused; once aligned, f64
+    // arrays are contiguous.
+    c.skip_f64s(4 + 9)?;
     let gyro = c.f64s::<3>()?;
-    c.f64s::<9>()?;
+    c.skip_f64s(9)?;
     let accel = c.f64s::<3>()?;
     Ok(ImuMsg {
         stamp,
