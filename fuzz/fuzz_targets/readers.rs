@@ -30,6 +30,7 @@ fuzz_target!(|bytes: &[u8]| {
             time_column: Some("t".into()),
             time_unit: Some("ms".into()),
             skip_bad_lines,
+            ..RecordingOptions::default()
         };
         for opts in [
             RecordingOptions {

@@ -45,6 +45,10 @@ pub enum AnalysisError {
     /// The file could not be read.
     #[error(transparent)]
     Read(#[from] imu::ReadError),
+    /// A robot log (bag, ULog, DataFlash) could not be read; the message
+    /// names the file and where.
+    #[error("{0}")]
+    RobotLog(String),
     /// A statistic refused the data.
     #[error("{context}: {cause}")]
     Allan {

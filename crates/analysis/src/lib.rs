@@ -48,6 +48,7 @@ pub mod kalibr;
 pub mod navigation;
 pub mod noise;
 pub mod reading;
+pub mod robot_logs;
 pub mod selection;
 pub mod thesis;
 pub mod units;

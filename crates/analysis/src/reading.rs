@@ -19,6 +19,8 @@ pub struct ReadingChoices {
     pub time_unit: Option<String>,
     /// Malformed rows become gaps instead of errors.
     pub skip_bad_lines: bool,
+    /// The stream of a robot log (`--topic`, `--instance`, `--temp-topic`).
+    pub stream: imu::StreamChoice,
 }
 
 /// Checks the choices and turns them into the reader's options; every
@@ -59,6 +61,7 @@ pub fn recording_options(c: &ReadingChoices) -> Result<RecordingOptions, Analysi
         time_column: c.time_column.clone(),
         time_unit: c.time_unit.clone(),
         skip_bad_lines: c.skip_bad_lines,
+        stream: c.stream.clone(),
     })
 }
 

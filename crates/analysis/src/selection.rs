@@ -54,7 +54,13 @@ pub fn read_channels(
     wanted: &[String],
     read: &RecordingOptions,
 ) -> Result<Selection, AnalysisError> {
-    let mut notes = Vec::new();
+    if crate::robot_logs::format_of(file).is_some() {
+        return crate::robot_logs::read_channels(file, wanted, read);
+    }
+    if read.stream.is_given() {
+        // Refused by the reader that knows streams, naming the flag.
+        crate::robot_logs::read_recording_with_report(file, read)?;
+    }
     // The header alone decides what is selected, before the body is read.
     let reader = TableReader::open(file)?;
     let headers = reader.names().to_vec();
@@ -112,45 +118,7 @@ pub fn read_channels(
     }
     // The same reader goes on to the body: a pipe or `-` is read once.
     let (mut rec, report) = read_recording_from(reader, read)?;
-    for p in &report.problems {
-        match p.line {
-            Some(line) => notes.push(format!("warning: {}:{line}: {}", file.display(), p.message)),
-            None => notes.push(format!("warning: {}: {}", file.display(), p.message)),
-        }
-    }
-    if report.unlisted > 0 {
-        notes.push(format!(
-            "warning: {}: {} more problems not listed",
-            file.display(),
-            report.unlisted
-        ));
-    }
-    for n in &report.notes {
-        notes.push(format!("note: {}: {n}", file.display()));
-    }
-    // What the reader did to the samples, repeated here so that an
-    // analysis never rests on filled or dropped samples unsaid.
-    if let Some(t) = &report.timing {
-        let filled: usize = report
-            .problems
-            .iter()
-            .filter(|p| p.kind == imu::ProblemKind::TimeGap)
-            .map(|p| p.count)
-            .sum();
-        notes.push(format!(
-            "note: {}: samples placed on the time column's clock ({} Hz, jitter {:.2e} s): {} gap{} filled \
-             with {filled} empty samples, {} duplicate and {} backward stamps kept, {} repeated row{} dropped",
-            file.display(),
-            imu::log_file::round_rate(t.rate_hz),
-            t.jitter_s,
-            t.gaps.len(),
-            if t.gaps.len() == 1 { "" } else { "s" },
-            t.duplicates.len() - report.dropped_samples.min(t.duplicates.len()),
-            t.backwards.len(),
-            report.dropped_samples,
-            if report.dropped_samples == 1 { "" } else { "s" },
-        ));
-    }
+    let mut notes = reader_notes(file, &report, "the time column's clock");
     let rate_hz = match rec.rate_hz {
         Some(r) => r,
         None => {
@@ -205,4 +173,52 @@ pub fn read_channels(
         rate_hz,
         notes,
     })
+}
+
+/// What the reader found and did, one line each (`warning: …`, `note: …`):
+/// its problems, and the samples it placed on `clock` (filled gaps,
+/// duplicate, backward and dropped stamps).
+pub(crate) fn reader_notes(file: &Path, report: &imu::ReadReport, clock: &str) -> Vec<String> {
+    let mut notes = Vec::new();
+    for p in &report.problems {
+        match p.line {
+            Some(line) => notes.push(format!("warning: {}:{line}: {}", file.display(), p.message)),
+            None => notes.push(format!("warning: {}: {}", file.display(), p.message)),
+        }
+    }
+    if report.unlisted > 0 {
+        notes.push(format!(
+            "warning: {}: {} more problems not listed",
+            file.display(),
+            report.unlisted
+        ));
+    }
+    for n in &report.notes {
+        notes.push(format!("note: {}: {n}", file.display()));
+    }
+    // What the reader did to the samples, repeated here so that an
+    // analysis never rests on filled or dropped samples unsaid.
+    if let Some(t) = &report.timing {
+        let filled: usize = report
+            .problems
+            .iter()
+            .filter(|p| p.kind == imu::ProblemKind::TimeGap)
+            .map(|p| p.count)
+            .sum();
+        notes.push(format!(
+            "note: {}: samples placed on {} ({} Hz, jitter {:.2e} s): {} gap{} filled \
+             with {filled} empty samples, {} duplicate and {} backward stamps kept, {} repeated row{} dropped",
+            file.display(),
+            clock,
+            imu::log_file::round_rate(t.rate_hz),
+            t.jitter_s,
+            t.gaps.len(),
+            if t.gaps.len() == 1 { "" } else { "s" },
+            t.duplicates.len() - report.dropped_samples.min(t.duplicates.len()),
+            t.backwards.len(),
+            report.dropped_samples,
+            if report.dropped_samples == 1 { "" } else { "s" },
+        ));
+    }
+    notes
 }

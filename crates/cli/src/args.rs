@@ -672,6 +672,20 @@ pub struct ReadArgs {
     /// reported with its line.
     #[arg(long)]
     pub skip_bad_lines: bool,
+
+    /// The IMU topic of a ROS bag (or a stream of `info`'s list, such as
+    /// sensor_combined); needed when the log has several.
+    #[arg(long, value_name = "NAME")]
+    pub topic: Option<String>,
+
+    /// The IMU instance of a PX4 ULog or ArduPilot DataFlash log.
+    #[arg(long, value_name = "N")]
+    pub instance: Option<u32>,
+
+    /// The sensor_msgs/Temperature topic of a ROS bag, matched by time to
+    /// the IMU (default: the only one).
+    #[arg(long, value_name = "NAME")]
+    pub temp_topic: Option<String>,
 }
 
 #[derive(Debug, Args)]

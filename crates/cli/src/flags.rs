@@ -375,6 +375,12 @@ pub fn recording_options(a: &crate::args::ReadArgs) -> anyhow::Result<imu::Recor
             time_column: a.time_column.clone(),
             time_unit: a.time_unit.clone(),
             skip_bad_lines: a.skip_bad_lines,
+            stream: imu::StreamChoice {
+                topic: a.topic.clone(),
+                instance: a.instance,
+                temp_topic: a.temp_topic.clone(),
+                first_if_several: false,
+            },
         },
     )?)
 }

@@ -45,23 +45,27 @@ fn fit_period(t: &[f64], step: f64, keep: &dyn Fn(usize, f64) -> bool) -> Option
     let (mut sxy, mut sxx, mut used) = (0.0, 0.0, 0usize);
     let mut run_start = 0;
     let flush = |from: usize, to: usize, sxy: &mut f64, sxx: &mut f64, used: &mut usize| {
-        // Rows from..to (exclusive) form one run: centred sums.
-        let idx: Vec<usize> = (from..to).filter(|&i| keep(i, t[i])).collect();
-        if idx.len() < 2 {
+        // Rows from..to (exclusive) form one run: centred sums, in two
+        // passes over the rows kept rather than a list of them, so that a
+        // long run costs no memory.
+        let kept = || (from..to).filter(|&i| keep(i, t[i]));
+        let n = kept().count();
+        if n < 2 {
             return;
         }
-        let n = idx.len() as f64;
-        let mi = idx.iter().map(|&i| i as f64).sum::<f64>() / n;
+        let n_f = n as f64;
+        let mi = kept().map(|i| i as f64).sum::<f64>() / n_f;
         // Stamps are taken relative to the run's first one so that epoch
         // magnitudes (1.7e18 ns) do not eat the digits of the step.
-        let t0 = t[idx[0]];
-        let mt = idx.iter().map(|&i| t[i] - t0).sum::<f64>() / n;
-        for &i in &idx {
+        let Some(first) = kept().next() else { return };
+        let t0 = t[first];
+        let mt = kept().map(|i| t[i] - t0).sum::<f64>() / n_f;
+        for i in kept() {
             let di = i as f64 - mi;
             *sxy += di * (t[i] - t0 - mt);
             *sxx += di * di;
         }
-        *used += idx.len();
+        *used += n;
     };
     for i in 1..=t.len() {
         let breaks = i == t.len() || {
@@ -79,41 +83,58 @@ fn fit_period(t: &[f64], step: f64, keep: &dyn Fn(usize, f64) -> bool) -> Option
 /// Studies timestamps in seconds. `None` with fewer than two finite,
 /// increasing timestamps (no rate can be derived).
 pub fn analyze_timestamps(t: &[f64]) -> Option<Timing> {
-    let mut dts: Vec<f64> = t
-        .windows(2)
-        .map(|w| w[1] - w[0])
-        .filter(|d| d.is_finite() && *d > 0.0)
-        .collect();
-    if dts.is_empty() {
-        return None;
-    }
-    dts.sort_unstable_by(f64::total_cmp);
-    let median = dts[dts.len() / 2];
+    // Memory is a few series the length of `t`, one at a time: the
+    // recordings are long, and the samples themselves are already held.
+    let median = {
+        let mut dts: Vec<f64> = t
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .filter(|d| d.is_finite() && *d > 0.0)
+            .collect();
+        if dts.is_empty() {
+            return None;
+        }
+        let mid = dts.len() / 2;
+        *dts.select_nth_unstable_by(mid, f64::total_cmp).1
+    };
     let (first, _) = fit_period(t, median, &|_, v| v.is_finite())?;
-    // Residuals about the first fit, per run, to find the stamps that sit
-    // off the clock and the jitter of the others.
+    // Residuals about the first fit, per run (NaN for rows in no run), to
+    // find the stamps that sit off the clock and the jitter of the others.
     let residuals = run_residuals(t, median, first);
-    let mut abs: Vec<f64> = residuals.iter().filter_map(|r| r.map(f64::abs)).collect();
-    abs.sort_unstable_by(f64::total_cmp);
-    let mad = abs.get(abs.len() / 2).copied().unwrap_or(0.0) * 1.4826;
+    let mad = {
+        let mut abs: Vec<f64> = residuals
+            .iter()
+            .filter(|r| !r.is_nan())
+            .map(|r| r.abs())
+            .collect();
+        let mid = abs.len() / 2;
+        if abs.is_empty() {
+            0.0
+        } else {
+            *abs.select_nth_unstable_by(mid, f64::total_cmp).1 * 1.4826
+        }
+    };
     let limit = (OUTLIER_SIGMAS * mad).max(1e-3 * median);
     let (period, fitted) = fit_period(t, median, &|i, v| {
-        v.is_finite() && residuals[i].is_none_or(|r| r.abs() <= limit)
+        v.is_finite() && (residuals[i].is_nan() || residuals[i].abs() <= limit)
     })
     .unwrap_or((first, 0));
+    drop(residuals);
     let final_res = run_residuals(t, median, period);
-    let kept: Vec<f64> = final_res
-        .iter()
-        .flatten()
-        .copied()
-        .filter(|r| r.abs() <= limit)
-        .collect();
-    let jitter_s = if kept.len() > 1 {
-        let m = kept.iter().sum::<f64>() / kept.len() as f64;
-        (kept.iter().map(|r| (r - m).powi(2)).sum::<f64>() / (kept.len() - 1) as f64).sqrt()
+    let kept = || {
+        final_res
+            .iter()
+            .copied()
+            .filter(|r| !r.is_nan() && r.abs() <= limit)
+    };
+    let n_kept = kept().count();
+    let jitter_s = if n_kept > 1 {
+        let m = kept().sum::<f64>() / n_kept as f64;
+        (kept().map(|r| (r - m).powi(2)).sum::<f64>() / (n_kept - 1) as f64).sqrt()
     } else {
         0.0
     };
+    drop(final_res);
 
     let mut gaps = Vec::new();
     let mut duplicates = Vec::new();
@@ -162,9 +183,10 @@ fn missing_before(d: f64, period: f64) -> usize {
 }
 
 /// Each row's distance from the straight line of `period` through its run
-/// (runs as in [`fit_period`]); `None` for rows in no run.
-fn run_residuals(t: &[f64], step: f64, period: f64) -> Vec<Option<f64>> {
-    let mut out = vec![None; t.len()];
+/// (runs as in [`fit_period`]); NaN for rows in no run (the stamps of a run
+/// are finite, so no residual is NaN otherwise).
+fn run_residuals(t: &[f64], step: f64, period: f64) -> Vec<f64> {
+    let mut out = vec![f64::NAN; t.len()];
     let mut start = 0;
     for i in 1..=t.len() {
         let breaks = i == t.len() || {
@@ -180,7 +202,7 @@ fn run_residuals(t: &[f64], step: f64, period: f64) -> Vec<Option<f64>> {
                     .sum::<f64>()
                     / n;
                 for k in start..i {
-                    out[k] = Some(t[k] - t0 - (k - start) as f64 * period - offset);
+                    out[k] = t[k] - t0 - (k - start) as f64 * period - offset;
                 }
             }
             start = i;

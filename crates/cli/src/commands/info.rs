@@ -7,7 +7,8 @@ use anyhow::Result;
 use serde::Serialize;
 
 use analysis::reading::unit_text;
-use imu::{ReadReport, Recording, RecordingOptions, read_recording_with_report};
+use analysis::robot_logs::{self, Stream};
+use imu::{ReadReport, Recording, RecordingOptions};
 
 use crate::args::InfoArgs;
 use crate::flags::recording_options;
@@ -49,6 +50,14 @@ struct FileInfo {
     /// numbers.
     #[serde(skip_serializing_if = "Option::is_none")]
     logger: Option<serde_json::Map<String, serde_json::Value>>,
+    /// Every stream of a robot log (bag, ULog, DataFlash): topic or
+    /// instance, messages, mean rate, temperature source.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    streams: Vec<Stream>,
+    /// What a robot log's stream is read with: its metadata (stream, time
+    /// source and why, device id).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    log_metadata: Vec<(String, String)>,
 }
 
 #[derive(Serialize)]
@@ -109,11 +118,20 @@ fn describe(data: &[f64]) -> (Option<(f64, f64, f64, f64)>, usize) {
     (Some((mean, std, lo, hi)), nan)
 }
 
-fn file_info(path: &Path, rec: &Recording, report: &ReadReport, opts: &RecordingOptions) -> FileInfo {
+fn file_info(
+    path: &Path,
+    rec: &Recording,
+    report: &ReadReport,
+    opts: &RecordingOptions,
+    streams: Vec<Stream>,
+) -> FileInfo {
+    let robot = robot_logs::format_of(path);
     // The reader says which format it found.
-    let format = report.format.name();
+    let format = robot.unwrap_or_else(|| report.format.name());
     let rate_source = if opts.rate_hz.is_some() {
         "given"
+    } else if report.timing.is_some() && robot.is_some() {
+        "derived from the message times"
     } else if report.timing.is_some() {
         "derived from the time column"
     } else if rec.rate_hz.is_some() {
@@ -200,15 +218,24 @@ fn file_info(path: &Path, rec: &Recording, report: &ReadReport, opts: &Recording
                 })
                 .collect()
         }),
+        log_metadata: if robot.is_some() {
+            rec.meta.entries.clone()
+        } else {
+            Vec::new()
+        },
+        streams,
     }
 }
 
 pub fn run(a: &InfoArgs) -> Result<()> {
-    let opts = recording_options(&a.read)?;
+    let mut opts = recording_options(&a.read)?;
+    // info lists every stream: with several and none chosen, it summarises
+    // the first instead of refusing.
+    opts.stream.first_if_several = true;
     let mut infos = Vec::new();
     for path in &a.files {
-        let (rec, report) = read_recording_with_report(path, &opts)?;
-        infos.push(file_info(path, &rec, &report, &opts));
+        let (rec, report, streams) = robot_logs::read_recording_with_report(path, &opts)?;
+        infos.push(file_info(path, &rec, &report, &opts, streams));
     }
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
@@ -244,7 +271,46 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
     if let Some(t) = &f.start_time {
         writeln!(out, "  start        {t}")?;
     }
-    writeln!(out, "  samples      {} ({} lines)", f.samples, f.lines)?;
+    if f.streams.is_empty() {
+        writeln!(out, "  samples      {} ({} lines)", f.samples, f.lines)?;
+    } else {
+        let finite = f.channels.first().map_or(0, |c| f.samples - c.nan_samples);
+        writeln!(
+            out,
+            "  samples      {} slots on the clock, {finite} of them messages ({} messages read)",
+            f.samples, f.lines
+        )?;
+        writeln!(
+            out,
+            "  {:<4} {:<28} {:<12} {:>9} {:>12}  temperature",
+            "", "stream", "kind", "messages", "mean rate"
+        )?;
+        for s in &f.streams {
+            writeln!(
+                out,
+                "  {:<4} {:<28} {:<12} {:>9} {:>12}  {}",
+                if s.selected { "read" } else { "" },
+                s.name,
+                s.kind,
+                s.messages,
+                s.rate_hz.map_or("—".to_string(), |r| format!(
+                    "{} Hz",
+                    imu::log_file::round_rate(r)
+                )),
+                s.temperature_source
+            )?;
+        }
+        for (k, v) in &f.log_metadata {
+            if let Some(label) = match k.as_str() {
+                "device_id" => Some("device id"),
+                "instance" => Some("instance"),
+                "frame_id" => Some("frame id"),
+                _ => None,
+            } {
+                writeln!(out, "  {label:<12} {v}")?;
+            }
+        }
+    }
     match f.rate_hz {
         Some(r) => {
             let jitter = f

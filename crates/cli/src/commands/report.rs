@@ -6,7 +6,6 @@ use anyhow::{Context, Result, bail};
 
 use analysis::navigation::{Plan, navigate, six_channels};
 use analysis::noise::analyse_run;
-use imu::read_recording_with_report;
 use ins::drift::report_times;
 use ins::strapdown::NavOptions;
 use report::experiment::{
@@ -57,7 +56,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     let mut problems = Vec::new();
     let mut changing = Vec::new();
     for f in &a.files {
-        let (rec, rep) = read_recording_with_report(f, &read)?;
+        let (rec, rep, _) = analysis::robot_logs::read_recording_with_report(f, &read)?;
         let temp = rec.temperature().map(|t| {
             let v: Vec<f64> = t.data.iter().copied().filter(|x| x.is_finite()).collect();
             let (lo, hi) = v.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {

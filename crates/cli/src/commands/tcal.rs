@@ -8,7 +8,7 @@ use anyhow::{Context, Result, bail};
 use serde_json::json;
 
 use imu::output::{AtomicFile, OutputPolicy, check_output, write_file};
-use imu::{LogFormat, RecordingOptions, read_recording, write_recording};
+use imu::{LogFormat, RecordingOptions, write_recording};
 use thermal::evaluation::{BinMean, SliceMinimum, bin_means, level, spread, surface_minima};
 use thermal::firmware::{self, Calibration, Firmware, Target, sensor_axis};
 use thermal::tcal::{FitOptions, Model, Order, Run, TcalChannel, fit as fit_model};
@@ -172,7 +172,7 @@ pub fn apply(a: &TcalApplyArgs) -> Result<()> {
     check_output(&a.output, &policy)?;
     let model = Model::read(&a.model)?;
     let read = recording_options(&a.read)?;
-    let mut rec = read_recording(&a.file, &read)?;
+    let (mut rec, _, _) = analysis::robot_logs::read_recording_with_report(&a.file, &read)?;
     let rate = rec.rate_hz.unwrap_or(1.0);
     let temp = rec
         .temperature()

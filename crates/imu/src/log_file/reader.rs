@@ -37,6 +37,32 @@ pub struct RecordingOptions {
     pub time_unit: Option<String>,
     /// Skip malformed rows as gaps instead of failing.
     pub skip_bad_lines: bool,
+    /// Which stream of a robot log (ROS bag, ULog, DataFlash) to read;
+    /// a text log has one stream, and a choice given for it is refused by
+    /// the readers that know streams.
+    pub stream: StreamChoice,
+}
+
+/// The stream of a multi-stream log to read: `--topic`, `--instance`,
+/// `--temp-topic`. Empty: the only IMU stream.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct StreamChoice {
+    /// The IMU topic (ROS), or a stream name from `info`'s list.
+    pub topic: Option<String>,
+    /// The IMU instance (PX4, ArduPilot).
+    pub instance: Option<u32>,
+    /// The temperature topic (ROS).
+    pub temp_topic: Option<String>,
+    /// With several IMU streams and none chosen, read the first instead of
+    /// refusing (for a listing of every stream).
+    pub first_if_several: bool,
+}
+
+impl StreamChoice {
+    /// Whether anything was chosen.
+    pub fn is_given(&self) -> bool {
+        self.topic.is_some() || self.instance.is_some() || self.temp_topic.is_some()
+    }
 }
 
 /// Reads `# key: value` comment lines into metadata (other comments are

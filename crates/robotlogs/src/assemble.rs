@@ -1,0 +1,480 @@
+//! From decoded streams to an [`imu::Recording`]: the stream chosen, its
+//! time source decided, its samples placed on its clock by
+//! [`imu::timing`] exactly as a text log's time column is, and the
+//! temperature matched by time.
+
+use std::path::Path;
+
+use imu::timing::{analyze_timestamps, regularize};
+use imu::{Axis, Channel, Problem, ProblemKind, Quantity, ReadReport, Recording};
+
+use crate::error::{LogError, LogErrorKind};
+use crate::streams::{Decoded, ImuStream, TempSource, TempStream, mean_rate};
+
+/// Which stream to read, as the command line says.
+#[derive(Debug, Clone, Default)]
+pub struct Choice {
+    /// A ROS topic or a stream name (`sensor_combined`).
+    pub topic: Option<String>,
+    /// A PX4/ArduPilot instance.
+    pub instance: Option<u32>,
+    /// The temperature topic.
+    pub temp_topic: Option<String>,
+    /// With several IMU streams and none chosen, take the first instead of
+    /// failing (for `info`, which lists them all anyway).
+    pub first_if_several: bool,
+    /// Sample rate overriding the stamps' clock, Hz.
+    pub rate_hz: Option<f64>,
+}
+
+/// One stream found in a log, for `info`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StreamInfo {
+    /// Topic or instance name.
+    pub name: String,
+    /// `imu` or `temperature`.
+    pub kind: &'static str,
+    /// The PX4/ArduPilot instance.
+    pub instance: Option<u32>,
+    /// Message type.
+    pub msg_type: String,
+    /// Messages in the log.
+    pub messages: usize,
+    /// Mean rate over the log's time, Hz.
+    pub rate_hz: Option<f64>,
+    /// Where an IMU stream's temperature comes from.
+    pub temperature: String,
+    /// Whether this stream is the one read.
+    pub selected: bool,
+}
+
+/// Why a stream is not offered by default (a per-sensor topic logged below
+/// full rate, or `sensor_combined` beside full-rate per-sensor topics).
+pub(crate) fn is_default_candidate(s: &ImuStream, all: &[ImuStream]) -> bool {
+    let combined = all.iter().find(|x| x.name == "sensor_combined");
+    let per_sensor: Vec<&ImuStream> = all
+        .iter()
+        .filter(|x| x.name.starts_with("sensor_gyro/"))
+        .collect();
+    let full_rate = |g: &ImuStream| match (g.mean_rate_hz(), combined.and_then(ImuStream::mean_rate_hz)) {
+        (Some(a), Some(b)) => a >= 0.9 * b,
+        _ => true,
+    };
+    if s.name == "sensor_combined" {
+        return !per_sensor.iter().any(|g| full_rate(g));
+    }
+    if s.name.starts_with("sensor_gyro/") {
+        return full_rate(s);
+    }
+    true
+}
+
+fn describe(s: &ImuStream) -> String {
+    let rate = s.mean_rate_hz().map_or("rate unknown".to_string(), |r| {
+        format!("{} Hz", imu::log_file::round_rate(r))
+    });
+    format!("{} ({} messages, {rate})", s.name, s.len())
+}
+
+/// Picks the IMU stream.
+fn choose(path: &Path, d: &Decoded, c: &Choice) -> Result<usize, LogError> {
+    let list = || d.imu.iter().map(describe).collect::<Vec<_>>().join("; ");
+    if d.imu.iter().all(ImuStream::is_empty) {
+        return Err(LogError::new(path, LogErrorKind::NoImuStream));
+    }
+    if let Some(t) = &c.topic {
+        return d.imu.iter().position(|s| &s.name == t).ok_or_else(|| {
+            LogError::new(
+                path,
+                LogErrorKind::NoSuchStream {
+                    wanted: format!("--topic {t}"),
+                    list: list(),
+                },
+            )
+        });
+    }
+    if let Some(i) = c.instance {
+        let found: Vec<usize> = (0..d.imu.len())
+            .filter(|&k| d.imu[k].instance == Some(i))
+            .collect();
+        return found
+            .iter()
+            .find(|&&k| is_default_candidate(&d.imu[k], &d.imu))
+            .or(found.first())
+            .copied()
+            .ok_or_else(|| {
+                LogError::new(
+                    path,
+                    LogErrorKind::NoSuchStream {
+                        wanted: format!("--instance {i}"),
+                        list: list(),
+                    },
+                )
+            });
+    }
+    let candidates: Vec<usize> = (0..d.imu.len())
+        .filter(|&k| !d.imu[k].is_empty() && is_default_candidate(&d.imu[k], &d.imu))
+        .collect();
+    match candidates.as_slice() {
+        [one] => Ok(*one),
+        [first, ..] if c.first_if_several => Ok(*first),
+        [] => Err(LogError::new(path, LogErrorKind::NoImuStream)),
+        many => {
+            let flag = if many.iter().all(|&k| d.imu[k].instance.is_some()) {
+                "--instance"
+            } else {
+                "--topic"
+            };
+            Err(LogError::new(
+                path,
+                LogErrorKind::SeveralStreams {
+                    count: many.len(),
+                    flag,
+                    list: many
+                        .iter()
+                        .map(|&k| describe(&d.imu[k]))
+                        .collect::<Vec<_>>()
+                        .join("; "),
+                },
+            ))
+        }
+    }
+}
+
+/// Picks the temperature topic: the one asked for, or the only one.
+fn choose_temp<'a>(path: &Path, d: &'a Decoded, c: &Choice) -> Result<Option<&'a TempStream>, LogError> {
+    let list = || {
+        d.temps
+            .iter()
+            .map(|t| t.name.clone())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    match &c.temp_topic {
+        Some(t) => d.temps.iter().find(|s| &s.name == t).map(Some).ok_or_else(|| {
+            LogError::new(
+                path,
+                LogErrorKind::NoSuchStream {
+                    wanted: format!("--temp-topic {t}"),
+                    list: if d.temps.is_empty() { "none".into() } else { list() },
+                },
+            )
+        }),
+        None => match d.temps.as_slice() {
+            [one] => Ok(Some(one)),
+            [] => Ok(None),
+            _ => Err(LogError::new(
+                path,
+                LogErrorKind::SeveralStreams {
+                    count: d.temps.len(),
+                    flag: "--temp-topic",
+                    list: list(),
+                },
+            )),
+        },
+    }
+}
+
+/// The times to use, which they are, and why.
+fn time_source(s: &mut ImuStream) -> (Vec<f64>, bool, String) {
+    let zero = s.stamp.iter().filter(|v| !v.is_finite()).count();
+    if zero == 0 && !s.stamp.is_empty() {
+        (
+            std::mem::take(&mut s.stamp),
+            true,
+            format!("{}: every message has one", s.stamp_name),
+        )
+    } else if zero == s.stamp.len() {
+        (
+            std::mem::take(&mut s.log_time),
+            false,
+            format!(
+                "{}: the {} is zero in every message",
+                s.log_time_name, s.stamp_name
+            ),
+        )
+    } else {
+        (
+            std::mem::take(&mut s.log_time),
+            false,
+            format!(
+                "{}: the {} is zero in {zero} of {} messages, and one clock must time them all",
+                s.log_time_name,
+                s.stamp_name,
+                s.stamp.len()
+            ),
+        )
+    }
+}
+
+/// Value of (t, v) at `at`, linear between neighbours; the end values
+/// hold for one step of the series beyond its ends, NaN further out.
+fn interpolate(t: &[f64], v: &[f64], at: &[f64]) -> Vec<f64> {
+    let step = mean_rate(t).map_or(f64::INFINITY, |r| 1.0 / r);
+    let mut j = 0;
+    at.iter()
+        .map(|&x| {
+            if t.is_empty() || !x.is_finite() {
+                return f64::NAN;
+            }
+            while j + 1 < t.len() && t[j + 1] <= x {
+                j += 1;
+            }
+            if x < t[0] {
+                return if t[0] - x <= step { v[0] } else { f64::NAN };
+            }
+            if j + 1 >= t.len() {
+                return if x - t[j] <= step { v[j] } else { f64::NAN };
+            }
+            let (t0, t1) = (t[j], t[j + 1]);
+            if t1 > t0 {
+                v[j] + (v[j + 1] - v[j]) * (x - t0) / (t1 - t0)
+            } else {
+                v[j]
+            }
+        })
+        .collect()
+}
+
+/// Every stream of the log, none selected yet; an IMU stream's
+/// temperature source as it would be read.
+fn summaries(d: &Decoded) -> Vec<StreamInfo> {
+    let mut streams: Vec<StreamInfo> = d
+        .imu
+        .iter()
+        .map(|x| StreamInfo {
+            name: x.name.clone(),
+            kind: "imu",
+            instance: x.instance,
+            msg_type: x.msg_type.clone(),
+            messages: x.len(),
+            rate_hz: x.mean_rate_hz(),
+            temperature: if x.temp.is_some() {
+                TempSource::Inline(format!("{}.temperature", x.name)).to_string()
+            } else {
+                match d.temps.as_slice() {
+                    [one] => TempSource::Topic(one.name.clone()).to_string(),
+                    _ => TempSource::None.to_string(),
+                }
+            },
+            selected: false,
+        })
+        .collect();
+    streams.extend(d.temps.iter().map(|x| StreamInfo {
+        name: x.name.clone(),
+        kind: "temperature",
+        instance: None,
+        msg_type: x.msg_type.clone(),
+        messages: x.value.len(),
+        rate_hz: mean_rate(&x.log_time),
+        temperature: String::new(),
+        selected: false,
+    }));
+    streams
+}
+
+/// Builds the recording of the chosen stream, with the report of its clock.
+pub fn assemble(
+    path: &Path,
+    format: &str,
+    mut d: Decoded,
+    c: &Choice,
+) -> Result<(Recording, ReadReport, Vec<StreamInfo>), LogError> {
+    let idx = choose(path, &d, c)?;
+    let temp_topic: Option<usize> = if d.imu[idx].temp.is_some() && c.temp_topic.is_none() {
+        None
+    } else {
+        choose_temp(path, &d, c)?.and_then(|t| d.temps.iter().position(|x| x.name == t.name))
+    };
+    let mut streams = summaries(&d);
+    // The chosen stream's samples move into the recording: memory stays
+    // near the decoded data, with no second copy of the stream.
+    let mut s = std::mem::take(&mut d.imu[idx]);
+    let messages = s.len();
+    let (mut t, stamped, why) = time_source(&mut s);
+    s.stamp = Vec::new();
+    s.log_time = Vec::new();
+    let t0 = t.iter().copied().find(|v| v.is_finite()).unwrap_or(0.0);
+    t.iter_mut().for_each(|v| *v -= t0);
+
+    let mut report = ReadReport {
+        rows: messages,
+        lines: messages as u64,
+        ..ReadReport::default()
+    };
+    report.notes.extend(d.notes.iter().cloned());
+    report.notes.push(format!("time source: {why}"));
+
+    let (temp, temp_source) = match (temp_topic.map(|k| &d.temps[k]), s.temp.take()) {
+        (Some(tt), _) => {
+            let use_stamp = stamped && tt.stamp.iter().all(|v| v.is_finite());
+            let tt_t = if use_stamp { &tt.stamp } else { &tt.log_time };
+            let tt_rel: Vec<f64> = tt_t.iter().map(|v| v - t0).collect();
+            (
+                Some(interpolate(&tt_rel, &tt.value, &t)),
+                TempSource::Topic(tt.name.clone()),
+            )
+        }
+        (None, Some(inline)) => (
+            Some(inline),
+            TempSource::Inline(format!("{}.temperature", s.name)),
+        ),
+        (None, None) => (None, TempSource::None),
+    };
+
+    let has_temp = temp.is_some();
+    let mut columns: Vec<Vec<f64>> = Vec::with_capacity(7);
+    columns.extend(std::mem::take(&mut s.accel));
+    columns.extend(std::mem::take(&mut s.gyro));
+    columns.extend(temp);
+    let timing = analyze_timestamps(&t);
+    let rate = c.rate_hz.or(timing.as_ref().map(|tm| tm.rate_hz));
+    // On its own clock without a gap or a repeated stamp, every message
+    // already sits in its slot: the grid is the columns as they are.
+    let in_place = c.rate_hz.is_none()
+        && timing
+            .as_ref()
+            .is_some_and(|tm| tm.gaps.is_empty() && tm.duplicates.is_empty());
+    let (grid, dropped) = match rate {
+        Some(_) if in_place => (columns, Vec::new()),
+        Some(r) => regularize(&t, r, &columns)
+            .ok_or_else(|| LogError::new(path, LogErrorKind::BadClock(s.name.clone())))?,
+        None => (columns, Vec::new()),
+    };
+    if let Some(tm) = &timing {
+        let mut since = 0usize;
+        for &(row, missing) in &tm.gaps {
+            since += 1;
+            if since > imu::read_report::MAX_LISTED {
+                report.unlisted += 1;
+                continue;
+            }
+            report.problems.push(Problem {
+                kind: ProblemKind::TimeGap,
+                line: None,
+                column: None,
+                channel: None,
+                count: missing,
+                message: format!(
+                    "{missing} sample{} missing before message {} (t = {:.6} s, after {:.6} s without a sample)",
+                    if missing == 1 { "" } else { "s" },
+                    row + 1,
+                    t[row],
+                    t[row] - t[row - 1]
+                ),
+            });
+        }
+        for (kind, rows, what) in [
+            (
+                ProblemKind::DuplicateTime,
+                &tm.duplicates,
+                "repeats the previous stamp; kept in the next slot",
+            ),
+            (
+                ProblemKind::BackwardsTime,
+                &tm.backwards,
+                "is stamped before the previous one; kept in the next slot",
+            ),
+        ] {
+            for &row in rows.iter() {
+                if report.problems.len() >= imu::read_report::MAX_LISTED {
+                    report.unlisted += 1;
+                    continue;
+                }
+                report.problems.push(Problem {
+                    kind,
+                    line: None,
+                    column: None,
+                    channel: None,
+                    count: 1,
+                    message: format!("message {} (t = {:.6} s) {what}", row + 1, t[row]),
+                });
+            }
+        }
+        report.dropped_samples = dropped.len();
+    }
+    report.timing = timing;
+
+    let mut grid = grid.into_iter();
+    let mut channels = Vec::with_capacity(7);
+    let ros = [
+        [
+            "linear_acceleration.x",
+            "linear_acceleration.y",
+            "linear_acceleration.z",
+        ],
+        ["angular_velocity.x", "angular_velocity.y", "angular_velocity.z"],
+    ];
+    let fields = s.axis_fields.unwrap_or(ros);
+    for (q, names) in [Quantity::Acceleration, Quantity::AngularRate]
+        .into_iter()
+        .zip(fields)
+    {
+        for (axis, field) in Axis::ALL.into_iter().zip(names) {
+            let mut ch = Channel::inertial(q, axis, grid.next().unwrap_or_default());
+            ch.source_name = format!("{}.{field}", s.name);
+            channels.push(ch);
+        }
+    }
+    if has_temp {
+        let mut ch = Channel::temperature(grid.next().unwrap_or_default());
+        ch.source_name = temp_source.to_string();
+        channels.push(ch);
+    }
+
+    let mut rec = Recording {
+        channels,
+        rate_hz: rate,
+        timestamps: Some(t),
+        ..Recording::default()
+    };
+    rec.meta.source = Some(path.to_path_buf());
+    rec.meta.entries.extend(d.entries.iter().cloned());
+    rec.meta.set("log_format", format);
+    rec.meta.set("stream", &s.name);
+    rec.meta.set("message_type", &s.msg_type);
+    if let Some(i) = s.instance {
+        rec.meta.set("instance", i.to_string());
+    }
+    if let Some(id) = s.device_id {
+        rec.meta.set("device_id", id.to_string());
+    }
+    if let Some(f) = s.frame_id.as_ref().filter(|f| !f.is_empty()) {
+        rec.meta.set("frame_id", f);
+    }
+    rec.meta.set(
+        "time_source",
+        if stamped { s.stamp_name } else { s.log_time_name },
+    );
+    rec.meta.set("time_source_reason", why);
+    rec.meta.set("temperature_source", temp_source.to_string());
+    rec.meta.device = Some(match s.device_id {
+        Some(id) => format!("{format} {} (device id {id})", s.name),
+        None => format!("{format} {}", s.name),
+    });
+
+    for x in &mut streams {
+        if x.kind == "imu" && x.name == s.name {
+            x.temperature = temp_source.to_string();
+            x.selected = true;
+        }
+        if x.kind == "temperature" {
+            x.selected = matches!(&temp_source, TempSource::Topic(n) if *n == x.name);
+        }
+    }
+    Ok((rec, report, streams))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn temperature_is_interpolated_and_not_extended_past_a_step() {
+        let t = [0.0, 1.0, 2.0];
+        let v = [10.0, 20.0, 30.0];
+        let got = interpolate(&t, &v, &[-0.5, 0.0, 0.25, 1.5, 2.0, 2.9, 3.5, -2.0]);
+        assert_eq!(&got[..6], &[10.0, 10.0, 12.5, 25.0, 30.0, 30.0]);
+        assert!(got[6].is_nan() && got[7].is_nan());
+    }
+}

@@ -1,0 +1,97 @@
+//! What can go wrong reading a robot log, always with the file and where.
+
+use std::path::PathBuf;
+
+/// An error reading a robot log: the file, where in it, and what.
+#[derive(Debug, thiserror::Error)]
+#[error("{}{}: {kind}", path.display(), at.as_ref().map(|a| format!(" ({a})")).unwrap_or_default())]
+pub struct LogError {
+    /// The file (or bag directory).
+    pub path: PathBuf,
+    /// Where: a byte offset, a message number, a topic.
+    pub at: Option<String>,
+    /// What.
+    pub kind: LogErrorKind,
+}
+
+/// The kinds of [`LogError`].
+#[derive(Debug, thiserror::Error)]
+pub enum LogErrorKind {
+    /// The file could not be read.
+    #[error("{0}")]
+    Io(#[from] std::io::Error),
+    /// The bytes do not follow the format.
+    #[error("malformed {format}: {what}")]
+    Malformed {
+        /// The format expected.
+        format: &'static str,
+        /// What is wrong.
+        what: String,
+    },
+    /// A compression the reader does not know.
+    #[error("unsupported compression '{0}'")]
+    Compression(String),
+    /// The MCAP library's own error.
+    #[error("MCAP: {0}")]
+    Mcap(String),
+    /// SQLite's own error.
+    #[error("SQLite: {0}")]
+    Sqlite(String),
+    /// No IMU stream in the log.
+    #[error(
+        "no IMU stream (sensor_msgs Imu topic, PX4 sensor_gyro/sensor_combined, ArduPilot IMU) in the log"
+    )]
+    NoImuStream,
+    /// Several IMU streams and none chosen.
+    #[error("{count} IMU streams; choose one with {flag}: {list}")]
+    SeveralStreams {
+        /// How many.
+        count: usize,
+        /// `--topic` or `--instance`.
+        flag: &'static str,
+        /// Each with its rate.
+        list: String,
+    },
+    /// The chosen stream is not in the log.
+    #[error("no stream {wanted} in the log; streams: {list}")]
+    NoSuchStream {
+        /// What was asked for.
+        wanted: String,
+        /// What there is.
+        list: String,
+    },
+    /// A stream choice given for a text log.
+    #[error("{0} applies to robot logs (bags, ULog, DataFlash) only")]
+    NotARobotLog(&'static str),
+    /// The samples cannot be placed on a grid (stamps far apart).
+    #[error("the stamps of {0} span far more time than its samples fill: they cannot be placed on a clock")]
+    BadClock(String),
+}
+
+impl LogError {
+    /// An error about `path`.
+    pub fn new(path: impl Into<PathBuf>, kind: LogErrorKind) -> LogError {
+        LogError {
+            path: path.into(),
+            at: None,
+            kind,
+        }
+    }
+
+    /// The same error, located.
+    pub fn at(mut self, at: impl Into<String>) -> LogError {
+        self.at = Some(at.into());
+        self
+    }
+}
+
+/// A malformed-format error.
+pub(crate) fn malformed(path: &std::path::Path, format: &'static str, what: impl Into<String>) -> LogError {
+    LogError::new(
+        path,
+        LogErrorKind::Malformed {
+            format,
+            what: what.into(),
+        },
+    )
+}

@@ -1,0 +1,70 @@
+//! ROS 2 SQLite3 bags (rosbag2_storage_default_plugins, sqlite3 storage):
+//! a `topics` table (id, name, type, serialization_format) and a
+//! `messages` table (topic_id, timestamp in ns, data), read in time order.
+
+use std::path::Path;
+
+use rusqlite::{Connection, OpenFlags};
+
+use crate::error::{LogError, LogErrorKind};
+use crate::ros_msgs::{self, Kind};
+use crate::streams::Decoded;
+
+/// Reads the IMU and temperature messages of one `.db3` file into `out`.
+pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
+    let sql = |e: rusqlite::Error| LogError::new(path, LogErrorKind::Sqlite(e.to_string()));
+    let db = Connection::open_with_flags(path, OpenFlags::SQLITE_OPEN_READ_ONLY).map_err(sql)?;
+    let mut topics: Vec<(i64, String, String, Kind)> = Vec::new();
+    {
+        let mut st = db
+            .prepare("SELECT id, name, type, serialization_format FROM topics")
+            .map_err(sql)?;
+        let rows = st
+            .query_map([], |r| {
+                Ok((
+                    r.get::<_, i64>(0)?,
+                    r.get::<_, String>(1)?,
+                    r.get::<_, String>(2)?,
+                    r.get::<_, String>(3)?,
+                ))
+            })
+            .map_err(sql)?;
+        for row in rows {
+            let (id, name, ty, ser) = row.map_err(sql)?;
+            if let Some(kind) = ros_msgs::kind_of(&ty).filter(|_| ser == "cdr") {
+                topics.push((id, name, ty, kind));
+            }
+        }
+    }
+    if topics.is_empty() {
+        return Ok(());
+    }
+    let ids = topics
+        .iter()
+        .map(|t| t.0.to_string())
+        .collect::<Vec<_>>()
+        .join(",");
+    let mut st = db
+        .prepare(&format!(
+            "SELECT topic_id, timestamp, data FROM messages WHERE topic_id IN ({ids}) ORDER BY timestamp, id"
+        ))
+        .map_err(sql)?;
+    let mut rows = st.query([]).map_err(sql)?;
+    let mut n = 0u64;
+    while let Some(row) = rows.next().map_err(sql)? {
+        n += 1;
+        let id: i64 = row.get(0).map_err(sql)?;
+        let t: i64 = row.get(1).map_err(sql)?;
+        let data = row
+            .get_ref(2)
+            .map_err(sql)?
+            .as_blob()
+            .map_err(|e| sql(e.into()))?;
+        if let Some((_, name, ty, kind)) = topics.iter().find(|t| t.0 == id) {
+            ros_msgs::add(out, *kind, name, ty, data, t as f64 * 1e-9, false).map_err(|what| {
+                crate::error::malformed(path, "CDR message", what).at(format!("message {n} on {name}"))
+            })?;
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,422 @@
+//! PX4 ULog (docs.px4.io, "ULog File Format"; pyulog's `core.py` is the
+//! reference reader): a 16-byte header, then messages of `u16 size, u8
+//! type, body`. Formats (`F`) describe topics, subscriptions (`A`) give a
+//! topic instance a message id, data (`D`) carries one sample. Appended
+//! data (flag bits `B`, `incompat_flags[0]` bit 0) continues at the given
+//! offsets.
+//!
+//! `sensor_gyro` and `sensor_accel` (PX4 `msg/SensorGyro.msg`,
+//! `SensorAccel.msg`: `timestamp`, `timestamp_sample`, `device_id`, `x`,
+//! `y`, `z` in rad/s and m/s², `temperature` in °C) give one stream per
+//! instance; `sensor_combined` (`gyro_rad[3]`, `accelerometer_m_s2[3]`,
+//! `accelerometer_timestamp_relative`) one more.
+
+use std::collections::HashMap;
+use std::fs::File;
+use std::io::{BufReader, Read, Seek, SeekFrom};
+use std::path::Path;
+
+use crate::error::{LogError, malformed};
+use crate::streams::Decoded;
+
+/// The first bytes of a ULog file.
+pub const MAGIC: &[u8] = b"ULog\x01\x12\x35";
+
+#[derive(Debug, Clone)]
+struct Field {
+    ty: String,
+    count: usize,
+    name: String,
+}
+
+/// A field's place in a topic's data.
+#[derive(Debug, Clone, Copy)]
+struct Slot {
+    offset: usize,
+    ty: Prim,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Prim {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    I64,
+    U64,
+    F32,
+    F64,
+    Other,
+}
+
+fn prim(ty: &str) -> (Prim, Option<usize>) {
+    match ty {
+        "int8_t" => (Prim::I8, Some(1)),
+        "uint8_t" | "bool" | "char" => (Prim::U8, Some(1)),
+        "int16_t" => (Prim::I16, Some(2)),
+        "uint16_t" => (Prim::U16, Some(2)),
+        "int32_t" => (Prim::I32, Some(4)),
+        "uint32_t" => (Prim::U32, Some(4)),
+        "int64_t" => (Prim::I64, Some(8)),
+        "uint64_t" => (Prim::U64, Some(8)),
+        "float" => (Prim::F32, Some(4)),
+        "double" => (Prim::F64, Some(8)),
+        _ => (Prim::Other, None),
+    }
+}
+
+impl Slot {
+    fn get(self, b: &[u8], index: usize) -> Option<f64> {
+        let size = match self.ty {
+            Prim::I8 | Prim::U8 => 1,
+            Prim::I16 | Prim::U16 => 2,
+            Prim::I32 | Prim::U32 | Prim::F32 => 4,
+            _ => 8,
+        };
+        let at = self.offset.checked_add(index * size)?;
+        let s = b.get(at..at + size)?;
+        Some(match self.ty {
+            Prim::I8 => s[0] as i8 as f64,
+            Prim::U8 => s[0] as f64,
+            Prim::I16 => i16::from_le_bytes(s.try_into().ok()?) as f64,
+            Prim::U16 => u16::from_le_bytes(s.try_into().ok()?) as f64,
+            Prim::I32 => i32::from_le_bytes(s.try_into().ok()?) as f64,
+            Prim::U32 => u32::from_le_bytes(s.try_into().ok()?) as f64,
+            Prim::I64 => i64::from_le_bytes(s.try_into().ok()?) as f64,
+            Prim::U64 => u64::from_le_bytes(s.try_into().ok()?) as f64,
+            Prim::F32 => f32::from_le_bytes(s.try_into().ok()?) as f64,
+            Prim::F64 => f64::from_le_bytes(s.try_into().ok()?),
+            Prim::Other => return None,
+        })
+    }
+}
+
+/// The size of a type, nested formats included (depth-limited: a format
+/// naming itself is corrupt).
+fn size_of(ty: &str, formats: &HashMap<String, Vec<Field>>, depth: usize) -> Option<usize> {
+    if let (_, Some(s)) = prim(ty) {
+        return Some(s);
+    }
+    if depth > 16 {
+        return None;
+    }
+    formats.get(ty)?.iter().try_fold(0usize, |acc, f| {
+        acc.checked_add(size_of(&f.ty, formats, depth + 1)?.checked_mul(f.count)?)
+    })
+}
+
+/// The slot of each top-level field of `topic`.
+fn layout(topic: &str, formats: &HashMap<String, Vec<Field>>) -> HashMap<String, Slot> {
+    let mut out = HashMap::new();
+    let mut offset = 0usize;
+    for f in formats.get(topic).into_iter().flatten() {
+        let Some(size) = size_of(&f.ty, formats, 0) else {
+            break;
+        };
+        out.insert(
+            f.name.clone(),
+            Slot {
+                offset,
+                ty: prim(&f.ty).0,
+            },
+        );
+        offset += size * f.count;
+    }
+    out
+}
+
+/// `name:type field;type[n] field;…`
+fn parse_format(s: &str) -> Option<(String, Vec<Field>)> {
+    let (name, body) = s.split_once(':')?;
+    let fields = body
+        .split(';')
+        .filter(|f| !f.trim().is_empty())
+        .filter_map(|f| {
+            let (ty, name) = f.trim().split_once(' ')?;
+            let (ty, count) = match ty.split_once('[') {
+                Some((t, n)) => (t, n.trim_end_matches(']').parse().ok()?),
+                None => (ty, 1),
+            };
+            Some(Field {
+                ty: ty.to_string(),
+                count,
+                name: name.to_string(),
+            })
+        })
+        .collect();
+    Some((name.to_string(), fields))
+}
+
+#[derive(Default)]
+struct Sensor {
+    t_sample: Vec<f64>,
+    t_log: Vec<f64>,
+    xyz: [Vec<f64>; 3],
+    temp: Vec<f64>,
+    device_id: Option<u64>,
+}
+
+/// Reads the IMU topics of a ULog file into `out`.
+pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
+    let file = File::open(path).map_err(|e| LogError::new(path, e.into()))?;
+    let mut r = BufReader::with_capacity(1 << 20, file);
+    let mut head = [0u8; 16];
+    r.read_exact(&mut head)
+        .map_err(|_| malformed(path, "ULog", "shorter than its 16-byte header"))?;
+    if &head[..7] != MAGIC {
+        return Err(malformed(path, "ULog", "no ULog magic"));
+    }
+    let mut formats: HashMap<String, Vec<Field>> = HashMap::new();
+    // msg_id → (topic, multi_id, layout)
+    let mut subs: HashMap<u16, (String, u8, HashMap<String, Slot>)> = HashMap::new();
+    let mut gyro: HashMap<u8, Sensor> = HashMap::new();
+    let mut accel: HashMap<u8, Sensor> = HashMap::new();
+    // sensor_combined: the gyroscope in `xyz`, the accelerometer's three
+    // axes one after another in `accel3` (both sampled for the same message).
+    let mut combined = Sensor::default();
+    let mut accel3: Vec<f64> = Vec::new();
+    let mut appended: Vec<u64> = Vec::new();
+    let mut pos: u64 = 16;
+    let mut dropouts = (0usize, 0u64);
+    let mut buf = Vec::with_capacity(1024);
+    loop {
+        // The main section ends where appended data begins.
+        if let Some(&next) = appended.first()
+            && pos >= next
+        {
+            appended.remove(0);
+            if pos > next {
+                r.seek(SeekFrom::Start(next))
+                    .map_err(|e| LogError::new(path, e.into()))?;
+                pos = next;
+            }
+        }
+        let mut h = [0u8; 3];
+        match r.read_exact(&mut h) {
+            Ok(()) => {}
+            Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => break,
+            Err(e) => return Err(LogError::new(path, e.into())),
+        }
+        let size = u16::from_le_bytes([h[0], h[1]]) as usize;
+        let ty = h[2];
+        if let Some(&next) = appended.first()
+            && pos + 3 + size as u64 > next
+        {
+            // A message cut off where the appended data starts: pyulog
+            // (`ULog._read_file_data`) skips to the offset the same way.
+            r.seek(SeekFrom::Start(next))
+                .map_err(|e| LogError::new(path, e.into()))?;
+            pos = next;
+            continue;
+        }
+        buf.resize(size, 0);
+        if r.read_exact(&mut buf).is_err() {
+            out.notes.push(format!(
+                "the log ends inside a message at byte {pos} (cut off while writing); the messages before it are read"
+            ));
+            break;
+        }
+        let at = pos;
+        pos += 3 + size as u64;
+        match ty {
+            b'B' if buf.len() >= 40 && buf[8] & 1 != 0 => {
+                appended = (0..3)
+                    .map(|k| u64::from_le_bytes(buf[16 + 8 * k..24 + 8 * k].try_into().unwrap_or_default()))
+                    .filter(|&o| o > 0)
+                    .collect();
+            }
+            b'F' => {
+                if let Some((name, fields)) = parse_format(&String::from_utf8_lossy(&buf)) {
+                    formats.insert(name, fields);
+                }
+            }
+            b'I' if !buf.is_empty() => {
+                let klen = buf[0] as usize;
+                if let Some(key) = buf.get(1..1 + klen) {
+                    let key = String::from_utf8_lossy(key);
+                    if let Some((kty, kname)) = key.split_once(' ')
+                        && kty.starts_with("char[")
+                        && matches!(kname, "ver_hw" | "sys_name" | "ver_sw_release_str" | "sys_uuid")
+                    {
+                        let v = String::from_utf8_lossy(&buf[1 + klen..])
+                            .trim_end_matches('\0')
+                            .to_string();
+                        out.entries.push((format!("px4.{kname}"), v));
+                    }
+                }
+            }
+            b'A' if buf.len() >= 3 => {
+                let multi = buf[0];
+                let id = u16::from_le_bytes([buf[1], buf[2]]);
+                let name = String::from_utf8_lossy(&buf[3..])
+                    .trim_end_matches('\0')
+                    .to_string();
+                let lay = layout(&name, &formats);
+                subs.insert(id, (name, multi, lay));
+            }
+            b'O' if buf.len() >= 2 => {
+                dropouts.0 += 1;
+                dropouts.1 += u16::from_le_bytes([buf[0], buf[1]]) as u64;
+            }
+            b'D' if buf.len() >= 2 => {
+                let id = u16::from_le_bytes([buf[0], buf[1]]);
+                let Some((name, multi, lay)) = subs.get(&id) else {
+                    continue;
+                };
+                let data = &buf[2..];
+                let get = |f: &str, i: usize| lay.get(f).and_then(|s| s.get(data, i));
+                let short = || {
+                    malformed(
+                        path,
+                        "ULog",
+                        format!("a {name} message of {} bytes is cut short", data.len()),
+                    )
+                    .at(format!("byte {at}"))
+                };
+                match name.as_str() {
+                    "sensor_gyro" | "sensor_accel" => {
+                        let map = if name == "sensor_gyro" {
+                            &mut gyro
+                        } else {
+                            &mut accel
+                        };
+                        let s = map.entry(*multi).or_default();
+                        let t_log = get("timestamp", 0).ok_or_else(short)? * 1e-6;
+                        let t_sample = get("timestamp_sample", 0)
+                            .map_or(f64::NAN, |v| if v > 0.0 { v * 1e-6 } else { f64::NAN });
+                        s.t_log.push(t_log);
+                        s.t_sample.push(t_sample);
+                        for (k, f) in ["x", "y", "z"].iter().enumerate() {
+                            s.xyz[k].push(get(f, 0).ok_or_else(short)?);
+                        }
+                        s.temp.push(get("temperature", 0).unwrap_or(f64::NAN));
+                        if s.device_id.is_none() {
+                            s.device_id = get("device_id", 0).map(|v| v as u64);
+                        }
+                    }
+                    "sensor_combined" if *multi == 0 => {
+                        let t = get("timestamp", 0).ok_or_else(short)?;
+                        combined.t_log.push(t * 1e-6);
+                        combined.t_sample.push(f64::NAN);
+                        for k in 0..3 {
+                            combined.xyz[k].push(get("gyro_rad", k).ok_or_else(short)?);
+                            accel3.push(get("accelerometer_m_s2", k).ok_or_else(short)?);
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            _ => {}
+        }
+    }
+    if dropouts.0 > 0 {
+        out.notes.push(format!(
+            "the logger dropped data {} times ({} ms in all): gaps in every topic",
+            dropouts.0, dropouts.1
+        ));
+    }
+    let mut instances: Vec<u8> = gyro.keys().copied().collect();
+    instances.sort_unstable();
+    for i in instances {
+        let Some(g) = gyro.remove(&i) else { continue };
+        let a = accel.remove(&i).unwrap_or_default();
+        let name = format!("sensor_gyro/{i}");
+        let s = out.imu_mut(&name, "px4 sensor_gyro + sensor_accel");
+        s.instance = Some(i as u32);
+        s.stamp_name = "timestamp_sample";
+        s.log_time_name = "timestamp";
+        s.device_id = g.device_id;
+        s.axis_fields = Some([
+            ["sensor_accel.x", "sensor_accel.y", "sensor_accel.z"],
+            ["sensor_gyro.x", "sensor_gyro.y", "sensor_gyro.z"],
+        ]);
+        let a_t = if a.t_sample.iter().all(|v| v.is_finite()) {
+            &a.t_sample
+        } else {
+            &a.t_log
+        };
+        let g_t = if g.t_sample.iter().all(|v| v.is_finite()) {
+            &g.t_sample
+        } else {
+            &g.t_log
+        };
+        let acc = nearest(a_t, &a.xyz, g_t);
+        for (k, (&ts, &tl)) in g.t_sample.iter().zip(&g.t_log).enumerate() {
+            let at = |v: &[Vec<f64>; 3]| [v[0][k], v[1][k], v[2][k]];
+            s.push(ts, tl, at(&g.xyz), at(&acc), Some(g.temp[k]));
+        }
+        if let Some(id) = a.device_id {
+            out.entries
+                .push((format!("px4.sensor_accel/{i}.device_id"), id.to_string()));
+        }
+        if let Some(id) = g.device_id {
+            out.entries
+                .push((format!("px4.sensor_gyro/{i}.device_id"), id.to_string()));
+        }
+    }
+    if !combined.t_log.is_empty() {
+        let s = out.imu_mut("sensor_combined", "px4 sensor_combined");
+        s.stamp_name = "timestamp";
+        s.log_time_name = "timestamp";
+        s.axis_fields = Some([
+            [
+                "accelerometer_m_s2[0]",
+                "accelerometer_m_s2[1]",
+                "accelerometer_m_s2[2]",
+            ],
+            ["gyro_rad[0]", "gyro_rad[1]", "gyro_rad[2]"],
+        ]);
+        let n = combined.t_log.len();
+        for k in 0..n {
+            let acc = [accel3[3 * k], accel3[3 * k + 1], accel3[3 * k + 2]];
+            s.push(
+                combined.t_log[k],
+                combined.t_log[k],
+                [combined.xyz[0][k], combined.xyz[1][k], combined.xyz[2][k]],
+                acc,
+                None,
+            );
+        }
+    }
+    Ok(())
+}
+
+/// The accelerometer sample nearest in time to each gyroscope sample (the
+/// two are sampled apart, often at different rates).
+fn nearest(t: &[f64], xyz: &[Vec<f64>; 3], at: &[f64]) -> [Vec<f64>; 3] {
+    let mut out: [Vec<f64>; 3] = Default::default();
+    let mut j = 0;
+    for &x in at {
+        while j + 1 < t.len() && (t[j + 1] - x).abs() <= (t[j] - x).abs() {
+            j += 1;
+        }
+        for k in 0..3 {
+            out[k].push(if t.is_empty() { f64::NAN } else { xyz[k][j] });
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn formats_and_nested_layouts() {
+        let mut f = HashMap::new();
+        let (n, v) = parse_format("inner:uint16_t a;float[2] b;").unwrap();
+        f.insert(n, v);
+        let (n, v) = parse_format("outer:uint64_t timestamp;inner[2] c;float x;").unwrap();
+        f.insert(n, v);
+        let l = layout("outer", &f);
+        assert_eq!(l["timestamp"].offset, 0);
+        assert_eq!(l["c"].offset, 8);
+        assert_eq!(l["x"].offset, 8 + 2 * 10);
+        let mut self_ref = HashMap::new();
+        let (n, v) = parse_format("loop:loop a;").unwrap();
+        self_ref.insert(n, v);
+        assert!(size_of("loop", &self_ref, 0).is_none());
+    }
+}
