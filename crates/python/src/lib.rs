@@ -12,7 +12,9 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 mod curve;
+mod errors;
 mod estimates;
+mod recording;
 
 create_exception!(
     _imutherm,
@@ -39,5 +41,6 @@ fn _imutherm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(curve::analyze, m)?)?;
     m.add_function(wrap_pyfunction!(curve::noise_terms, m)?)?;
     m.add_function(wrap_pyfunction!(estimates::estimates, m)?)?;
+    m.add_function(wrap_pyfunction!(recording::read, m)?)?;
     Ok(())
 }

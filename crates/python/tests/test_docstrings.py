@@ -7,10 +7,12 @@ import pytest
 
 import imutherm
 import imutherm._curve
+import imutherm._recording
 import imutherm.allantools
 
 
-@pytest.mark.parametrize("module", [imutherm, imutherm._curve, imutherm.allantools])
+@pytest.mark.parametrize("module", [imutherm, imutherm._curve, imutherm._recording,
+                                    imutherm.allantools])
 def test_docstring_examples(module):
     result = doctest.testmod(module, extraglobs={"np": np, "imutherm": imutherm},
                              optionflags=doctest.NORMALIZE_WHITESPACE)

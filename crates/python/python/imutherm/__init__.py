@@ -17,12 +17,14 @@ computation runs with the GIL released on all cores.
 phase data by default.
 """
 
+import os
 import warnings
 
 import numpy as np
 
 from . import _imutherm
 from ._curve import Curve
+from ._recording import Channel, Recording
 from ._samples import as_samples, as_taus
 
 ImuthermError = _imutherm.ImuthermError
@@ -31,7 +33,8 @@ ImuthermError = _imutherm.ImuthermError
 STATISTICS = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev",
               "totdev", "mtotdev", "ttotdev", "htotdev", "theo1")
 
-__all__ = ["Curve", "ImuthermError", "STATISTICS", "analyze", "noise_terms", *STATISTICS]
+__all__ = ["Channel", "Curve", "ImuthermError", "Recording", "STATISTICS", "analyze", "noise_terms",
+           "read", *STATISTICS]
 
 
 def analyze(stat, y, rate=1.0, taus="octave", data_type="freq", confidence=0.683):
@@ -116,3 +119,34 @@ def noise_terms(y, rate=1.0, confidence=0.95):
     fields = _imutherm.noise_terms(as_samples(y), float(rate), float(confidence))
     fields["curve"]["noise_id"] = np.asarray(fields["curve"]["noise_id"], dtype=str)
     return fields
+
+
+def read(path, rate=None, units=None, topic=None, instance=None, temp_topic=None):
+    """Reads a recording as every ``imutherm`` command does: imutherm's log,
+    CSV or whitespace text logs, ROS 2 (MCAP, SQLite) and ROS 1 bags, PX4
+    ULog and ArduPilot DataFlash. Returns a :class:`Recording`.
+
+    ``rate`` (Hz), ``units`` (a dict ``{column: unit}`` or a list of
+    ``"COLUMN=UNIT"`` strings), ``topic``, ``instance`` and ``temp_topic``
+    are the command line's ``--rate``, ``--unit``, ``--topic``,
+    ``--instance`` and ``--temp-topic``. A robot log with several IMU
+    streams and none chosen is refused, naming them.
+
+    Raises ``OSError`` (``FileNotFoundError``, ``PermissionError``, ...)
+    when the file cannot be read and :class:`ImuthermError` (a
+    ``ValueError``) when its content or an option is refused, with the
+    command line's message.
+
+    >>> rec = imutherm.read("imu_34C.txt", rate=200)            # doctest: +SKIP
+    >>> rec.channels["gyro_x"].mean(), rec.units["gyro_x"]      # doctest: +SKIP
+    (0.0123, 'rad/s')
+    >>> imutherm.read("flight.ulg", instance=1).to_pandas()     # doctest: +SKIP
+    """
+    if isinstance(units, dict):
+        units = [f"{k}={v}" for k, v in units.items()]
+    elif isinstance(units, str):
+        units = [units]
+    return Recording(_imutherm.read(os.fspath(path), None if rate is None else float(rate),
+                                    list(units or []), topic,
+                                    None if instance is None else int(instance), temp_topic))
+

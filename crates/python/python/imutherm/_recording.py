@@ -1,0 +1,138 @@
+"""A recording as NumPy arrays: what ``imutherm.read`` and
+``imutherm.simulate`` return."""
+
+import numpy as np
+
+
+class Channel:
+    """One column of a recording: ``name`` (imutherm's, e.g. ``gyro_x``),
+    ``source`` (the file's), ``quantity`` (``angular_rate``,
+    ``acceleration``, ``temperature``, ...), ``unit`` (SI for inertial
+    channels), ``unit_source`` (``header``, ``flag``, ``metadata`` or
+    ``assumed``) and ``data`` (a float64 NumPy array, NaN where a sample is
+    missing)."""
+
+    __slots__ = ("name", "source", "quantity", "unit", "unit_source", "data")
+
+    def __init__(self, fields):
+        for key in self.__slots__:
+            setattr(self, key, fields[key])
+
+    def __repr__(self):
+        return (f"<imutherm.Channel {self.name} ({self.quantity}, {self.unit or '-'}), "
+                f"{len(self.data)} samples>")
+
+
+class Recording:
+    """A recording read by :func:`imutherm.read` or made by
+    :func:`imutherm.simulate`.
+
+    * ``channels`` -- a dict, channel name -> float64 NumPy array, in the
+      file's order; ``channel(name)`` gives the :class:`Channel` with its
+      unit and quantity, ``units`` the units by name;
+    * ``rate`` -- the sample rate in Hz (None when nothing gives it),
+      ``rate_source`` where it came from (as ``imutherm info`` says);
+    * ``temperature`` -- the temperature channel in degrees C, or None;
+    * ``timestamps`` -- seconds from the start on the sample clock, or None;
+    * ``metadata`` -- ``device``, ``start_time`` and the file's ``entries``
+      (key, value pairs);
+    * ``file``, ``format``, ``lines``, ``notes`` (what the reader guessed or
+      found suspicious), ``problems`` (dicts: ``kind``, ``line``,
+      ``column``, ``channel``, ``count``, ``message``), ``dropped_samples``,
+      ``clock`` (the fitted clock of a time column, or None) and
+      ``streams`` (a robot log's streams): the fields of ``imutherm info
+      --json``.
+
+    >>> import imutherm
+    >>> rec = imutherm.read("imu_34C.txt")                  # doctest: +SKIP
+    >>> rec.rate, len(rec), list(rec.channels)[:2]          # doctest: +SKIP
+    (20.0, 72000, ['accel_x', 'accel_y'])
+    """
+
+    def __init__(self, fields):
+        self._channels = [Channel(c) for c in fields["channels"]]
+        self.channels = {c.name: c.data for c in self._channels}
+        self.rate = fields["rate_hz"]
+        self.timestamps = fields["timestamps"]
+        self.metadata = fields["metadata"]
+        self.file = fields["file"]
+        self.format = fields["format"]
+        self.rate_source = fields["rate_source"]
+        self.lines = fields.get("lines")
+        self.notes = fields.get("notes", [])
+        self.problems = fields.get("problems", [])
+        self.problems_unlisted = fields.get("problems_unlisted", 0)
+        self.dropped_samples = fields.get("dropped_samples", 0)
+        self.clock = fields.get("clock")
+        self.streams = fields.get("streams", [])
+
+    def __len__(self):
+        return len(self._channels[0].data) if self._channels else 0
+
+    def channel(self, name):
+        """The :class:`Channel` called ``name`` (imutherm's name or the
+        file's); ``KeyError`` listing the channels when there is none."""
+        for c in self._channels:
+            if c.name == name or c.source == name:
+                return c
+        raise KeyError(f"no channel '{name}' (channels: {', '.join(self.channels)})")
+
+    @property
+    def units(self):
+        """Channel name -> unit."""
+        return {c.name: c.unit for c in self._channels}
+
+    @property
+    def temperature(self):
+        """The temperature channel (degrees C), or None."""
+        for c in self._channels:
+            if c.quantity == "temperature":
+                return c.data
+        return None
+
+    @property
+    def duration(self):
+        """Seconds covered (samples / rate), or None without a rate."""
+        return len(self) / self.rate if self.rate else None
+
+    def to_pandas(self):
+        """The channels as a ``pandas.DataFrame`` indexed by time in seconds
+        (the sample index when the rate is unknown); units and metadata in
+        ``attrs`` (needs pandas).
+
+        >>> df = imutherm.read("imu_34C.txt").to_pandas()      # doctest: +SKIP
+        >>> df.index.name, df.shape                             # doctest: +SKIP
+        ('time_s', (72000, 7))
+        """
+        try:
+            import pandas as pd
+        except ImportError as e:  # pragma: no cover - depends on the environment
+            raise ImportError("Recording.to_pandas() needs pandas: pip install pandas") from e
+        if self.timestamps is not None:
+            index = pd.Index(self.timestamps, name="time_s")
+        elif self.rate:
+            index = pd.Index(np.arange(len(self)) / self.rate, name="time_s")
+        else:
+            index = pd.RangeIndex(len(self), name="sample")
+        frame = pd.DataFrame(dict(self.channels), index=index)
+        frame.attrs.update(units=self.units, rate=self.rate, file=self.file, format=self.format,
+                           metadata=self.metadata)
+        return frame
+
+    def __repr__(self):
+        rate = f"{self.rate:g} Hz ({self.rate_source})" if self.rate else "unknown rate"
+        head = (f"<imutherm.Recording {self.file or 'simulated'} ({self.format}): "
+                f"{len(self)} samples at {rate}")
+        if self.rate:
+            head += f", {self.duration:.3f} s"
+        rows = [head + ">"]
+        for c in self._channels:
+            finite = c.data[np.isfinite(c.data)]
+            mean = f"{finite.mean():14.6e}" if finite.size else f"{'-':>14}"
+            rows.append(f"  {c.name:<12} {c.unit or '-':<8} mean {mean}  "
+                        f"NaN {len(c.data) - finite.size}")
+        if self.problems:
+            rows.append(f"  problems: {len(self.problems) + self.problems_unlisted}")
+        for n in self.notes:
+            rows.append(f"  note: {n}")
+        return "\n".join(rows)

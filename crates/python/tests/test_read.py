@@ -1,0 +1,156 @@
+"""imutherm.read against the files' own truth: a text log written here, the
+robot-log fixtures against what their writers were given (truth.json, made
+by make_fixtures.py with rosbags/mcap and checked with pymavlink's
+DFReader), and, when IMUTHERM_BIN names the command line, against its
+``info --json``."""
+
+import json
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import imutherm
+
+FIXTURES = pathlib.Path(__file__).resolve().parents[2] / "robotlogs" / "tests" / "fixtures" / "ros"
+TRUTH = json.loads((FIXTURES / "truth.json").read_text())
+ORDER = ("accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z")
+
+
+def sum_tolerance(x):
+    """How far two summation orders of x may part: n ulps of sum |x|."""
+    return len(x) * np.finfo(float).eps * np.abs(x).sum()
+
+
+def write_csv(path, columns, rate):
+    names = list(columns)
+    with open(path, "w") as f:
+        f.write(f"# sample_rate_hz: {rate}\n")
+        f.write(",".join(names) + "\n")
+        for row in zip(*columns.values()):
+            f.write(",".join(repr(float(v)) for v in row) + "\n")
+
+
+@pytest.fixture
+def text_log(tmp_path):
+    rng = np.random.default_rng(18)
+    cols = {
+        "gyro_x": 1e-3 * rng.standard_normal(500),
+        "gyro_y": 2e-3 * rng.standard_normal(500),
+        "accel_z": 9.81 + 1e-2 * rng.standard_normal(500),
+        "temp": np.linspace(20.0, 30.0, 500),
+    }
+    path = tmp_path / "imu.csv"
+    write_csv(path, cols, 50.0)
+    return path, cols
+
+
+def test_text_log_reads_the_values_written(text_log):
+    path, cols = text_log
+    rec = imutherm.read(path)
+    assert rec.rate == 50.0
+    assert len(rec) == 500
+    assert list(rec.channels) == list(cols)
+    for name, data in cols.items():
+        np.testing.assert_array_equal(rec.channels[name], data)
+    np.testing.assert_array_equal(rec.temperature, cols["temp"])
+    assert rec.units["gyro_x"] == "rad/s"
+    assert rec.channel("gyro_x").quantity == "angular_rate"
+
+
+def test_rate_and_units_as_on_the_command_line(text_log):
+    path, cols = text_log
+    rec = imutherm.read(path, rate=100, units={"gyro_x": "deg/s"})
+    assert rec.rate == 100.0 and rec.rate_source == "given"
+    np.testing.assert_allclose(rec.channels["gyro_x"], np.deg2rad(cols["gyro_x"]), rtol=1e-15)
+    assert rec.channel("gyro_x").unit_source == "flag"
+
+
+def test_mcap_fixture_holds_what_its_writer_was_given():
+    truth = TRUTH["static_5s"]
+    rec = imutherm.read(FIXTURES / "imu_zstd.mcap")
+    assert rec.format == "MCAP"
+    assert len(rec) == truth["messages"]
+    assert rec.rate == pytest.approx(TRUTH["rate_hz"], rel=1e-6)
+    for k, name in enumerate(ORDER):
+        data = rec.channels[name]
+        assert data[0] == truth["first"][k]
+        assert data[-1] == truth["last"][k]
+        assert abs(data.sum() - truth["sum"][k]) <= sum_tolerance(data)
+    assert [s["name"] for s in rec.streams] == ["/imu/data", "/imu/temperature"]
+
+
+@pytest.mark.parametrize("instance", ["0", "1"])
+def test_dataflash_fixture_as_dfreader_reads_it(instance):
+    truth = TRUTH["dataflash_dfreader"][instance]
+    rec = imutherm.read(FIXTURES / "arducopter_imu.bin", instance=int(instance))
+    data = {name: rec.channels[name][np.isfinite(rec.channels[name])] for name in ORDER}
+    for k, name in enumerate(ORDER):
+        assert len(data[name]) == truth["messages"]
+        assert data[name][0] == truth["first"][k]
+        assert abs(data[name].sum() - truth["sum"][k]) <= sum_tolerance(data[name])
+
+
+def test_several_streams_and_none_chosen_is_refused_naming_them():
+    with pytest.raises(imutherm.ImuthermError, match="choose one with --topic: /imu0/data"):
+        imutherm.read(FIXTURES / "two_imus.mcap")
+    rec = imutherm.read(FIXTURES / "two_imus.mcap", topic="/imu1/data")
+    assert len(rec) == 200
+
+
+def test_missing_file_is_an_os_error_with_the_command_line_message(tmp_path):
+    missing = tmp_path / "none.txt"
+    with pytest.raises(FileNotFoundError, match=f"{missing}: No such file or directory"):
+        imutherm.read(missing)
+
+
+def test_bad_option_is_a_value_error():
+    with pytest.raises(ValueError, match="--rate -1: the sample rate must be a positive number"):
+        imutherm.read(FIXTURES / "imu_zstd.mcap", rate=-1)
+    with pytest.raises(ValueError, match="unknown unit 'furlong'"):
+        imutherm.read(FIXTURES / "imu_zstd.mcap", units=["gyro_x=furlong"])
+
+
+def test_to_pandas_and_repr(text_log):
+    pd = pytest.importorskip("pandas")
+    path, cols = text_log
+    rec = imutherm.read(path)
+    df = rec.to_pandas()
+    assert isinstance(df, pd.DataFrame)
+    assert df.shape == (500, 4)
+    assert df.index[1] == pytest.approx(1 / 50.0)
+    assert df.attrs["units"]["gyro_x"] == "rad/s"
+    assert "500 samples at 50 Hz" in repr(rec) and "gyro_x" in repr(rec)
+
+
+def cli_info(path):
+    out = subprocess.run([os.environ["IMUTHERM_BIN"], "info", "--json", str(path)],
+                         check=True, capture_output=True, text=True).stdout
+    return json.loads(out)["files"][0]
+
+
+@pytest.mark.skipif("IMUTHERM_BIN" not in os.environ, reason="IMUTHERM_BIN names no command line")
+@pytest.mark.parametrize("which", ["text", "imu_zstd.mcap", "imu_bz2.bag", "gap.bag"])
+def test_same_as_info_json(which, text_log):
+    path = text_log[0] if which == "text" else FIXTURES / which
+    info = cli_info(path)
+    rec = imutherm.read(path)
+    assert info["format"] == rec.format
+    assert info["samples"] == len(rec)
+    assert info["lines"] == rec.lines
+    assert info["rate_hz"] == rec.rate
+    assert info["rate_source"] == rec.rate_source
+    assert info["notes"] == rec.notes
+    assert info["dropped_samples"] == rec.dropped_samples
+    assert [p["message"] for p in info["problems"]] == [p["message"] for p in rec.problems]
+    assert [s["name"] for s in info.get("streams", [])] == [s["name"] for s in rec.streams]
+    for c in info["channels"]:
+        data = rec.channels[c["name"]]
+        finite = data[np.isfinite(data)]
+        assert c["unit"] == rec.units[c["name"]]
+        assert c["nan_samples"] == len(data) - len(finite)
+        assert c["min"] == finite.min() and c["max"] == finite.max()
+        assert c["mean"] == pytest.approx(finite.mean(), rel=1e-12, abs=1e-15)
+        assert c["std"] == pytest.approx(finite.std(ddof=1), rel=1e-9, abs=1e-15)
