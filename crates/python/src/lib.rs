@@ -15,6 +15,7 @@ mod curve;
 mod errors;
 mod estimates;
 mod recording;
+mod simulation;
 
 create_exception!(
     _imutherm,
@@ -42,5 +43,6 @@ fn _imutherm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(curve::noise_terms, m)?)?;
     m.add_function(wrap_pyfunction!(estimates::estimates, m)?)?;
     m.add_function(wrap_pyfunction!(recording::read, m)?)?;
+    m.add_function(wrap_pyfunction!(simulation::simulate, m)?)?;
     Ok(())
 }

@@ -34,7 +34,7 @@ STATISTICS = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev",
               "totdev", "mtotdev", "ttotdev", "htotdev", "theo1")
 
 __all__ = ["Channel", "Curve", "ImuthermError", "Recording", "STATISTICS", "analyze", "noise_terms",
-           "read", *STATISTICS]
+           "read", "simulate", *STATISTICS]
 
 
 def analyze(stat, y, rate=1.0, taus="octave", data_type="freq", confidence=0.683):
@@ -150,3 +150,20 @@ def read(path, rate=None, units=None, topic=None, instance=None, temp_topic=None
                                     list(units or []), topic,
                                     None if instance is None else int(instance), temp_topic))
 
+
+def simulate(preset="mpu9250-thesis", duration=None, rate=None, profile=None, seed=None):
+    """The recording ``imutherm simulate`` writes with the same arguments,
+    sample for sample, in memory: ``preset`` (``"mpu9250-thesis"`` or
+    ``"white"``), ``duration`` in seconds, ``rate`` in Hz, ``profile`` (the
+    chamber temperature profile, in ``--profile``'s spelling, e.g.
+    ``"ramp:20:60:7200"``) and ``seed`` override the preset's. Returns a
+    :class:`Recording` whose ``metadata`` holds the true parameters.
+
+    >>> rec = imutherm.simulate(preset="white", duration=60, rate=100, seed=7)
+    >>> rec.channels["gyro_x"].shape
+    (6000,)
+    """
+    return Recording(_imutherm.simulate(str(preset),
+                                        None if duration is None else float(duration),
+                                        None if rate is None else float(rate),
+                                        profile, None if seed is None else int(seed)))

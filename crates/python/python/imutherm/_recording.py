@@ -44,9 +44,9 @@ class Recording:
       --json``.
 
     >>> import imutherm
-    >>> rec = imutherm.read("imu_34C.txt")                  # doctest: +SKIP
-    >>> rec.rate, len(rec), list(rec.channels)[:2]          # doctest: +SKIP
-    (20.0, 72000, ['accel_x', 'accel_y'])
+    >>> rec = imutherm.simulate(preset="white", duration=10, rate=100, seed=1)
+    >>> rec.rate, len(rec), list(rec.channels)[:2]
+    (100.0, 1000, ['accel_x', 'accel_y'])
     """
 
     def __init__(self, fields):
@@ -100,9 +100,9 @@ class Recording:
         (the sample index when the rate is unknown); units and metadata in
         ``attrs`` (needs pandas).
 
-        >>> df = imutherm.read("imu_34C.txt").to_pandas()      # doctest: +SKIP
-        >>> df.index.name, df.shape                             # doctest: +SKIP
-        ('time_s', (72000, 7))
+        >>> df = imutherm.simulate(preset="white", duration=1, rate=10, seed=1).to_pandas()
+        >>> df.index.name, df.shape
+        ('time_s', (10, 7))
         """
         try:
             import pandas as pd
