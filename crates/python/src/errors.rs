@@ -55,3 +55,14 @@ pub(crate) fn to_py(err: &(dyn Error + 'static)) -> PyErr {
 pub(crate) fn analysis_err(err: analysis::AnalysisError) -> PyErr {
     to_py(&err)
 }
+
+/// An error under a context, as anyhow's `with_context` shows it.
+pub(crate) fn in_context(context: &str, err: &(dyn Error + 'static)) -> PyErr {
+    let (text, _) = message(err);
+    ImuthermError::new_err(format!("{context}: {text}"))
+}
+
+/// A refusal with the command line's message.
+pub(crate) fn refused(text: impl Into<String>) -> PyErr {
+    ImuthermError::new_err(text.into())
+}

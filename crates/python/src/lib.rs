@@ -16,6 +16,7 @@ mod errors;
 mod estimates;
 mod recording;
 mod simulation;
+mod tcal;
 
 create_exception!(
     _imutherm,
@@ -44,5 +45,14 @@ fn _imutherm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(estimates::estimates, m)?)?;
     m.add_function(wrap_pyfunction!(recording::read, m)?)?;
     m.add_function(wrap_pyfunction!(simulation::simulate, m)?)?;
+    for f in [
+        wrap_pyfunction!(tcal::tcal_fit, m)?,
+        wrap_pyfunction!(tcal::tcal_check, m)?,
+        wrap_pyfunction!(tcal::tcal_apply, m)?,
+        wrap_pyfunction!(tcal::tcal_eval, m)?,
+        wrap_pyfunction!(tcal::tcal_export, m)?,
+    ] {
+        m.add_function(f)?;
+    }
     Ok(())
 }

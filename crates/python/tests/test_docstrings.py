@@ -8,6 +8,7 @@ import pytest
 import imutherm
 import imutherm._curve
 import imutherm._recording
+import imutherm._tcal
 import imutherm.allantools
 
 

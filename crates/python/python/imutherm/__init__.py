@@ -25,6 +25,7 @@ import numpy as np
 from . import _imutherm
 from ._curve import Curve
 from ._recording import Channel, Recording
+from ._tcal import TcalModel, tcal_fit
 from ._samples import as_samples, as_taus
 
 ImuthermError = _imutherm.ImuthermError
@@ -34,7 +35,7 @@ STATISTICS = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev",
               "totdev", "mtotdev", "ttotdev", "htotdev", "theo1")
 
 __all__ = ["Channel", "Curve", "ImuthermError", "Recording", "STATISTICS", "analyze", "noise_terms",
-           "read", "simulate", *STATISTICS]
+           "read", "simulate", "TcalModel", "tcal_fit", *STATISTICS]
 
 
 def analyze(stat, y, rate=1.0, taus="octave", data_type="freq", confidence=0.683):

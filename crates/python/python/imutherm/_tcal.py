@@ -1,0 +1,183 @@
+"""The temperature compensation of ``imutherm tcal``: a fitted model, applied
+to recordings, evaluated and exported for PX4 or ArduPilot."""
+
+import json
+import os
+
+from . import _imutherm
+
+
+def _paths(runs):
+    """File paths from paths or recordings read from files."""
+    out = []
+    for r in runs:
+        path = getattr(r, "file", r)
+        if path is None:
+            raise ValueError("a recording made in memory has no file: the model keeps each run's "
+                             "digest, so fit and evaluate on files (imutherm.read's, or paths)")
+        out.append(os.fspath(path))
+    return out
+
+
+def _units(units):
+    if isinstance(units, dict):
+        return [f"{k}={v}" for k, v in units.items()]
+    if isinstance(units, str):
+        return [units]
+    return list(units or [])
+
+
+def tcal_fit(runs, channels=None, order="auto", tref=None, bin_width=1.0, rate_term=False,
+             firmware=None, rate=None, units=None):
+    """Fits the bias over temperature of the runs, as ``imutherm tcal fit``:
+    ``runs`` are paths (or :class:`Recording` objects read from files),
+    ``channels`` names or groups (``"gyro"``, ``"accel"``; all inertial
+    channels by default), ``order`` an integer or ``"auto"``
+    (cross-validated), ``tref`` the reference temperature (the range's
+    middle by default), ``bin_width`` in degrees C, ``rate_term`` a dT/dt
+    term, ``firmware`` (``"px4"`` or ``"ardupilot"``: ``--for``, a cubic at
+    most, checked against the export), ``rate`` and ``units`` as in
+    :func:`imutherm.read`.
+
+    Returns a :class:`TcalModel`; ``model.save(path)`` writes the same file
+    as ``imutherm tcal fit -o path``. Warnings of the export for
+    ``firmware`` are in ``model.warnings``.
+
+    >>> model = imutherm.tcal_fit(["cool.txt"], firmware="px4")      # doctest: +SKIP
+    >>> model.save("model.json")                                      # doctest: +SKIP
+    >>> print(model.export("px4"))                                    # doctest: +SKIP
+    """
+    if isinstance(runs, (str, os.PathLike)) or hasattr(runs, "channels"):
+        runs = [runs]
+    if isinstance(channels, str):
+        channels = [channels]
+    if order == "auto" or order is None:
+        order = None
+    else:
+        order = int(order)
+    text, warnings = _imutherm.tcal_fit(_paths(runs), list(channels or []), order,
+                                        None if tref is None else float(tref), float(bin_width),
+                                        bool(rate_term), firmware,
+                                        None if rate is None else float(rate), _units(units))
+    return TcalModel(text, warnings=warnings)
+
+
+class TcalModel:
+    """A temperature-compensation model (the ``imutherm.tcal/1`` model file).
+
+    * ``t_ref``, ``t_min``, ``t_max`` -- reference and fitted range, degrees C;
+    * ``channels`` -- a dict, channel name -> its model (``order``,
+      ``coefficients`` in the model file's normalised form, ``unit``,
+      ``residual_rms``, ...);
+    * ``to_json()`` -- the model file's text; ``save(path)`` writes it;
+      ``TcalModel.load(path)`` reads one (checked as ``tcal apply`` checks
+      it).
+    """
+
+    def __init__(self, text, name=None, warnings=()):
+        _imutherm.tcal_check(text)
+        self._text = text
+        self._doc = json.loads(text)
+        #: What ``tcal eval`` and ``tcal export`` call the model in their output.
+        self.name = name
+        self.warnings = list(warnings)
+
+    @classmethod
+    def load(cls, path):
+        """Reads a model file written by ``imutherm tcal fit`` or :meth:`save`."""
+        path = os.fspath(path)
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+        try:
+            return cls(text, name=path)
+        except _imutherm.ImuthermError as e:
+            raise _imutherm.ImuthermError(f"{path}: {e}") from None
+
+    def to_json(self):
+        """The model file's text, as ``imutherm tcal fit`` writes it."""
+        return self._text
+
+    def save(self, path):
+        """Writes the model file to ``path``; ``name`` becomes ``path``."""
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(self._text)
+        self.name = os.fspath(path)
+
+    @property
+    def t_ref(self):
+        return self._doc["t_ref_c"]
+
+    @property
+    def t_min(self):
+        return self._doc["t_min_c"]
+
+    @property
+    def t_max(self):
+        return self._doc["t_max_c"]
+
+    @property
+    def channels(self):
+        return {c["name"]: c for c in self._doc["channels"]}
+
+    def apply(self, recording):
+        """A copy of ``recording`` with every modelled channel compensated,
+        as ``imutherm tcal apply`` writes it: x - (p(T) - p(T_ref)) with T
+        clamped to the fitted range (``out_of_range`` counts the samples
+        clamped). Needs the recording's temperature channel."""
+        import copy
+
+        temp = recording.temperature
+        if temp is None:
+            raise _imutherm.ImuthermError(f"{recording.file or 'recording'}: no temperature channel")
+        out = copy.copy(recording)
+        out.channels = dict(recording.channels)
+        out._channels = [copy.copy(c) for c in recording._channels]
+        out.out_of_range = 0
+        rate = recording.rate or 1.0
+        for name in self.channels:
+            chans = [c for c in out._channels if c.name == name]
+            if not chans:
+                raise _imutherm.ImuthermError(
+                    f"{recording.file or 'recording'}: the model has channel '{name}', the file does not")
+            data, clamped = _imutherm.tcal_apply(self._text, name, chans[0].data, temp, float(rate))
+            chans[0].data = data
+            out.channels[name] = data
+            out.out_of_range = max(out.out_of_range, clamped)
+        out.metadata = dict(recording.metadata)
+        out.metadata["entries"] = list(recording.metadata["entries"]) + [
+            ("temperature_compensated_with", self.name or "model")]
+        return out
+
+    def evaluate(self, runs, export=None, params=None, rate=None, units=None):
+        """What ``imutherm tcal eval --json MODEL RUNS [--export FW]
+        [--params FILE]`` prints, as a dict (schema
+        ``imutherm.tcal-eval/1``): per run and channel, the residual bias
+        over 1 degree C bins before and after (``bias_rms_*``,
+        ``bias_max_*``, ``bins_*``), the ADEV minimum per 5 degree C slice,
+        whether the run was held out of the fit, and with ``export`` the
+        bias as the firmware applies the exported file."""
+        if isinstance(runs, (str, os.PathLike)) or hasattr(runs, "channels"):
+            runs = [runs]
+        text, _ = _imutherm.tcal_eval(self._text, self.name or "model", _paths(runs), export,
+                                      None if params is None else os.fspath(params),
+                                      None if rate is None else float(rate), _units(units))
+        return json.loads(text)
+
+    def export(self, firmware, instance=None, device_id=None):
+        """The parameter file ``imutherm tcal export MODEL --firmware
+        FIRMWARE [--instance N] [--device-id ID]`` writes (``"px4"``: a
+        QGroundControl ``.params`` file; ``"ardupilot"``: a ``.parm``
+        file), as text. The export's warnings go to ``export_warnings``."""
+        text, warnings = _imutherm.tcal_export(self._text, self.name or "model", str(firmware),
+                                               None if instance is None else int(instance),
+                                               None if device_id is None else int(device_id))
+        self.export_warnings = warnings
+        return text
+
+    def __repr__(self):
+        rows = [f"<imutherm.TcalModel {self.name or ''} {self.t_min:.1f}..{self.t_max:.1f} degC, "
+                f"T_ref {self.t_ref:.2f} degC>".replace("  ", " ")]
+        for c in self._doc["channels"]:
+            rows.append(f"  {c['name']:<8} order {c['order']}  residual RMS "
+                        f"{c['residual_rms']:.3e} {c['unit']}")
+        return "\n".join(rows)
