@@ -104,6 +104,45 @@ pub fn analyze<'py>(
     Ok(dict)
 }
 
+/// The best of `runs` timings, in seconds, of the `allan` library's own
+/// `analyze` on the samples, called from Rust with no Python in between:
+/// the yardstick `bench/python_vs_allantools.py` measures the Python call
+/// against.
+#[pyfunction]
+#[pyo3(signature = (stat, y, rate, taus, data_type, confidence, runs))]
+#[allow(clippy::too_many_arguments)] // analyze's arguments and the run count
+pub fn time_library<'py>(
+    py: Python<'py>,
+    stat: &str,
+    y: PyReadonlyArray1<'py, f64>,
+    rate: f64,
+    taus: Taus,
+    data_type: &str,
+    confidence: f64,
+    runs: usize,
+) -> PyResult<f64> {
+    let opts = Options {
+        stat: parse::<Stat>(stat)?,
+        data_type: parse::<DataType>(data_type)?,
+        rate_hz: rate,
+        taus: taus.spec()?,
+        confidence,
+    };
+    let data = samples(&y)?;
+    py.detach(|| {
+        let mut best = f64::INFINITY;
+        for _ in 0..runs.max(1) {
+            let start = std::time::Instant::now();
+            let curve = allan::analyze(data, &opts)?;
+            best = best.min(start.elapsed().as_secs_f64());
+            // Keeps the result alive to the end of the timing.
+            std::hint::black_box(curve);
+        }
+        Ok(best)
+    })
+    .map_err(to_py_err)
+}
+
 /// A term's estimate as (value, lo, hi) or the reason it is not identifiable
 /// with its upper bound.
 fn estimate<'py>(py: Python<'py>, est: &TermEstimate) -> PyResult<Bound<'py, PyDict>> {

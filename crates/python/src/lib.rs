@@ -42,6 +42,7 @@ fn _imutherm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ImuthermError", m.py().get_type::<ImuthermError>())?;
     m.add_function(wrap_pyfunction!(curve::analyze, m)?)?;
     m.add_function(wrap_pyfunction!(curve::noise_terms, m)?)?;
+    m.add_function(wrap_pyfunction!(curve::time_library, m)?)?;
     m.add_function(wrap_pyfunction!(estimates::estimates, m)?)?;
     m.add_function(wrap_pyfunction!(recording::read, m)?)?;
     m.add_function(wrap_pyfunction!(simulation::simulate, m)?)?;
