@@ -1,3 +1,4 @@
+import os
 from typing import Any, Literal, Sequence, TypedDict, Union
 
 import numpy as np
@@ -71,3 +72,107 @@ class NoiseTerms(TypedDict):
     terms: dict[str, TermReading]
 
 def noise_terms(y: Samples, rate: float = 1.0, confidence: float = 0.95) -> NoiseTerms: ...
+
+class Channel:
+    name: str
+    source: str
+    quantity: str
+    unit: str
+    unit_source: str
+    data: npt.NDArray[np.float64]
+
+class Problem(TypedDict):
+    kind: str
+    line: int | None
+    column: int | None
+    channel: str | None
+    count: int
+    message: str
+
+class Recording:
+    channels: dict[str, npt.NDArray[np.float64]]
+    rate: float | None
+    rate_source: str
+    timestamps: npt.NDArray[np.float64] | None
+    metadata: dict[str, Any]
+    file: str | None
+    format: str
+    lines: int | None
+    notes: list[str]
+    problems: list[Problem]
+    problems_unlisted: int
+    dropped_samples: int
+    clock: dict[str, Any] | None
+    streams: list[dict[str, Any]]
+    out_of_range: int
+    def __len__(self) -> int: ...
+    def channel(self, name: str) -> Channel: ...
+    @property
+    def units(self) -> dict[str, str]: ...
+    @property
+    def temperature(self) -> npt.NDArray[np.float64] | None: ...
+    @property
+    def duration(self) -> float | None: ...
+    def to_pandas(self) -> Any: ...
+
+PathLike = Union[str, "os.PathLike[str]"]
+Units = Union[dict[str, str], Sequence[str], str, None]
+
+def read(
+    path: PathLike,
+    rate: float | None = None,
+    units: Units = None,
+    topic: str | None = None,
+    instance: int | None = None,
+    temp_topic: str | None = None,
+) -> Recording: ...
+def simulate(
+    preset: Literal["mpu9250-thesis", "white"] | str = "mpu9250-thesis",
+    duration: float | None = None,
+    rate: float | None = None,
+    profile: str | None = None,
+    seed: int | None = None,
+) -> Recording: ...
+
+Firmware = Literal["px4", "ardupilot"]
+Runs = Union[PathLike, Recording, Sequence[Union[PathLike, Recording]]]
+
+class TcalModel:
+    name: str | None
+    warnings: list[str]
+    export_warnings: list[str]
+    def __init__(self, text: str, name: str | None = None, warnings: Sequence[str] = ()) -> None: ...
+    @classmethod
+    def load(cls, path: PathLike) -> TcalModel: ...
+    def to_json(self) -> str: ...
+    def save(self, path: PathLike) -> None: ...
+    @property
+    def t_ref(self) -> float: ...
+    @property
+    def t_min(self) -> float: ...
+    @property
+    def t_max(self) -> float: ...
+    @property
+    def channels(self) -> dict[str, dict[str, Any]]: ...
+    def apply(self, recording: Recording) -> Recording: ...
+    def evaluate(
+        self,
+        runs: Runs,
+        export: Firmware | None = None,
+        params: PathLike | None = None,
+        rate: float | None = None,
+        units: Units = None,
+    ) -> dict[str, Any]: ...
+    def export(self, firmware: Firmware, instance: int | None = None, device_id: int | None = None) -> str: ...
+
+def tcal_fit(
+    runs: Runs,
+    channels: Sequence[str] | str | None = None,
+    order: int | Literal["auto"] = "auto",
+    tref: float | None = None,
+    bin_width: float = 1.0,
+    rate_term: bool = False,
+    firmware: Firmware | None = None,
+    rate: float | None = None,
+    units: Units = None,
+) -> TcalModel: ...
