@@ -33,6 +33,11 @@ fn message(err: &(dyn Error + 'static)) -> (String, Option<i32>) {
             // An I/O error with no OS code (a truncated file) is still one.
             errno = errno.or(Some(io.raw_os_error().unwrap_or(0)));
         }
+        if let Some(imu::ReadErrorKind::IsDirectory) = read.map(|r| &r.kind) {
+            // Python's IsADirectoryError is OSError with EISDIR: 21 on Linux,
+            // macOS, the BSDs and in the Windows C runtime.
+            errno = errno.or(Some(21));
+        }
         cause = e.source();
         if let Some(next) = cause {
             text = format!("{text}: {next}");

@@ -104,6 +104,8 @@ def test_missing_file_is_an_os_error_with_the_command_line_message(tmp_path):
     missing = tmp_path / "none.txt"
     with pytest.raises(FileNotFoundError, match=f"{missing}: No such file or directory"):
         imutherm.read(missing)
+    with pytest.raises(IsADirectoryError, match=f"{tmp_path}: is a directory, not a file"):
+        imutherm.read(tmp_path)
 
 
 def test_bad_option_is_a_value_error():
