@@ -32,10 +32,27 @@ fn firmware_of(key: &str) -> PyResult<Firmware> {
     }
 }
 
-fn options(rate: Option<f64>, units: Vec<String>) -> PyResult<RecordingOptions> {
+/// The reading flags of `tcal fit` and `tcal eval`, as Python passes them.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+pub struct Reading {
+    rate: Option<f64>,
+    units: Vec<String>,
+    topic: Option<String>,
+    instance: Option<u32>,
+    temp_topic: Option<String>,
+}
+
+fn options(r: Reading) -> PyResult<RecordingOptions> {
     recording_options(&ReadingChoices {
-        rate_hz: rate,
-        units,
+        rate_hz: r.rate,
+        units: r.units,
+        stream: imu::StreamChoice {
+            topic: r.topic,
+            instance: r.instance,
+            temp_topic: r.temp_topic,
+            first_if_several: false,
+        },
         ..ReadingChoices::default()
     })
     .map_err(analysis_err)
@@ -86,7 +103,7 @@ fn recorded_device_id(files: &[PathBuf]) -> Option<u32> {
 /// Fits a model on the runs in `files`, as `imutherm tcal fit`; returns the
 /// model file's text and the export's warnings for `firmware`.
 #[pyfunction]
-#[pyo3(signature = (files, channels, order, tref, bin_width, rate_term, firmware, rate, units))]
+#[pyo3(signature = (files, channels, order, tref, bin_width, rate_term, firmware, reading))]
 // One argument per flag of `tcal fit`, as Python passes them.
 #[allow(clippy::too_many_arguments)]
 pub fn tcal_fit(
@@ -98,8 +115,7 @@ pub fn tcal_fit(
     bin_width: f64,
     rate_term: bool,
     firmware: Option<&str>,
-    rate: Option<f64>,
-    units: Vec<String>,
+    reading: Reading,
 ) -> PyResult<(String, Vec<String>)> {
     let firmware = firmware.map(firmware_of).transpose()?;
     let order = order.map_or(Order::Auto, Order::Fixed);
@@ -115,7 +131,7 @@ pub fn tcal_fit(
     if files.is_empty() {
         return Err(refused("no run to fit on"));
     }
-    let read = options(rate, units)?;
+    let read = options(reading)?;
     py.detach(|| {
         let runs: Vec<(Selection, Vec<f64>)> = files
             .iter()
@@ -295,9 +311,7 @@ fn was_fitted_on(model: &Model, file: &Path) -> PyResult<bool> {
 
 /// `imutherm tcal eval --json`'s document (`imutherm.tcal-eval/1`), as text.
 #[pyfunction]
-#[pyo3(signature = (model, model_name, files, export, params, rate, units))]
-// One argument per flag of `tcal eval`, as Python passes them.
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (model, model_name, files, export, params, reading))]
 pub fn tcal_eval(
     py: Python<'_>,
     model: &str,
@@ -305,11 +319,10 @@ pub fn tcal_eval(
     files: Vec<PathBuf>,
     export: Option<&str>,
     params: Option<PathBuf>,
-    rate: Option<f64>,
-    units: Vec<String>,
+    reading: Reading,
 ) -> PyResult<(String, Vec<String>)> {
     let model = model_of(model)?;
-    let read = options(rate, units)?;
+    let read = options(reading)?;
     let firmware = export.map(firmware_of).transpose()?;
     py.detach(|| {
         let loaded = firmware

@@ -133,3 +133,14 @@ def test_refusals_carry_the_command_line_messages(synthetic):
         imutherm.tcal_fit(path, bin_width=0.001)
     with pytest.raises(FileNotFoundError):
         imutherm.tcal_fit(path.parent / "missing.csv")
+
+
+def test_recordings_bring_the_options_they_were_read_with(synthetic):
+    path = synthetic[0]
+    in_deg = {"gyro_x": "deg/s"}
+    rec = imutherm.read(path, units=in_deg)
+    from_recording = imutherm.tcal_fit(rec, order=2).to_json()
+    assert from_recording == imutherm.tcal_fit(path, order=2, units=in_deg).to_json()
+    assert from_recording != imutherm.tcal_fit(path, order=2).to_json()
+    with pytest.raises(ValueError, match="read with different options"):
+        imutherm.tcal_fit([rec, imutherm.read(path)])

@@ -147,9 +147,12 @@ def read(path, rate=None, units=None, topic=None, instance=None, temp_topic=None
         units = [f"{k}={v}" for k, v in units.items()]
     elif isinstance(units, str):
         units = [units]
-    return Recording(_imutherm.read(os.fspath(path), None if rate is None else float(rate),
-                                    list(units or []), topic,
-                                    None if instance is None else int(instance), temp_topic))
+    rec = Recording(_imutherm.read(os.fspath(path), None if rate is None else float(rate),
+                                   list(units or []), topic,
+                                   None if instance is None else int(instance), temp_topic))
+    rec.read_options = dict(rate=rate, units=units, topic=topic, instance=instance,
+                            temp_topic=temp_topic)
+    return rec
 
 
 def simulate(preset="mpu9250-thesis", duration=None, rate=None, profile=None, seed=None):

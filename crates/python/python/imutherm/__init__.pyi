@@ -105,6 +105,7 @@ class Recording:
     clock: dict[str, Any] | None
     streams: list[dict[str, Any]]
     out_of_range: int
+    read_options: dict[str, Any]
     def __len__(self) -> int: ...
     def channel(self, name: str) -> Channel: ...
     @property
@@ -162,6 +163,9 @@ class TcalModel:
         params: PathLike | None = None,
         rate: float | None = None,
         units: Units = None,
+        topic: str | None = None,
+        instance: int | None = None,
+        temp_topic: str | None = None,
     ) -> dict[str, Any]: ...
     def export(self, firmware: Firmware, instance: int | None = None, device_id: int | None = None) -> str: ...
 
@@ -175,4 +179,7 @@ def tcal_fit(
     firmware: Firmware | None = None,
     rate: float | None = None,
     units: Units = None,
+    topic: str | None = None,
+    instance: int | None = None,
+    temp_topic: str | None = None,
 ) -> TcalModel: ...

@@ -7,16 +7,34 @@ import os
 from . import _imutherm
 
 
-def _paths(runs):
-    """File paths from paths or recordings read from files."""
-    out = []
+READ_FLAGS = ("rate", "units", "topic", "instance", "temp_topic")
+
+
+def _runs(runs, given):
+    """The runs' paths and the reading flags for all of them: those given,
+    else those the recordings among the runs were read with (which must
+    agree, as one set of flags reads every run on the command line)."""
+    if isinstance(runs, (str, os.PathLike)) or hasattr(runs, "channels"):
+        runs = [runs]
+    paths, seen = [], []
     for r in runs:
         path = getattr(r, "file", r)
         if path is None:
             raise ValueError("a recording made in memory has no file: the model keeps each run's "
                              "digest, so fit and evaluate on files (imutherm.read's, or paths)")
-        out.append(os.fspath(path))
-    return out
+        paths.append(os.fspath(path))
+        if hasattr(r, "read_options"):
+            seen.append(r.read_options)
+    reading = dict(given)
+    if all(v is None for v in given.values()) and seen:
+        if any(s != seen[0] for s in seen[1:]):
+            raise ValueError("the recordings were read with different options (rate, units, "
+                             "topic, ...): give the ones to read every run with")
+        reading = dict(seen[0])
+    reading["rate"] = None if reading["rate"] is None else float(reading["rate"])
+    reading["units"] = _units(reading["units"])
+    reading["instance"] = None if reading["instance"] is None else int(reading["instance"])
+    return paths, reading
 
 
 def _units(units):
@@ -28,7 +46,7 @@ def _units(units):
 
 
 def tcal_fit(runs, channels=None, order="auto", tref=None, bin_width=1.0, rate_term=False,
-             firmware=None, rate=None, units=None):
+             firmware=None, rate=None, units=None, topic=None, instance=None, temp_topic=None):
     """Fits the bias over temperature of the runs, as ``imutherm tcal fit``:
     ``runs`` are paths (or :class:`Recording` objects read from files),
     ``channels`` names or groups (``"gyro"``, ``"accel"``; all inertial
@@ -36,8 +54,9 @@ def tcal_fit(runs, channels=None, order="auto", tref=None, bin_width=1.0, rate_t
     (cross-validated), ``tref`` the reference temperature (the range's
     middle by default), ``bin_width`` in degrees C, ``rate_term`` a dT/dt
     term, ``firmware`` (``"px4"`` or ``"ardupilot"``: ``--for``, a cubic at
-    most, checked against the export), ``rate`` and ``units`` as in
-    :func:`imutherm.read`.
+    most, checked against the export); ``rate``, ``units``, ``topic``,
+    ``instance`` and ``temp_topic`` as in :func:`imutherm.read`, for every
+    run (by default those the recordings given were read with).
 
     Returns a :class:`TcalModel`; ``model.save(path)`` writes the same file
     as ``imutherm tcal fit -o path``. Warnings of the export for
@@ -47,18 +66,17 @@ def tcal_fit(runs, channels=None, order="auto", tref=None, bin_width=1.0, rate_t
     >>> model.save("model.json")                                      # doctest: +SKIP
     >>> print(model.export("px4"))                                    # doctest: +SKIP
     """
-    if isinstance(runs, (str, os.PathLike)) or hasattr(runs, "channels"):
-        runs = [runs]
+    paths, reading = _runs(runs, dict(rate=rate, units=units, topic=topic, instance=instance,
+                                      temp_topic=temp_topic))
     if isinstance(channels, str):
         channels = [channels]
     if order == "auto" or order is None:
         order = None
     else:
         order = int(order)
-    text, warnings = _imutherm.tcal_fit(_paths(runs), list(channels or []), order,
+    text, warnings = _imutherm.tcal_fit(paths, list(channels or []), order,
                                         None if tref is None else float(tref), float(bin_width),
-                                        bool(rate_term), firmware,
-                                        None if rate is None else float(rate), _units(units))
+                                        bool(rate_term), firmware, reading)
     return TcalModel(text, warnings=warnings)
 
 
@@ -148,19 +166,20 @@ class TcalModel:
             ("temperature_compensated_with", self.name or "model")]
         return out
 
-    def evaluate(self, runs, export=None, params=None, rate=None, units=None):
+    def evaluate(self, runs, export=None, params=None, rate=None, units=None, topic=None,
+                 instance=None, temp_topic=None):
         """What ``imutherm tcal eval --json MODEL RUNS [--export FW]
         [--params FILE]`` prints, as a dict (schema
         ``imutherm.tcal-eval/1``): per run and channel, the residual bias
         over 1 degree C bins before and after (``bias_rms_*``,
         ``bias_max_*``, ``bins_*``), the ADEV minimum per 5 degree C slice,
         whether the run was held out of the fit, and with ``export`` the
-        bias as the firmware applies the exported file."""
-        if isinstance(runs, (str, os.PathLike)) or hasattr(runs, "channels"):
-            runs = [runs]
-        text, _ = _imutherm.tcal_eval(self._text, self.name or "model", _paths(runs), export,
-                                      None if params is None else os.fspath(params),
-                                      None if rate is None else float(rate), _units(units))
+        bias as the firmware applies the exported file. The reading flags are
+        :func:`tcal_fit`'s."""
+        paths, reading = _runs(runs, dict(rate=rate, units=units, topic=topic, instance=instance,
+                                          temp_topic=temp_topic))
+        text, _ = _imutherm.tcal_eval(self._text, self.name or "model", paths, export,
+                                      None if params is None else os.fspath(params), reading)
         return json.loads(text)
 
     def export(self, firmware, instance=None, device_id=None):
