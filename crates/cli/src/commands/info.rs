@@ -351,15 +351,24 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
             t.min, t.mean, t.max
         )?;
     }
+    // A robot log's source names (`sensor_combined.gyro_rad[0]`) are
+    // longer than a text header's: the column widens to the longest.
+    let w = f
+        .channels
+        .iter()
+        .map(|c| c.source.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(22);
     writeln!(
         out,
-        "  {:<10} {:<22} {:<17} {:>14} {:>12} {:>13} {:>13} {:>7}",
+        "  {:<10} {:<w$} {:<17} {:>14} {:>12} {:>13} {:>13} {:>7}",
         "channel", "column", "unit", "mean", "std", "min", "max", "NaN"
     )?;
     for c in &f.channels {
         writeln!(
             out,
-            "  {:<10} {:<22} {:<17} {:>14} {:>12} {:>13} {:>13} {:>7}",
+            "  {:<10} {:<w$} {:<17} {:>14} {:>12} {:>13} {:>13} {:>7}",
             c.name,
             c.source,
             unit_text(&c.unit, c.unit_source, c.quantity),
