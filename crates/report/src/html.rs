@@ -4,6 +4,8 @@
 use minijinja::{AutoEscape, Environment, context};
 use serde::Serialize;
 
+use analysis::summary::Summary;
+
 /// Escapes text for HTML content and attribute values.
 pub fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
@@ -57,6 +59,9 @@ enum Block {
     },
     Code {
         text: String,
+    },
+    Summary {
+        summary: Box<Summary>,
     },
 }
 
@@ -149,6 +154,14 @@ impl Page {
         });
     }
 
+    /// The summary of what the IMU is ([`Summary`]): drawn first, so that
+    /// the answer is on the first screen.
+    pub fn summary(&mut self, summary: &Summary) {
+        self.blocks.push(Block::Summary {
+            summary: Box::new(summary.clone()),
+        });
+    }
+
     /// The finished page.
     pub fn finish(&self) -> Result<String, crate::ReportError> {
         let mut env = Environment::new();
@@ -158,6 +171,9 @@ impl Page {
         env.set_auto_escape_callback(|_| AutoEscape::None);
         env.set_keep_trailing_newline(true);
         env.add_filter("esc", |text: String| escape(&text));
+        env.add_filter("num", |x: Option<f64>| {
+            x.map_or_else(|| "—".to_string(), significant)
+        });
         let rendered = env
             .template_from_named_str("page.html", PAGE_TEMPLATE)
             .and_then(|t| {
@@ -169,6 +185,34 @@ impl Page {
                 })
             });
         rendered.map_err(|e| crate::ReportError::Template(e.to_string()))
+    }
+}
+
+/// `x` to three significant digits (whole numbers from 100 to 99 999 keep
+/// all of theirs), without the float noise of a plain `{}`
+/// (`0.30000000000000004`); in plain decimals from 0.001 to 99 999.
+pub fn significant(x: f64) -> String {
+    if !x.is_finite() {
+        return "—".to_string();
+    }
+    if x == 0.0 {
+        return "0".to_string();
+    }
+    let mag = x.abs().log10().floor() as i32;
+    if !(-3..5).contains(&mag) {
+        let s = format!("{x:.2e}");
+        // 1.50e-5 → 1.5e-5
+        return match s.split_once('e') {
+            Some((m, e)) => format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.')),
+            None => s,
+        };
+    }
+    let decimals = (2 - mag).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
     }
 }
 
@@ -213,11 +257,26 @@ function imuthermSurface(id){
 const STYLE: &str = "body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}\
 table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:.25em .6em;text-align:right}\
 th{background:#eee}caption{font-weight:bold;text-align:left;padding:.3em 0}figure.plot{display:inline-block;margin:.5em}\
-figure.surface{display:inline-block;margin:.5em}canvas{border:1px solid #ddd;cursor:grab}figcaption{font-size:.9em;color:#555}pre{background:#f4f4f4;padding:.6em;overflow-x:auto}";
+figure.surface{display:inline-block;margin:.5em}canvas{border:1px solid #ddd;cursor:grab}figcaption{font-size:.9em;color:#555}pre{background:#f4f4f4;padding:.6em;overflow-x:auto}\
+section.summary{border:1px solid #bbb;padding:0 1em;margin:1em 0}table.summary td:first-child,table.summary td:nth-child(2){text-align:left}\
+tr.outside td{background:#fde8e8}.src{display:block;font-size:.75em;color:#666}";
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn numbers_keep_three_significant_digits_and_no_float_noise() {
+        assert_eq!(significant(0.1 + 0.2), "0.3");
+        assert_eq!(significant(0.01), "0.01");
+        assert_eq!(significant(1000.0), "1000");
+        assert_eq!(significant(12345.6), "12346");
+        assert_eq!(significant(-0.0123456), "-0.0123");
+        assert_eq!(significant(1.5e-5), "1.5e-5");
+        assert_eq!(significant(2.0e6), "2e6");
+        assert_eq!(significant(0.0), "0");
+        assert_eq!(significant(f64::NAN), "—");
+    }
 
     #[test]
     fn file_text_is_escaped() {
