@@ -65,6 +65,13 @@ enum Block {
     },
 }
 
+/// A heading and the blocks up to the next, as the template reads them.
+#[derive(Debug, Serialize)]
+struct Section<'a> {
+    title: Option<&'a str>,
+    blocks: Vec<&'a Block>,
+}
+
 /// One slice of a 3D surface as the page's script reads it: the mean
 /// temperature and (log₁₀ τ, log₁₀ σ) per point.
 #[derive(Debug, Serialize)]
@@ -162,8 +169,24 @@ impl Page {
         });
     }
 
-    /// The finished page.
+    /// The finished page: the blocks before the first heading, then one
+    /// collapsible section per heading, listed in a table of contents.
     pub fn finish(&self) -> Result<String, crate::ReportError> {
+        // The first part, untitled, holds what comes before any heading.
+        let mut parts: Vec<Section> = vec![Section {
+            title: None,
+            blocks: Vec::new(),
+        }];
+        for b in &self.blocks {
+            match b {
+                Block::Heading { text } => parts.push(Section {
+                    title: Some(text),
+                    blocks: Vec::new(),
+                }),
+                b => parts.last_mut().map_or((), |s| s.blocks.push(b)),
+            }
+        }
+        let sections: Vec<&Section> = parts.iter().filter(|s| s.title.is_some()).collect();
         let mut env = Environment::new();
         // Escaping is the template's own, by `esc`, on what came from a file;
         // the SVG, the style and the script are imutherm's and go in as
@@ -181,7 +204,9 @@ impl Page {
                     title => &self.title,
                     style => STYLE,
                     surface_js => SURFACE_JS,
-                    blocks => &self.blocks,
+                    parts => &parts,
+                    sections => &sections,
+                    has_summary => self.blocks.iter().any(|b| matches!(b, Block::Summary { .. })),
                 })
             });
         rendered.map_err(|e| crate::ReportError::Template(e.to_string()))
@@ -259,7 +284,11 @@ table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:
 th{background:#eee}caption{font-weight:bold;text-align:left;padding:.3em 0}figure.plot{display:inline-block;margin:.5em}\
 figure.surface{display:inline-block;margin:.5em}canvas{border:1px solid #ddd;cursor:grab}figcaption{font-size:.9em;color:#555}pre{background:#f4f4f4;padding:.6em;overflow-x:auto}\
 section.summary{border:1px solid #bbb;padding:0 1em;margin:1em 0}table.summary td:first-child,table.summary td:nth-child(2){text-align:left}\
-tr.outside td{background:#fde8e8}.src{display:block;font-size:.75em;color:#666}";
+tr.outside td{background:#fde8e8}.src{display:block;font-size:.75em;color:#666}\
+nav.toc{font-size:.9em;line-height:1.6}nav.toc a{margin-right:.8em}details>summary{cursor:pointer}details>summary h2{display:inline}\
+@media print{body{max-width:none;margin:0;font-size:10pt}nav.toc,canvas,figure.surface{display:none}\
+details>summary{list-style:none}details>summary::-webkit-details-marker{display:none}figure,table,section.summary{break-inside:avoid}\
+h2{break-after:avoid}svg{max-width:100%;height:auto}pre{white-space:pre-wrap}}";
 
 #[cfg(test)]
 mod tests {
@@ -292,7 +321,7 @@ mod tests {
     }
 
     #[test]
-    fn the_template_lays_out_each_block_on_its_own_line() {
+    fn the_template_lays_out_each_block_on_its_own_line_in_a_collapsible_section() {
         let mut p = Page::new("t & u");
         p.heading("H");
         p.paragraph("a < b");
@@ -307,9 +336,10 @@ mod tests {
         let body = html.split_once("<body>\n").unwrap().1;
         assert_eq!(
             body,
-            "<h1>t &amp; u</h1>\n<h2>H</h2>\n<p>a &lt; b</p>\n<table>\n<caption>c</caption>\n\
+            "<h1>t &amp; u</h1>\n<nav class=\"toc\"><strong>Contents:</strong> <a href=\"#s1\">H</a> </nav>\n\
+             <details open id=\"s1\"><summary><h2>H</h2></summary>\n<p>a &lt; b</p>\n<table>\n<caption>c</caption>\n\
              <tr><th>x</th><th>y</th></tr>\n<tr><td>1</td><td>2</td></tr>\n</table>\n\
-             <figure class=\"plot\"><svg/><figcaption>f</figcaption></figure>\n<pre>imutherm demo</pre>\n\
+             <figure class=\"plot\"><svg/><figcaption>f</figcaption></figure>\n<pre>imutherm demo</pre>\n</details>\n\
              </body>\n</html>\n"
         );
         assert!(html.contains("<title>t &amp; u</title>"));
