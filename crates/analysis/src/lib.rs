@@ -7,6 +7,10 @@
 //! - [`reading`]: the reader's options from what a user gives;
 //! - [`units`]: the unit systems of noise terms (SI, datasheet, thesis);
 //! - [`noise`]: each run's ADEV and noise terms;
+//! - [`datasheet`]: a datasheet's figures (built in for a few parts, or a
+//!   TOML file), each with its source;
+//! - [`summary`]: what an IMU is, first: N, B, K beside the datasheet,
+//!   its temperature sensitivity, the compensation's gain, the drift at 60 s;
 //! - [`thesis`]: the thesis's noise tables as one model, drawn as text or
 //!   HTML by their callers;
 //! - [`kalibr`]: Kalibr's `imu.yaml`;
@@ -42,6 +46,7 @@
 
 mod error;
 
+pub mod datasheet;
 pub mod experiment;
 pub mod file_identity;
 pub mod kalibr;
@@ -50,6 +55,7 @@ pub mod noise;
 pub mod reading;
 pub mod robot_logs;
 pub mod selection;
+pub mod summary;
 pub mod thesis;
 pub mod units;
 

@@ -199,6 +199,12 @@ pub struct ReportArgs {
     )]
     pub format: FigureFormat,
 
+    /// The datasheet the summary compares with: a built-in part (MPU-9250,
+    /// MPU-6050, ICM-20948) or a TOML file in the same form. None unless
+    /// given.
+    #[arg(long, value_name = "NAME|FILE.toml")]
+    pub datasheet: Option<String>,
+
     #[command(flatten)]
     pub read: ReadArgs,
 }
@@ -278,6 +284,11 @@ pub struct DemoArgs {
         ignore_case = true
     )]
     pub format: FigureFormat,
+
+    /// The datasheet the summary compares with: a built-in part (MPU-9250,
+    /// MPU-6050, ICM-20948), a TOML file in the same form, or `none`.
+    #[arg(long, default_value = "MPU-9250", value_name = "NAME|FILE.toml|none")]
+    pub datasheet: String,
 }
 
 #[cfg(feature = "analysis")]

@@ -396,6 +396,18 @@ impl From<crate::args::FirmwareArg> for thermal::firmware::Firmware {
     }
 }
 
+/// The datasheet `--datasheet` names: a built-in part or a TOML file. A
+/// name that is neither is a usage error; a file that is not a datasheet
+/// is the file's.
+#[cfg(feature = "analysis")]
+pub fn datasheet(spec: &str) -> anyhow::Result<analysis::datasheet::Datasheet> {
+    use analysis::datasheet::{Datasheet, DatasheetError};
+    Datasheet::resolve(spec).map_err(|e| match e {
+        DatasheetError::Unknown { .. } => anyhow::Error::new(UsageError(format!("--datasheet: {e}"))),
+        e => anyhow::Error::new(e),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

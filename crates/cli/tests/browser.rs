@@ -1,6 +1,8 @@
-//! The demo's report in a real browser: headless Chromium renders it, every
-//! figure must hold a drawn plot, the page must log no error, and the
-//! screenshot is kept under `target/` for people to look at.
+//! The demo's report in a real browser: headless Chromium renders it with
+//! the network disabled, every figure must hold a drawn plot, the summary
+//! must be on the first screen of a 1280×800 window, the page must log no
+//! error and fetch nothing, and the screenshots are kept under
+//! `target/report-screenshots/` for people to look at.
 //!
 //! Needs Debian's `chromium`. `.ci/run` installs it and sets
 //! `IMUTHERM_REQUIRE_BROWSER=1`, so CI cannot skip this test; elsewhere it
@@ -55,8 +57,17 @@ fn the_demo_report_renders_in_chromium() {
         "--disable-sync",
         "--enable-logging=stderr",
         "--v=0",
+        // No network: every request goes to a closed port (the page must
+        // need none; the probe below checks it made none).
+        "--proxy-server=127.0.0.1:9",
+        "--proxy-bypass-list=<-loopback>",
     ];
-    let shot = out.join("report.png");
+    // Kept as CI artefacts: target/report-screenshots/.
+    let shots = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .parent()
+        .map_or_else(|| out.clone(), |t| t.join("report-screenshots"));
+    std::fs::create_dir_all(&shots).expect("screenshot folder");
+    let shot = shots.join("report.png");
     let run = Process::new(&browser)
         .args(common)
         .arg(format!("--user-data-dir={}", profile.display()))
@@ -115,6 +126,69 @@ fn the_demo_report_renders_in_chromium() {
     for bad in ["Uncaught", "CONSOLE(", "SyntaxError", "ReferenceError"] {
         assert!(!log.contains(bad), "the page logged '{bad}': {log}");
     }
-    // Kept for people: target/tmp/browser-demo/report.png.
-    eprintln!("screenshot: {}", shot.display());
+
+    // The first screen: a 1280×800 window, as a reader opens the page.
+    let first = shots.join("report-first-screen.png");
+    let run_first = Process::new(&browser)
+        .args(common)
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .arg("--window-size=1280,800")
+        .arg(format!("--screenshot={}", first.display()))
+        .arg(&url)
+        .output()
+        .expect("chromium runs");
+    assert!(run_first.status.success(), "chromium failed");
+    // Where the summary is, and what the page fetched, measured in the same
+    // window by a probe appended to a copy of the page (the report itself
+    // carries no test code): it writes its findings into the DOM.
+    let probe = out.join("report-probed.html");
+    let page_html = std::fs::read_to_string(&page).unwrap();
+    let probed = page_html.replace(
+        "</body>",
+        "<script>(function(){var s=document.getElementById('summary');\
+         var r=s?s.getBoundingClientRect():null;\
+         var net=performance.getEntriesByType('resource').filter(function(e){return !/^(file|data|blob):/.test(e.name);}).length;\
+         document.body.setAttribute('data-probe',(r?Math.round(r.top)+','+Math.round(r.bottom):'none')+';'+window.innerWidth+'x'+window.innerHeight+';'+net);})();</script></body>",
+    );
+    std::fs::write(&probe, probed).unwrap();
+    let measured = Process::new(&browser)
+        .args(common)
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .arg("--window-size=1280,800")
+        .arg("--dump-dom")
+        .arg(format!("file://{}", probe.display()))
+        .output()
+        .expect("chromium runs");
+    let dom = String::from_utf8_lossy(&measured.stdout);
+    let found = dom
+        .split("data-probe=\"")
+        .nth(1)
+        .and_then(|s| s.split('"').next())
+        .unwrap_or_else(|| {
+            panic!(
+                "the probe did not run: {}",
+                String::from_utf8_lossy(&measured.stderr)
+            )
+        });
+    let parts: Vec<&str> = found.split(';').collect();
+    eprintln!("summary top,bottom; window; network requests: {found}");
+    assert_eq!(parts.len(), 3, "probe: {found}");
+    let top: f64 = parts[0]
+        .split(',')
+        .next()
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("no summary on the page: {found}"));
+    assert!(
+        top < 800.0,
+        "the summary starts {top} px down, below the first screen ({found})"
+    );
+    assert_eq!(parts[2], "0", "the page fetched from the network");
+    let log =
+        String::from_utf8_lossy(&run_first.stderr).to_string() + &String::from_utf8_lossy(&measured.stderr);
+    for bad in ["Uncaught", "CONSOLE(", "SyntaxError", "ReferenceError"] {
+        assert!(!log.contains(bad), "the page logged '{bad}': {log}");
+    }
+    for s in [&shot, &first] {
+        eprintln!("screenshot: {}", s.display());
+    }
 }

@@ -67,3 +67,68 @@ fn a_recording_too_short_to_navigate_says_why() {
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("short.txt: not navigated"), "no reason given");
 }
+
+#[test]
+fn the_summary_comes_first_beside_the_datasheet_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let cold = Simulation::new()
+        .duration("20m")
+        .rate("5")
+        .profile("constant:30")
+        .write(dir.path(), "cold.txt");
+    let hot = Simulation::new()
+        .duration("20m")
+        .rate("5")
+        .profile("constant:70")
+        .write(dir.path(), "hot.txt");
+    let page = |datasheet: &[&str]| {
+        let out = dir.path().join("rep");
+        imutherm()
+            .arg("report")
+            .arg(&cold)
+            .arg(&hot)
+            .arg("--out")
+            .arg(&out)
+            .args(datasheet)
+            .assert()
+            .success();
+        std::fs::read_to_string(out.join("report.html")).unwrap()
+    };
+    let html = page(&["--datasheet", "mpu-9250"]);
+    let summary = html.find("<section id=\"summary\"").expect("a summary");
+    assert!(
+        summary < html.find("<h2>Command</h2>").unwrap(),
+        "the summary is not first"
+    );
+    let s = &html[summary..html.find("</section>").unwrap()];
+    // PS-MPU-9250A-01 rev 1.1 §3.1 gives the gyro's noise density, no B.
+    assert!(s.contains("PS-MPU-9250A-01") && s.contains("revision 1.1"));
+    assert!(s.contains("0.01 °/s/√Hz") && s.contains("not given"));
+    // Six axes, three terms each; N in datasheet units.
+    for term in ["N", "B", "K"] {
+        assert_eq!(s.matches(&format!("<td>gyro_x</td><td>{term}</td>")).count(), 1);
+    }
+    assert!(s.contains("µg/√Hz") && s.contains("°/h"));
+    // The noise growth from the coldest run to the hottest.
+    assert!(s.contains("coldest run (30"), "{s}");
+    // Without --datasheet, the page says there is none.
+    let html = page(&[]);
+    assert!(html.contains("No datasheet given"));
+}
+
+#[test]
+fn an_unknown_datasheet_is_a_usage_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = Simulation::new()
+        .duration("60")
+        .rate("20")
+        .write(dir.path(), "run.txt");
+    imutherm()
+        .arg("report")
+        .arg(&run)
+        .args(["--out", "rep", "--datasheet", "no-such-part"])
+        .current_dir(dir.path())
+        .assert()
+        .code(2)
+        .stderr(predicates::str::contains("MPU-6050"));
+}

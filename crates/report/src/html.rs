@@ -4,6 +4,8 @@
 use minijinja::{AutoEscape, Environment, context};
 use serde::Serialize;
 
+use analysis::summary::Summary;
+
 /// Escapes text for HTML content and attribute values.
 pub fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
@@ -58,6 +60,16 @@ enum Block {
     Code {
         text: String,
     },
+    Summary {
+        summary: Box<Summary>,
+    },
+}
+
+/// A heading and the blocks up to the next, as the template reads them.
+#[derive(Debug, Serialize)]
+struct Section<'a> {
+    title: Option<&'a str>,
+    blocks: Vec<&'a Block>,
 }
 
 /// One slice of a 3D surface as the page's script reads it: the mean
@@ -149,8 +161,32 @@ impl Page {
         });
     }
 
-    /// The finished page.
+    /// The summary of what the IMU is ([`Summary`]): drawn first, so that
+    /// the answer is on the first screen.
+    pub fn summary(&mut self, summary: &Summary) {
+        self.blocks.push(Block::Summary {
+            summary: Box::new(summary.clone()),
+        });
+    }
+
+    /// The finished page: the blocks before the first heading, then one
+    /// collapsible section per heading, listed in a table of contents.
     pub fn finish(&self) -> Result<String, crate::ReportError> {
+        // The first part, untitled, holds what comes before any heading.
+        let mut parts: Vec<Section> = vec![Section {
+            title: None,
+            blocks: Vec::new(),
+        }];
+        for b in &self.blocks {
+            match b {
+                Block::Heading { text } => parts.push(Section {
+                    title: Some(text),
+                    blocks: Vec::new(),
+                }),
+                b => parts.last_mut().map_or((), |s| s.blocks.push(b)),
+            }
+        }
+        let sections: Vec<&Section> = parts.iter().filter(|s| s.title.is_some()).collect();
         let mut env = Environment::new();
         // Escaping is the template's own, by `esc`, on what came from a file;
         // the SVG, the style and the script are imutherm's and go in as
@@ -158,6 +194,9 @@ impl Page {
         env.set_auto_escape_callback(|_| AutoEscape::None);
         env.set_keep_trailing_newline(true);
         env.add_filter("esc", |text: String| escape(&text));
+        env.add_filter("num", |x: Option<f64>| {
+            x.map_or_else(|| "—".to_string(), significant)
+        });
         let rendered = env
             .template_from_named_str("page.html", PAGE_TEMPLATE)
             .and_then(|t| {
@@ -165,10 +204,40 @@ impl Page {
                     title => &self.title,
                     style => STYLE,
                     surface_js => SURFACE_JS,
-                    blocks => &self.blocks,
+                    parts => &parts,
+                    sections => &sections,
+                    has_summary => self.blocks.iter().any(|b| matches!(b, Block::Summary { .. })),
                 })
             });
         rendered.map_err(|e| crate::ReportError::Template(e.to_string()))
+    }
+}
+
+/// `x` to three significant digits (whole numbers from 100 to 99 999 keep
+/// all of theirs), without the float noise of a plain `{}`
+/// (`0.30000000000000004`); in plain decimals from 0.001 to 99 999.
+pub fn significant(x: f64) -> String {
+    if !x.is_finite() {
+        return "—".to_string();
+    }
+    if x == 0.0 {
+        return "0".to_string();
+    }
+    let mag = x.abs().log10().floor() as i32;
+    if !(-3..5).contains(&mag) {
+        let s = format!("{x:.2e}");
+        // 1.50e-5 → 1.5e-5
+        return match s.split_once('e') {
+            Some((m, e)) => format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.')),
+            None => s,
+        };
+    }
+    let decimals = (2 - mag).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
     }
 }
 
@@ -213,11 +282,30 @@ function imuthermSurface(id){
 const STYLE: &str = "body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}\
 table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:.25em .6em;text-align:right}\
 th{background:#eee}caption{font-weight:bold;text-align:left;padding:.3em 0}figure.plot{display:inline-block;margin:.5em}\
-figure.surface{display:inline-block;margin:.5em}canvas{border:1px solid #ddd;cursor:grab}figcaption{font-size:.9em;color:#555}pre{background:#f4f4f4;padding:.6em;overflow-x:auto}";
+figure.surface{display:inline-block;margin:.5em}canvas{border:1px solid #ddd;cursor:grab}figcaption{font-size:.9em;color:#555}pre{background:#f4f4f4;padding:.6em;overflow-x:auto}\
+section.summary{border:1px solid #bbb;padding:0 1em;margin:1em 0}table.summary td:first-child,table.summary td:nth-child(2){text-align:left}\
+tr.outside td{background:#fde8e8}.src{display:block;font-size:.75em;color:#666}\
+nav.toc{font-size:.9em;line-height:1.6}nav.toc a{margin-right:.8em}details>summary{cursor:pointer}details>summary h2{display:inline}\
+@media print{body{max-width:none;margin:0;font-size:10pt}nav.toc,canvas,figure.surface{display:none}\
+details>summary{list-style:none}details>summary::-webkit-details-marker{display:none}figure,table,section.summary{break-inside:avoid}\
+h2{break-after:avoid}svg{max-width:100%;height:auto}pre{white-space:pre-wrap}}";
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn numbers_keep_three_significant_digits_and_no_float_noise() {
+        assert_eq!(significant(0.1 + 0.2), "0.3");
+        assert_eq!(significant(0.01), "0.01");
+        assert_eq!(significant(1000.0), "1000");
+        assert_eq!(significant(12345.6), "12346");
+        assert_eq!(significant(-0.0123456), "-0.0123");
+        assert_eq!(significant(1.5e-5), "1.5e-5");
+        assert_eq!(significant(2.0e6), "2e6");
+        assert_eq!(significant(0.0), "0");
+        assert_eq!(significant(f64::NAN), "—");
+    }
 
     #[test]
     fn file_text_is_escaped() {
@@ -233,7 +321,7 @@ mod tests {
     }
 
     #[test]
-    fn the_template_lays_out_each_block_on_its_own_line() {
+    fn the_template_lays_out_each_block_on_its_own_line_in_a_collapsible_section() {
         let mut p = Page::new("t & u");
         p.heading("H");
         p.paragraph("a < b");
@@ -248,9 +336,10 @@ mod tests {
         let body = html.split_once("<body>\n").unwrap().1;
         assert_eq!(
             body,
-            "<h1>t &amp; u</h1>\n<h2>H</h2>\n<p>a &lt; b</p>\n<table>\n<caption>c</caption>\n\
+            "<h1>t &amp; u</h1>\n<nav class=\"toc\"><strong>Contents:</strong> <a href=\"#s1\">H</a> </nav>\n\
+             <details open id=\"s1\"><summary><h2>H</h2></summary>\n<p>a &lt; b</p>\n<table>\n<caption>c</caption>\n\
              <tr><th>x</th><th>y</th></tr>\n<tr><td>1</td><td>2</td></tr>\n</table>\n\
-             <figure class=\"plot\"><svg/><figcaption>f</figcaption></figure>\n<pre>imutherm demo</pre>\n\
+             <figure class=\"plot\"><svg/><figcaption>f</figcaption></figure>\n<pre>imutherm demo</pre>\n</details>\n\
              </body>\n</html>\n"
         );
         assert!(html.contains("<title>t &amp; u</title>"));

@@ -212,8 +212,8 @@ fn adev_plot_on<DB: DrawingBackend>(
         .configure_mesh()
         .x_desc("τ [s]")
         .y_desc(format!("Allan deviation [{unit}]"))
-        .y_label_formatter(&|v| format!("{v:.0e}"))
-        .x_label_formatter(&|v| format!("{v}"))
+        .y_label_formatter(&|v| tick_label(*v, *v))
+        .x_label_formatter(&|v| tick_label(*v, *v))
         .draw()
         .map_err(err)?;
     for (i, c) in curves.iter().enumerate() {
@@ -277,10 +277,50 @@ fn adev_plot_on<DB: DrawingBackend>(
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .label_font(("sans-serif", 14))
-        .position(SeriesLabelPosition::UpperRight)
+        // σ is largest at short τ (white noise falls as τ^-1/2), so the lower
+        // left of a log-log ADEV plot holds no data.
+        .position(SeriesLabelPosition::LowerLeft)
         .draw()
         .map_err(err)?;
     Ok(())
+}
+
+/// A tick label on an axis spanning `span` (on a log axis, the tick itself):
+/// as many decimals as ten ticks over the span need and no more, so no
+/// float noise (`6.939e-18` where 0 is meant, `1000.0`); exponents below
+/// 0.001 and from 100 000 on.
+pub fn tick_label(v: f64, span: f64) -> String {
+    if !v.is_finite() {
+        return String::new();
+    }
+    let span = if span.is_finite() && span != 0.0 {
+        span.abs()
+    } else {
+        v.abs()
+    };
+    if v == 0.0 || v.abs() < span * 1e-9 {
+        return "0".to_string();
+    }
+    let (a, step) = (v.abs(), span / 10.0);
+    if !(1e-3..1e5).contains(&a) {
+        let digits = ((a / step).log10().ceil().max(0.0) as usize)
+            .saturating_sub(1)
+            .min(6);
+        let s = format!("{v:.digits$e}");
+        return match s.split_once('e') {
+            Some((m, e)) if m.contains('.') => {
+                format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
+            }
+            _ => s,
+        };
+    }
+    let decimals = (-step.log10().floor()).clamp(0.0, 9.0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
 }
 
 /// Blue (low) to yellow (high), through green: readable in grey too.
@@ -360,7 +400,8 @@ fn adev_heatmap_on<DB: DrawingBackend>(
         .configure_mesh()
         .x_desc("τ [s]")
         .y_desc("temperature [°C]")
-        .x_label_formatter(&|v| format!("{v}"))
+        .x_label_formatter(&|v| tick_label(*v, *v))
+        .y_label_formatter(&|v| tick_label(*v, tmax - tmin + step))
         .draw()
         .map_err(err)?;
     for r in rows {
@@ -395,7 +436,7 @@ fn adev_heatmap_on<DB: DrawingBackend>(
         .disable_x_mesh()
         .disable_x_axis()
         .y_desc(format!("σ [{unit}]"))
-        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .y_label_formatter(&|v| tick_label(*v, *v))
         .draw()
         .map_err(err)?;
     let n = 64;
@@ -447,6 +488,7 @@ fn bias_plot_on<DB: DrawingBackend>(
         return Err(PlotError("no bins to plot".into()));
     }
     let pad = 0.05 * (yhi - ylo).max(1e-12);
+    let y_span = yhi - ylo + 2.0 * pad;
     let mut chart = ChartBuilder::on(root)
         .caption(title, ("sans-serif", 20))
         .margin(12)
@@ -458,7 +500,8 @@ fn bias_plot_on<DB: DrawingBackend>(
         .configure_mesh()
         .x_desc("temperature [°C]")
         .y_desc(format!("bias [{unit}]"))
-        .y_label_formatter(&|v| format!("{v:.2e}"))
+        .x_label_formatter(&|v| tick_label(*v, thi - tlo))
+        .y_label_formatter(&|v| tick_label(*v, y_span))
         .draw()
         .map_err(err)?;
     let (c0, c1, c2) = (PALETTE[0], PALETTE[1], PALETTE[2]);
@@ -565,6 +608,7 @@ fn time_plot_on<DB: DrawingBackend>(
         return Err(PlotError("nothing to plot".into()));
     }
     let pad = 0.05 * (hi - lo).max(1e-12);
+    let y_span = hi - lo + 2.0 * pad;
     let mut chart = ChartBuilder::on(&top)
         .caption(title, ("sans-serif", 20))
         .margin(12)
@@ -575,7 +619,8 @@ fn time_plot_on<DB: DrawingBackend>(
     chart
         .configure_mesh()
         .y_desc(format!("[{unit}]"))
-        .y_label_formatter(&|v| format!("{v:.3e}"))
+        .x_label_formatter(&|v| tick_label(*v, t_end))
+        .y_label_formatter(&|v| tick_label(*v, y_span))
         .draw()
         .map_err(err)?;
     for (i, ((name, _), env)) in channels.iter().zip(&envs).enumerate() {
@@ -610,9 +655,12 @@ fn time_plot_on<DB: DrawingBackend>(
             .y_label_area_size(80)
             .build_cartesian_2d(0.0..t_end.max(1e-9), (tlo - tpad)..(thi + tpad))
             .map_err(err)?;
+        let t_span = thi - tlo + 2.0 * tpad;
         tc.configure_mesh()
             .x_desc("time [s]")
             .y_desc("temperature [°C]")
+            .x_label_formatter(&|v| tick_label(*v, t_end))
+            .y_label_formatter(&|v| tick_label(*v, t_span))
             .draw()
             .map_err(err)?;
         tc.draw_series(LineSeries::new(
@@ -622,4 +670,25 @@ fn time_plot_on<DB: DrawingBackend>(
         .map_err(err)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::tick_label;
+
+    #[test]
+    fn ticks_carry_no_float_noise() {
+        // Linear axes: the span decides the decimals.
+        assert_eq!(tick_label(6.938893903907228e-18, 0.02), "0");
+        assert_eq!(tick_label(0.1 + 0.2, 1.0), "0.3");
+        assert_eq!(tick_label(0.004, 0.02), "0.004");
+        assert_eq!(tick_label(-0.15, 0.5), "-0.15");
+        assert_eq!(tick_label(1200.0, 3600.0), "1200");
+        assert_eq!(tick_label(120_000.0, 100_000.0), "1.2e5");
+        // Log axes: the tick is its own span.
+        assert_eq!(tick_label(1000.0, 1000.0), "1000");
+        assert_eq!(tick_label(0.1, 0.1), "0.1");
+        assert_eq!(tick_label(1e-5, 1e-5), "1e-5");
+        assert_eq!(tick_label(f64::NAN, 1.0), "");
+    }
 }

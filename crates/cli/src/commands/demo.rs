@@ -9,6 +9,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use allan::noise_terms::Term;
 use analysis::experiment::{Experiment, Inputs};
 use analysis::noise::ChannelNoise;
+use analysis::summary::Summary;
 use analysis::units::deg;
 use imu::RecordingOptions;
 use imu::output::{AtomicFile, OutputPolicy, write_file};
@@ -78,6 +79,11 @@ pub fn run(a: &DemoArgs) -> Result<()> {
         ("tcal_model.json", "\"schema\": \"imutherm.tcal/1\""),
         ("report.html", PAGE_MARK),
     ]);
+    let sheet = if a.datasheet.eq_ignore_ascii_case("none") {
+        None
+    } else {
+        Some(crate::flags::datasheet(&a.datasheet)?)
+    };
     refuse_foreign_files(&a.out, &own)?;
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let png = PngDir::new(a.format == FigureFormat::Png, &a.out)?;
@@ -142,6 +148,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
 
     // 5. The report.
     let mut page = Page::new("imutherm — temperature dependency of a simulated MPU-9250");
+    page.summary(&Summary::of_experiment(&exp, sheet.as_ref()));
     page.paragraph(&format!(
         "Simulated with the mpu9250-thesis preset: four {} s runs at {} Hz held at 34, 43, 62 and 82 °C, \
          a {} s cooling run from 100 °C towards 20 °C and a heating run from 25 to 95 °C that the \

@@ -6,6 +6,7 @@ use anyhow::{Context, Result, bail};
 
 use analysis::navigation::{Plan, navigate, six_channels};
 use analysis::noise::analyse_run;
+use analysis::summary::Summary;
 use ins::drift::report_times;
 use ins::strapdown::NavOptions;
 use report::experiment::{
@@ -25,6 +26,7 @@ const SURFACE_SPAN_C: f64 = 5.0;
 
 pub fn run(a: &ReportArgs) -> Result<()> {
     let read = recording_options(&a.read)?;
+    let sheet = a.datasheet.as_deref().map(crate::flags::datasheet).transpose()?;
     // The report reads each recording several times (inventory, noise
     // terms, surfaces): a stream can be read only once.
     for f in &a.files {
@@ -48,10 +50,6 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     refuse_foreign_files(&a.out, &[("report.html", PAGE_MARK)])?;
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let png = PngDir::new(a.format == FigureFormat::Png, &a.out)?;
-    let mut page = Page::new("imutherm report");
-    command_section(&mut page, &std::env::args().collect::<Vec<_>>().join(" "));
-
-    page.heading("Inputs");
     let mut rows = Vec::new();
     let mut problems = Vec::new();
     let mut changing = Vec::new();
@@ -88,6 +86,18 @@ pub fn run(a: &ReportArgs) -> Result<()> {
             ]);
         }
     }
+    let analysed = a
+        .files
+        .iter()
+        .map(|f| analyse_run(f, &read))
+        .collect::<Result<Vec<_>, _>>()?;
+    for run in &analysed {
+        notes(&run.notes);
+    }
+    let mut page = Page::new("imutherm report");
+    page.summary(&Summary::of_runs(&analysed, sheet.as_ref()));
+    command_section(&mut page, &std::env::args().collect::<Vec<_>>().join(" "));
+    page.heading("Inputs");
     page.table(
         "recordings",
         &[
@@ -110,14 +120,6 @@ pub fn run(a: &ReportArgs) -> Result<()> {
         );
     }
 
-    let analysed = a
-        .files
-        .iter()
-        .map(|f| analyse_run(f, &read))
-        .collect::<Result<Vec<_>, _>>()?;
-    for run in &analysed {
-        notes(&run.notes);
-    }
     noise_tables(&mut page, &analysed);
     adev_figures(&mut page, &analysed, &png)?;
 

@@ -1,0 +1,406 @@
+//! What an IMU is, in the figures a reader asks for first: per axis N, B
+//! (with its τ) and K with their intervals in datasheet units beside a
+//! datasheet's figures; how much temperature moves it; what the
+//! compensation buys on held-out data; the drift at 60 s without GNSS.
+//! A value, serialisable, drawn by the report's template.
+
+use std::f64::consts::PI;
+
+use allan::noise_terms::{Chosen, Term};
+use imu::Quantity;
+use imu::units::STANDARD_GRAVITY;
+use serde::Serialize;
+use thermal::evaluation::{BinMean, spread};
+
+use crate::datasheet::{Datasheet, Figure, summary_unit};
+use crate::experiment::{COMPARED_AT_S, Experiment};
+use crate::navigation::Navigated;
+use crate::noise::{ChannelNoise, RunNoise};
+use crate::units::{Units, density_of, unit_of};
+
+/// The temperature datasheets quote typical figures at, °C
+/// (PS-MPU-9250A-01 §3.1, §3.2: T_A = 25 °C): the run nearest it gives
+/// the summary's N, B and K.
+pub const DATASHEET_TEMPERATURE_C: f64 = 25.0;
+
+/// The summary of an IMU.
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    /// The datasheet compared with, if any.
+    pub datasheet: Option<DatasheetRef>,
+    /// Mean temperature of the run the terms come from, °C.
+    pub terms_run_c: Option<f64>,
+    /// The coldest and the hottest run's mean temperatures, °C.
+    pub coldest_c: Option<f64>,
+    /// See `coldest_c`.
+    pub hottest_c: Option<f64>,
+    /// One per inertial axis, in the runs' order.
+    pub axes: Vec<AxisSummary>,
+    /// The compensation on held-out data, per axis; empty without one.
+    pub compensation: Vec<CompensationGain>,
+    /// Horizontal position error after 60 s without GNSS, if navigated.
+    pub drift_60s: Option<Drift>,
+}
+
+/// Which datasheet.
+#[derive(Debug, Clone, Serialize)]
+pub struct DatasheetRef {
+    /// The part.
+    pub name: String,
+    /// The document.
+    pub document: String,
+    /// Its revision.
+    pub revision: String,
+}
+
+/// One axis.
+#[derive(Debug, Clone, Serialize)]
+pub struct AxisSummary {
+    /// Channel name.
+    pub name: String,
+    /// "gyroscope" or "accelerometer".
+    pub sensor: &'static str,
+    /// N, B, K.
+    pub terms: Vec<TermSummary>,
+    /// Bias against temperature: the slope of a straight line through the
+    /// held-out run's 1 °C bin means.
+    pub bias_slope: Option<Slope>,
+    /// What the datasheet says of the bias over temperature.
+    pub bias_datasheet: DatasheetCell,
+    /// N of the hottest run over N of the coldest.
+    pub noise_growth: Option<f64>,
+}
+
+/// One noise term of an axis.
+#[derive(Debug, Clone, Serialize)]
+pub struct TermSummary {
+    /// N, B or K.
+    pub symbol: &'static str,
+    /// The unit of the values.
+    pub unit: &'static str,
+    /// The estimate (or the upper bound, when `how` says so).
+    pub value: Option<f64>,
+    /// Its interval.
+    pub lo: Option<f64>,
+    /// See `lo`.
+    pub hi: Option<f64>,
+    /// The τ it was read at, s (for B: the ADEV minimum's).
+    pub tau_s: Option<f64>,
+    /// "fit", "slope", "upper bound" or "not identified".
+    pub how: &'static str,
+    /// The datasheet's figure.
+    pub datasheet: DatasheetCell,
+}
+
+/// A datasheet's figure beside a measured one.
+#[derive(Debug, Clone, Serialize)]
+#[serde(tag = "state", rename_all = "snake_case")]
+pub enum DatasheetCell {
+    /// No datasheet was given.
+    NoDatasheet,
+    /// The datasheet does not give this figure.
+    NotGiven,
+    /// The document gives it, the file does not carry it.
+    NotCarried,
+    /// The figure.
+    Given {
+        /// As the datasheet has it.
+        figure: Figure,
+        /// "above" or "below" when the measured interval excludes the
+        /// figure, "within" when it holds it.
+        verdict: Option<&'static str>,
+    },
+}
+
+/// A slope with its 95 % interval.
+#[derive(Debug, Clone, Serialize)]
+pub struct Slope {
+    /// Per °C.
+    pub value: f64,
+    /// Half-width of its 95 % interval (least squares, white residuals).
+    pub half_width: f64,
+    /// "°/s/°C" or "mg/°C".
+    pub unit: &'static str,
+}
+
+/// The compensation on one axis of the held-out run.
+#[derive(Debug, Clone, Serialize)]
+pub struct CompensationGain {
+    /// Channel name.
+    pub name: String,
+    /// RMS of the raw 1 °C bin means about their mean.
+    pub raw: f64,
+    /// The same, compensated.
+    pub compensated: f64,
+    /// "°/s" or "mg".
+    pub unit: &'static str,
+    /// 1 − compensated/raw, %.
+    pub reduction_pct: f64,
+}
+
+/// Horizontal position RMS at 60 s, m.
+#[derive(Debug, Clone, Serialize)]
+pub struct Drift {
+    /// Raw.
+    pub raw_m: f64,
+    /// Compensated.
+    pub compensated_m: Option<f64>,
+}
+
+/// °/s per rad/s, mg per m/s²: the units bias slopes and residuals are
+/// quoted in (PS-MPU-9250A-01 §3.2 gives the accelerometer's in mg/°C).
+fn bias_scale(q: Quantity) -> Option<(f64, &'static str)> {
+    match q {
+        Quantity::AngularRate => Some((180.0 / PI, "°/s")),
+        Quantity::Acceleration => Some((1.0 / (STANDARD_GRAVITY * 1e-3), "mg")),
+        _ => None,
+    }
+}
+
+impl Summary {
+    /// The summary of constant-temperature runs, compared with `sheet`.
+    pub fn of_runs(runs: &[RunNoise], sheet: Option<&Datasheet>) -> Summary {
+        let temps: Vec<f64> = runs.iter().filter_map(|r| r.temperature_mean_c).collect();
+        let coldest = temps.iter().copied().reduce(f64::min);
+        let hottest = temps.iter().copied().reduce(f64::max);
+        let terms_run = runs.iter().min_by(|a, b| {
+            let d = |r: &RunNoise| {
+                r.temperature_mean_c
+                    .map_or(f64::INFINITY, |t| (t - DATASHEET_TEMPERATURE_C).abs())
+            };
+            d(a).total_cmp(&d(b))
+        });
+        let at = |t: Option<f64>| {
+            runs.iter()
+                .find(|r| r.temperature_mean_c.is_some() && r.temperature_mean_c == t)
+        };
+        let (cold_run, hot_run) = (at(coldest), at(hottest));
+        let axes = terms_run
+            .map(|run| {
+                run.channels
+                    .iter()
+                    .filter(|c| bias_scale(c.channel.quantity).is_some())
+                    .map(|c| {
+                        let q = c.channel.quantity;
+                        let n_of = |r: Option<&RunNoise>| {
+                            r?.channels
+                                .iter()
+                                .find(|x| x.channel.name == c.channel.name)?
+                                .terms
+                                .choose(Term::WhiteNoise)
+                                .value()
+                        };
+                        let noise_growth = match (n_of(cold_run), n_of(hot_run)) {
+                            (Some(a), Some(b)) if a > 0.0 && coldest != hottest => Some(b / a),
+                            _ => None,
+                        };
+                        AxisSummary {
+                            name: c.channel.name.clone(),
+                            sensor: if q == Quantity::AngularRate {
+                                "gyroscope"
+                            } else {
+                                "accelerometer"
+                            },
+                            terms: [Term::WhiteNoise, Term::BiasInstability, Term::RateRandomWalk]
+                                .into_iter()
+                                .map(|t| term_summary(c, t, sheet))
+                                .collect(),
+                            bias_slope: None,
+                            bias_datasheet: cell(sheet, q, |s| {
+                                s.sensor(q).and_then(|f| f.bias_over_temperature.clone())
+                            }),
+                            noise_growth,
+                        }
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        Summary {
+            datasheet: sheet.map(|s| DatasheetRef {
+                name: s.name.clone(),
+                document: s.document.clone(),
+                revision: s.revision.clone(),
+            }),
+            terms_run_c: terms_run.and_then(|r| r.temperature_mean_c),
+            coldest_c: coldest,
+            hottest_c: hottest,
+            axes,
+            compensation: Vec::new(),
+            drift_60s: None,
+        }
+    }
+
+    /// The summary of the whole experiment: the runs', with the bias slope
+    /// and the compensation's gain on the held-out heating run, and the
+    /// cooling run's drift at 60 s.
+    pub fn of_experiment(exp: &Experiment, sheet: Option<&Datasheet>) -> Summary {
+        let mut s = Summary::of_runs(&exp.runs, sheet);
+        for axis in &mut s.axes {
+            let Some(c) = exp.compensation.iter().find(|c| c.name == axis.name) else {
+                continue;
+            };
+            let Some((scale, unit)) = bias_scale(c.quantity) else {
+                continue;
+            };
+            axis.bias_slope = line_slope(&c.before).map(|(value, half_width)| Slope {
+                value: value * scale,
+                half_width: half_width * scale,
+                unit: if c.quantity == Quantity::AngularRate {
+                    "°/s/°C"
+                } else {
+                    "mg/°C"
+                },
+            });
+            if let (Some(slope), DatasheetCell::Given { figure, verdict }) =
+                (&axis.bias_slope, &mut axis.bias_datasheet)
+                && let Some(v) = figure.value
+                && figure.unit.as_deref() == Some(slope.unit)
+            {
+                // The datasheet's ± figure bounds |slope|.
+                let lo = slope.value.abs() - slope.half_width;
+                *verdict = Some(if lo > v { "above" } else { "within" });
+            }
+            let (raw, comp) = (spread(&c.before).rms, spread(&c.after).rms);
+            s.compensation.push(CompensationGain {
+                name: c.name.clone(),
+                raw: raw * scale,
+                compensated: comp * scale,
+                unit,
+                reduction_pct: 100.0 * (1.0 - comp / raw),
+            });
+        }
+        let at60 = |n: &Navigated| {
+            n.rows
+                .iter()
+                .find(|r| r.measured.t_s == COMPARED_AT_S)
+                .map(|r| r.measured.horizontal_position_m.rms)
+        };
+        s.drift_60s = at60(&exp.navigation.raw).map(|raw_m| Drift {
+            raw_m,
+            compensated_m: at60(&exp.navigation.compensated),
+        });
+        s
+    }
+}
+
+fn cell(
+    sheet: Option<&Datasheet>,
+    q: Quantity,
+    figure: impl Fn(&Datasheet) -> Option<Figure>,
+) -> DatasheetCell {
+    match sheet {
+        None => DatasheetCell::NoDatasheet,
+        Some(s) if s.omits(q) => DatasheetCell::NotCarried,
+        Some(s) => figure(s).map_or(DatasheetCell::NotGiven, |figure| DatasheetCell::Given {
+            figure,
+            verdict: None,
+        }),
+    }
+}
+
+fn term_summary(c: &ChannelNoise, term: Term, sheet: Option<&Datasheet>) -> TermSummary {
+    let q = c.channel.quantity;
+    let unit = summary_unit(q, term).unwrap_or("");
+    // N is quoted as a density (the same number per √Hz as per √s); B and
+    // K in the datasheet units (IEEE 952 Annex C conversions).
+    let factor = match term {
+        Term::WhiteNoise => density_of(q).map_or(1.0, |d| d.0),
+        t => unit_of(t, q, &c.channel.unit, Units::Datasheet).0,
+    };
+    let choice = c.terms.choose(term);
+    let (value, lo, hi, tau, how) = match choice.chosen {
+        Chosen::Fit(v) => (Some(v.value), Some(v.lo), Some(v.hi), v.tau, "fit"),
+        Chosen::Slope(v) => (Some(v.value), Some(v.lo), Some(v.hi), v.tau, "slope"),
+        Chosen::Bound(b) => (Some(b), None, Some(b), None, "upper bound"),
+        Chosen::Nothing => (None, None, None, None, "not identified"),
+    };
+    // B is read where the ADEV flattens: its minimum's τ.
+    let tau_s = if term == Term::BiasInstability {
+        tau.or(c.terms.slope.sigma_min.and_then(|m| m.tau))
+    } else {
+        tau
+    };
+    let scaled = |x: Option<f64>| x.map(|x| x * factor);
+    let (value, lo, hi) = (scaled(value), scaled(lo), scaled(hi));
+    let mut datasheet = cell(sheet, q, |s| s.figure(q, term).cloned());
+    if let DatasheetCell::Given { figure, verdict } = &mut datasheet
+        && let Some(v) = figure.value
+        && let Some(h) = hi
+    {
+        // A bound above the figure alone says nothing either way.
+        *verdict = match lo {
+            _ if h < v => Some("below"),
+            Some(l) if l > v => Some("above"),
+            Some(_) => Some("within"),
+            None => None,
+        };
+    }
+    TermSummary {
+        symbol: term.symbol(),
+        unit,
+        value,
+        lo,
+        hi,
+        tau_s,
+        how,
+        datasheet,
+    }
+}
+
+/// Least-squares slope of the bin means against temperature and the
+/// half-width of its 95 % interval (normal quantile 1.96).
+fn line_slope(bins: &[BinMean]) -> Option<(f64, f64)> {
+    let pts: Vec<(f64, f64)> = bins
+        .iter()
+        .filter(|b| b.t.is_finite() && b.mean.is_finite())
+        .map(|b| (b.t, b.mean))
+        .collect();
+    let n = pts.len() as f64;
+    if pts.len() < 3 {
+        return None;
+    }
+    let (mt, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / n,
+        pts.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mt).powi(2)).sum();
+    if sxx <= 0.0 {
+        return None;
+    }
+    let slope = pts.iter().map(|p| (p.0 - mt) * (p.1 - my)).sum::<f64>() / sxx;
+    let rss: f64 = pts.iter().map(|p| (p.1 - my - slope * (p.0 - mt)).powi(2)).sum();
+    let se = (rss / (n - 2.0) / sxx).sqrt();
+    Some((slope, 1.96 * se))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_summary_units_are_those_of_the_datasheet_unit_system() {
+        for q in [Quantity::AngularRate, Quantity::Acceleration] {
+            for t in [Term::BiasInstability, Term::RateRandomWalk] {
+                assert_eq!(
+                    Some(unit_of(t, q, "", Units::Datasheet).1.as_str()),
+                    summary_unit(q, t)
+                );
+            }
+            assert_eq!(density_of(q).map(|d| d.1), summary_unit(q, Term::WhiteNoise));
+        }
+    }
+
+    #[test]
+    fn a_straight_line_gives_its_slope_with_a_null_interval() {
+        let bins: Vec<BinMean> = (0..10)
+            .map(|i| BinMean {
+                t: 20.0 + i as f64,
+                mean: 0.5 - 0.01 * (20.0 + i as f64),
+                se: 0.0,
+            })
+            .collect();
+        let (s, h) = line_slope(&bins).unwrap();
+        assert!((s + 0.01).abs() < 1e-12 && h < 1e-9, "{s} {h}");
+        assert!(line_slope(&bins[..2]).is_none());
+    }
+}
