@@ -9,7 +9,7 @@ use imu::{Quantity, ReadReport, Recording, RecordingOptions};
 use serde::Serialize;
 
 use crate::AnalysisError;
-use crate::selection::{SelectedChannel, Selection, reader_notes};
+use crate::selection::{Selection, reader_notes, selection, take_channel};
 
 /// A stream found in a log, as `info` lists it.
 #[derive(Debug, Clone, Serialize)]
@@ -161,40 +161,9 @@ pub(crate) fn read_channels(
             }
         }
     }
-    let temperature = rec.temperature().map(|t| t.data.clone());
-    let temperature_mean_c = temperature.as_ref().and_then(|t| {
-        let (s, n) = t
-            .iter()
-            .filter(|v| v.is_finite())
-            .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
-        (n > 0).then(|| s / n as f64)
-    });
     let channels = select
         .into_iter()
-        .map(|i| {
-            let ch = &mut rec.channels[i];
-            SelectedChannel {
-                file: file.to_path_buf(),
-                column: i + 1,
-                name: ch.name.clone(),
-                quantity: ch.quantity,
-                unit: ch.unit.clone(),
-                unit_source: ch.unit_source,
-                rate_hz,
-                lines: report.lines,
-                data: if ch.quantity == Quantity::Temperature {
-                    ch.data.clone()
-                } else {
-                    std::mem::take(&mut ch.data)
-                },
-            }
-        })
+        .map(|i| take_channel(file, i + 1, &mut rec.channels[i], rate_hz, report.lines))
         .collect();
-    Ok(Selection {
-        channels,
-        temperature_mean_c,
-        temperature,
-        rate_hz,
-        notes,
-    })
+    Ok(selection(&rec, channels, rate_hz, notes))
 }

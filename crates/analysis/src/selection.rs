@@ -138,41 +138,15 @@ pub fn read_channels(
                 name: headers[idx].clone(),
             });
         };
-        let ch = &mut rec.channels[pos];
-        out.push(SelectedChannel {
-            file: file.to_path_buf(),
-            column: idx + 1,
-            name: ch.name.clone(),
-            quantity: ch.quantity,
-            unit: ch.unit.clone(),
-            unit_source: ch.unit_source,
+        out.push(take_channel(
+            file,
+            idx + 1,
+            &mut rec.channels[pos],
             rate_hz,
-            lines: report.lines,
-            // The temperature stays in the recording for the callers that
-            // need it beside the channels.
-            data: if ch.quantity == Quantity::Temperature {
-                ch.data.clone()
-            } else {
-                std::mem::take(&mut ch.data)
-            },
-        });
+            report.lines,
+        ));
     }
-    let temperature_mean_c = rec.temperature().and_then(|t| {
-        let (sum, n) = t
-            .data
-            .iter()
-            .filter(|v| v.is_finite())
-            .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
-        (n > 0).then(|| sum / n as f64)
-    });
-    let temperature = rec.temperature().map(|t| t.data.clone());
-    Ok(Selection {
-        channels: out,
-        temperature_mean_c,
-        temperature,
-        rate_hz,
-        notes,
-    })
+    Ok(selection(&rec, out, rate_hz, notes))
 }
 
 /// What the reader found and did, one line each (`warning: …`, `note: …`):
@@ -221,4 +195,56 @@ pub(crate) fn reader_notes(file: &Path, report: &imu::ReadReport, clock: &str) -
         ));
     }
     notes
+}
+
+/// One selected channel of a recording read: its samples move out, except
+/// the temperature's, which stays in the recording for the callers that need
+/// it beside the channels.
+pub(crate) fn take_channel(
+    file: &Path,
+    column: usize,
+    ch: &mut imu::Channel,
+    rate_hz: f64,
+    lines: u64,
+) -> SelectedChannel {
+    SelectedChannel {
+        file: file.to_path_buf(),
+        column,
+        name: ch.name.clone(),
+        quantity: ch.quantity,
+        unit: ch.unit.clone(),
+        unit_source: ch.unit_source,
+        rate_hz,
+        lines,
+        data: if ch.quantity == Quantity::Temperature {
+            ch.data.clone()
+        } else {
+            std::mem::take(&mut ch.data)
+        },
+    }
+}
+
+/// The selection of `channels`, with the recording's temperature and its
+/// mean over the samples that have one.
+pub(crate) fn selection(
+    rec: &imu::Recording,
+    channels: Vec<SelectedChannel>,
+    rate_hz: f64,
+    notes: Vec<String>,
+) -> Selection {
+    let temperature = rec.temperature().map(|t| t.data.clone());
+    let temperature_mean_c = temperature.as_ref().and_then(|t| {
+        let (sum, n) = t
+            .iter()
+            .filter(|v| v.is_finite())
+            .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+        (n > 0).then(|| sum / n as f64)
+    });
+    Selection {
+        channels,
+        temperature_mean_c,
+        temperature,
+        rate_hz,
+        notes,
+    }
 }
