@@ -7,7 +7,7 @@ use std::io::Read;
 use std::path::Path;
 
 use mcap::records::Record;
-use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader};
+use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
 use crate::error::{LogError, LogErrorKind};
 use crate::ros_msgs::{self, Kind};
@@ -16,7 +16,13 @@ use crate::streams::Decoded;
 /// Reads the IMU and temperature messages of one MCAP file into `out`.
 pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
     let mut file = File::open(path).map_err(|e| LogError::new(path, e.into()))?;
-    let mut reader = LinearReader::new();
+    // No record of a file is longer than the file: a corrupt length is an
+    // error, not a request for that many bytes of memory (found by fuzzing:
+    // a record claiming 2.5e18 bytes aborted the process).
+    let size = file.metadata().map_err(|e| LogError::new(path, e.into()))?.len();
+    let limit = usize::try_from(size).unwrap_or(usize::MAX).max(1);
+    let mut reader =
+        LinearReader::new_with_options(LinearReaderOptions::default().with_record_length_limit(limit));
     let mut schemas: HashMap<u16, String> = HashMap::new();
     // channel id → (topic, type, kind)
     let mut channels: HashMap<u16, (String, String, Option<Kind>)> = HashMap::new();
