@@ -10,7 +10,7 @@ use allan::noise_terms::{Chosen, Term};
 use imu::Quantity;
 use imu::units::STANDARD_GRAVITY;
 use serde::Serialize;
-use thermal::evaluation::{BinMean, spread};
+use thermal::evaluation::spread;
 
 use crate::datasheet::{Datasheet, Figure, summary_unit};
 use crate::experiment::{COMPARED_AT_S, Experiment};
@@ -121,6 +121,10 @@ pub struct Slope {
     pub half_width: f64,
     /// "°/s/°C" or "mg/°C".
     pub unit: &'static str,
+    /// What it is fitted on: "held-out run" (its 1 °C bin means) or "run
+    /// means" (each constant-temperature run's mean against its mean
+    /// temperature).
+    pub from: &'static str,
 }
 
 /// The compensation on one axis of the held-out run.
@@ -194,6 +198,7 @@ impl Summary {
                             (Some(a), Some(b)) if a > 0.0 && coldest != hottest => Some(b / a),
                             _ => None,
                         };
+                        let bias_slope = across_runs(runs, &c.channel.name, q);
                         AxisSummary {
                             name: c.channel.name.clone(),
                             sensor: if q == Quantity::AngularRate {
@@ -205,10 +210,13 @@ impl Summary {
                                 .into_iter()
                                 .map(|t| term_summary(c, t, sheet))
                                 .collect(),
-                            bias_slope: None,
-                            bias_datasheet: cell(sheet, q, |s| {
-                                s.sensor(q).and_then(|f| f.bias_over_temperature.clone())
-                            }),
+                            bias_datasheet: with_verdict(
+                                cell(sheet, q, |s| {
+                                    s.sensor(q).and_then(|f| f.bias_over_temperature.clone())
+                                }),
+                                bias_slope.as_ref(),
+                            ),
+                            bias_slope,
                             noise_growth,
                         }
                     })
@@ -242,23 +250,14 @@ impl Summary {
             let Some((scale, unit)) = bias_scale(c.quantity) else {
                 continue;
             };
-            axis.bias_slope = line_slope(&c.before).map(|(value, half_width)| Slope {
-                value: value * scale,
-                half_width: half_width * scale,
-                unit: if c.quantity == Quantity::AngularRate {
-                    "°/s/°C"
-                } else {
-                    "mg/°C"
-                },
-            });
-            if let (Some(slope), DatasheetCell::Given { figure, verdict }) =
-                (&axis.bias_slope, &mut axis.bias_datasheet)
-                && let Some(v) = figure.value
-                && figure.unit.as_deref() == Some(slope.unit)
+            // The held-out run's bins sample every temperature between the
+            // runs', so its slope replaces the one across run means.
+            if let Some(slope) = line_slope(&c.before.iter().map(|b| (b.t, b.mean)).collect::<Vec<_>>())
+                .map(|fit| slope_in(fit, scale, c.quantity, "held-out run"))
             {
-                // The datasheet's ± figure bounds |slope|.
-                let lo = slope.value.abs() - slope.half_width;
-                *verdict = Some(if lo > v { "above" } else { "within" });
+                let cell = std::mem::replace(&mut axis.bias_datasheet, DatasheetCell::NoDatasheet);
+                axis.bias_datasheet = with_verdict(without_verdict(cell), Some(&slope));
+                axis.bias_slope = Some(slope);
             }
             let (raw, comp) = (spread(&c.before).rms, spread(&c.after).rms);
             s.compensation.push(CompensationGain {
@@ -347,13 +346,64 @@ fn term_summary(c: &ChannelNoise, term: Term, sheet: Option<&Datasheet>) -> Term
     }
 }
 
-/// Least-squares slope of the bin means against temperature and the
-/// half-width of its 95 % interval (normal quantile 1.96).
-fn line_slope(bins: &[BinMean]) -> Option<(f64, f64)> {
-    let pts: Vec<(f64, f64)> = bins
+/// The slope of a channel's mean across constant-temperature runs, in
+/// the summary's unit; none with fewer than three runs at distinct
+/// temperatures.
+fn across_runs(runs: &[RunNoise], name: &str, q: Quantity) -> Option<Slope> {
+    let (scale, _) = bias_scale(q)?;
+    let pts: Vec<(f64, f64)> = runs
         .iter()
-        .filter(|b| b.t.is_finite() && b.mean.is_finite())
-        .map(|b| (b.t, b.mean))
+        .filter_map(|r| {
+            let t = r.temperature_mean_c?;
+            let c = r.channels.iter().find(|c| c.channel.name == name)?;
+            let finite = c.channel.data.iter().filter(|x| x.is_finite());
+            let (n, sum) = finite.fold((0usize, 0.0), |(n, s), x| (n + 1, s + x));
+            (n > 0).then(|| (t, sum / n as f64))
+        })
+        .collect();
+    line_slope(&pts).map(|fit| slope_in(fit, scale, q, "run means"))
+}
+
+fn slope_in((value, half_width): (f64, f64), scale: f64, q: Quantity, from: &'static str) -> Slope {
+    Slope {
+        value: value * scale,
+        half_width: half_width * scale,
+        unit: if q == Quantity::AngularRate {
+            "°/s/°C"
+        } else {
+            "mg/°C"
+        },
+        from,
+    }
+}
+
+/// The datasheet's ± figure bounds |slope|: "above" when the whole
+/// interval lies beyond it.
+fn with_verdict(mut cell: DatasheetCell, slope: Option<&Slope>) -> DatasheetCell {
+    if let (Some(slope), DatasheetCell::Given { figure, verdict }) = (slope, &mut cell)
+        && let Some(v) = figure.value
+        && figure.unit.as_deref() == Some(slope.unit)
+    {
+        let lo = slope.value.abs() - slope.half_width;
+        *verdict = Some(if lo > v { "above" } else { "within" });
+    }
+    cell
+}
+
+fn without_verdict(mut cell: DatasheetCell) -> DatasheetCell {
+    if let DatasheetCell::Given { verdict, .. } = &mut cell {
+        *verdict = None;
+    }
+    cell
+}
+
+/// Least-squares slope of (temperature, mean) points and the half-width
+/// of its 95 % interval (normal quantile 1.96).
+fn line_slope(points: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let pts: Vec<(f64, f64)> = points
+        .iter()
+        .copied()
+        .filter(|(t, m)| t.is_finite() && m.is_finite())
         .collect();
     let n = pts.len() as f64;
     if pts.len() < 3 {
@@ -392,15 +442,11 @@ mod tests {
 
     #[test]
     fn a_straight_line_gives_its_slope_with_a_null_interval() {
-        let bins: Vec<BinMean> = (0..10)
-            .map(|i| BinMean {
-                t: 20.0 + i as f64,
-                mean: 0.5 - 0.01 * (20.0 + i as f64),
-                se: 0.0,
-            })
+        let pts: Vec<(f64, f64)> = (0..10)
+            .map(|i| (20.0 + i as f64, 0.5 - 0.01 * (20.0 + i as f64)))
             .collect();
-        let (s, h) = line_slope(&bins).unwrap();
+        let (s, h) = line_slope(&pts).unwrap();
         assert!((s + 0.01).abs() < 1e-12 && h < 1e-9, "{s} {h}");
-        assert!(line_slope(&bins[..2]).is_none());
+        assert!(line_slope(&pts[..2]).is_none());
     }
 }

@@ -132,3 +132,48 @@ fn an_unknown_datasheet_is_a_usage_error() {
         .code(2)
         .stderr(predicates::str::contains("MPU-6050"));
 }
+
+/// The bias slope across constant-temperature runs: the thesis preset's
+/// gyro x bias is −2.1 + 0.02·(T−34) + 1e-4·(T−34)² °/s
+/// (`imusim::presets`), so the least-squares line through runs placed
+/// symmetrically about 50 °C has slope 0.02 + 2·1e-4·(50−34) = 0.0232 °/s/°C.
+#[test]
+fn the_report_fits_the_bias_slope_across_its_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let runs: Vec<_> = [30, 40, 50, 60, 70]
+        .iter()
+        .map(|t| {
+            Simulation::new()
+                .duration("10m")
+                .rate("5")
+                .profile(&format!("constant:{t}"))
+                .write(dir.path(), &format!("run{t}.txt"))
+        })
+        .collect();
+    let out = dir.path().join("rep");
+    imutherm()
+        .arg("report")
+        .args(&runs)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success();
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    let row = html
+        .split("<tr")
+        .find(|r| r.contains("<td>gyro_x</td>") && r.contains("°/s/°C"))
+        .expect("a bias-slope row for gyro_x");
+    assert!(row.contains("from the run means"), "{row}");
+    let cell = row.split("<td>").nth(2).unwrap();
+    let mut nums = cell.split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-' || c == 'e'));
+    let mut next = || {
+        nums.find_map(|s| s.parse::<f64>().ok())
+            .expect("a number in the bias-slope cell")
+    };
+    let (slope, half) = (next(), next());
+    assert!(half > 0.0 && half < 0.01, "{cell}");
+    assert!(
+        (slope - 0.0232).abs() <= half,
+        "slope {slope} ± {half}, expected 0.0232"
+    );
+}
