@@ -10,10 +10,12 @@ use imu::Quantity;
 use serde::{Deserialize, Serialize};
 
 /// The built-in datasheets, by the name `--datasheet` takes.
-const BUILT_IN: [(&str, &str); 3] = [
+const BUILT_IN: [(&str, &str); 5] = [
     ("MPU-9250", include_str!("../datasheets/mpu-9250.toml")),
     ("MPU-6050", include_str!("../datasheets/mpu-6050.toml")),
     ("ICM-20948", include_str!("../datasheets/icm-20948.toml")),
+    ("BMI088", include_str!("../datasheets/bmi088.toml")),
+    ("ADIS16405", include_str!("../datasheets/adis16405.toml")),
 ];
 
 /// The names of the built-in datasheets.
@@ -216,6 +218,13 @@ mod tests {
         let n = d.figure(Quantity::AngularRate, Term::WhiteNoise).unwrap();
         assert_eq!((n.value, n.unit.as_deref()), (Some(0.01), Some("°/s/√Hz")));
         assert!(d.figure(Quantity::AngularRate, Term::BiasInstability).is_none());
+        // Parts whose accelerometer table is not carried say so, rather
+        // than read as "not given".
+        for name in ["BMI088", "ADIS16405"] {
+            let d = Datasheet::resolve(name).unwrap();
+            assert!(d.omits(Quantity::Acceleration) && !d.omits(Quantity::AngularRate));
+            assert!(d.figure(Quantity::AngularRate, Term::WhiteNoise).is_some());
+        }
     }
 
     #[test]

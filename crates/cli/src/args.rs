@@ -200,8 +200,8 @@ pub struct ReportArgs {
     pub format: FigureFormat,
 
     /// The datasheet the summary compares with: a built-in part (MPU-9250,
-    /// MPU-6050, ICM-20948) or a TOML file in the same form. None unless
-    /// given.
+    /// MPU-6050, ICM-20948, BMI088, ADIS16405) or a TOML file in the same
+    /// form. None unless given.
     #[arg(long, value_name = "NAME|FILE.toml")]
     pub datasheet: Option<String>,
 
@@ -286,7 +286,8 @@ pub struct DemoArgs {
     pub format: FigureFormat,
 
     /// The datasheet the summary compares with: a built-in part (MPU-9250,
-    /// MPU-6050, ICM-20948), a TOML file in the same form, or `none`.
+    /// MPU-6050, ICM-20948, BMI088, ADIS16405), a TOML file in the same form,
+    /// or `none`.
     #[arg(long, default_value = "MPU-9250", value_name = "NAME|FILE.toml|none")]
     pub datasheet: String,
 }
