@@ -104,10 +104,52 @@ fn digits(s: &[u8], mut i: usize, mut w: u64) -> (u64, usize, usize) {
     (w, i, i - start)
 }
 
+/// A plain decimal that Clinger's fast path reads: its value is
+/// `numerator / denominator`, both exact doubles, and the one division
+/// (left to the caller, which can do several at once) is correctly
+/// rounded. The sign is the numerator's, as IEEE division is symmetric.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Quotient {
+    pub numerator: f64,
+    pub denominator: f64,
+}
+
+/// [`parse_plain`] without its division, for the numbers that need only
+/// the fast path (up to 2^53 in their digits); `None` for all others,
+/// which `parse_plain` still reads.
+#[inline(always)]
+pub(crate) fn parse_quotient(s: &[u8]) -> Option<(Quotient, usize)> {
+    let (negative, w, frac_digits, used) = plain_digits(s)?;
+    if w > 1 << 53 {
+        return None;
+    }
+    let w = w as f64;
+    Some((
+        Quotient {
+            numerator: if negative { -w } else { w },
+            denominator: POW10[frac_digits],
+        },
+        used,
+    ))
+}
+
 /// `[+-]digits[.digits]` (either side of the point may be empty, not
 /// both) that Clinger's fast path reads exactly; `None` for anything else.
 #[inline(always)]
 pub(crate) fn parse_plain(s: &[u8]) -> Option<(f64, usize)> {
+    let (negative, w, frac_digits, i) = plain_digits(s)?;
+    let v = if w <= 1 << 53 {
+        w as f64 / POW10[frac_digits]
+    } else {
+        long_quotient(w, frac_digits)
+    };
+    Some((if negative { -v } else { v }, i))
+}
+
+/// The sign, the digits as one integer, the number of digits after the
+/// point, and the bytes taken, of a plain decimal of at most 19 digits.
+#[inline(always)]
+fn plain_digits(s: &[u8]) -> Option<(bool, u64, usize, usize)> {
     let (negative, i) = match s.first() {
         Some(b'-') => (true, 1),
         Some(b'+') => (false, 1),
@@ -127,12 +169,7 @@ pub(crate) fn parse_plain(s: &[u8]) -> Option<(f64, usize)> {
     if total == 0 || total > 19 || matches!(s.get(i), Some(b'e' | b'E')) {
         return None;
     }
-    let v = if w <= 1 << 53 {
-        w as f64 / POW10[frac_digits]
-    } else {
-        long_quotient(w, frac_digits)
-    };
-    Some((if negative { -v } else { v }, i))
+    Some((negative, w, frac_digits, i))
 }
 
 /// w / 10^k correctly rounded, for 2^53 < w < 2^64 and k ≤ 19 (a full
@@ -200,6 +237,17 @@ mod tests {
             }
             (None, None) => {}
             _ => panic!("{:?}: {got:?} vs {want:?}", String::from_utf8_lossy(s)),
+        }
+        // The undivided form, where it is given, divides to the same bits.
+        if let Some((q, used)) = parse_quotient(s) {
+            let (v, n) = want.expect("a quotient only for a number");
+            assert_eq!(used, n, "{:?}", String::from_utf8_lossy(s));
+            assert_eq!(
+                (q.numerator / q.denominator).to_bits(),
+                v.to_bits(),
+                "{:?}",
+                String::from_utf8_lossy(s)
+            );
         }
     }
 

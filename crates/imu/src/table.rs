@@ -20,6 +20,7 @@ use std::sync::{Arc, Mutex};
 
 use rayon::prelude::*;
 
+use crate::decimal::Quotient;
 use crate::error::{ReadError, ReadErrorKind};
 
 /// Bytes per parse block: large enough to amortise the thread hand-off,
@@ -624,6 +625,9 @@ fn read_line_bounded(input: &mut dyn BufRead, raw: &mut Vec<u8>) -> std::io::Res
     }
 }
 
+/// Lines of one column parsed before their divisions are done.
+const QUOTIENT_BATCH: usize = 64;
+
 /// The length of the line at the start of `s` when its newline lies
 /// within its first 16 bytes (and `s` has 16): two 8-byte words tested for
 /// a newline byte at once. The lowest flagged byte is exact (a borrow
@@ -1027,14 +1031,30 @@ impl Layout<'_> {
                 // not wait for the digits: successive lines overlap in the
                 // processor, and a line the parse does not take whole
                 // leaves for the loop below.
+                // The divisions are done a batch at a time, where they run
+                // two to an instruction (they were a third of the loop).
                 let mut pos = 0;
-                while let Some(len) = short_line_len(&rest[pos..]) {
-                    match crate::decimal::parse_plain(&rest[pos..]) {
-                        Some((v, used)) if used == len => column.push(v),
-                        _ => break,
+                let mut batch = [Quotient {
+                    numerator: 0.0,
+                    denominator: 1.0,
+                }; QUOTIENT_BATCH];
+                loop {
+                    let mut n = 0;
+                    while n < QUOTIENT_BATCH
+                        && let Some(len) = short_line_len(&rest[pos..])
+                    {
+                        match crate::decimal::parse_quotient(&rest[pos..]) {
+                            Some((q, used)) if used == len => batch[n] = q,
+                            _ => break,
+                        }
+                        n += 1;
+                        pos += len + 1;
                     }
-                    lines += 1;
-                    pos += len + 1;
+                    column.extend(batch[..n].iter().map(|q| q.numerator / q.denominator));
+                    lines += n as u64;
+                    if n < QUOTIENT_BATCH {
+                        break;
+                    }
                 }
                 rest = &rest[pos..];
                 while let Some((v, used)) = crate::decimal::parse_plain(rest) {
