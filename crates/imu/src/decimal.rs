@@ -116,9 +116,10 @@ pub(crate) struct Quotient {
 
 /// [`parse_plain`] without its division, for the numbers that need only
 /// the fast path (up to 2^53 in their digits); `None` for all others,
-/// which `parse_plain` still reads.
-#[inline(always)]
-pub(crate) fn parse_quotient(s: &[u8]) -> Option<(Quotient, usize)> {
+/// which `parse_plain` still reads. The reference [`short_quotient`] is
+/// checked against.
+#[cfg(test)]
+fn parse_quotient(s: &[u8]) -> Option<(Quotient, usize)> {
     let (negative, w, frac_digits, used) = plain_digits(s)?;
     if w > 1 << 53 {
         return None;
@@ -131,6 +132,104 @@ pub(crate) fn parse_quotient(s: &[u8]) -> Option<(Quotient, usize)> {
         },
         used,
     ))
+}
+
+/// A whole line of at most 15 bytes (`len`, its newline at `s[len]`, and
+/// `s` holding at least 16 bytes) that is `[-]digits[.digits]`, read from
+/// one 16-byte load: the point is found as the first non-digit and taken
+/// out by a shift, and the digits, aligned to the top, are folded eight at
+/// a time. What it returns is what `parse_quotient` (its test reference) gives for the same
+/// line; `None` for any other line (a `+`, an exponent, a carriage
+/// return, two points), which the general path then reads. Fifteen digits
+/// stay below 2^53, so Clinger's fast path always holds.
+#[inline(always)]
+pub(crate) fn short_quotient(s: &[u8], len: usize) -> Option<Quotient> {
+    const ZEROS: u64 = 0x3030_3030_3030_3030;
+    let bytes: &[u8; 16] = s.get(..16)?.try_into().ok()?;
+    if len > 15 {
+        return None;
+    }
+    let word = |i: usize| {
+        u64::from_le_bytes([
+            bytes[i],
+            bytes[i + 1],
+            bytes[i + 2],
+            bytes[i + 3],
+            bytes[i + 4],
+            bytes[i + 5],
+            bytes[i + 6],
+            bytes[i + 7],
+        ])
+    };
+    let (mut a, mut b) = (word(0), word(8));
+    let negative = bytes[0] == b'-';
+    if negative {
+        a = (a >> 8) | (b << 56);
+        b >>= 8;
+    }
+    let body = len - usize::from(negative);
+    let p = first_non_digit(a, b);
+    let (digits, frac) = if p >= body {
+        (body, 0)
+    } else {
+        let point = if p < 8 { a >> (8 * p) } else { b >> (8 * (p - 8)) };
+        if point as u8 != b'.' {
+            return None;
+        }
+        // Everything after the point moves down one byte (p < body ≤ 15).
+        if p < 8 {
+            let below = (1u64 << (8 * p)) - 1;
+            a = (a & below) | (((a >> 8) | (b << 56)) & !below);
+            b >>= 8;
+        } else {
+            let below = (1u64 << (8 * (p - 8))) - 1;
+            b = (b & below) | ((b >> 8) & !below);
+        }
+        (body - 1, body - 1 - p)
+    };
+    if digits == 0 || first_non_digit(a, b) < digits {
+        return None;
+    }
+    // Only bytes past the digits can borrow, and the shifts drop them.
+    let w = if digits <= 8 {
+        fold8(a.wrapping_sub(ZEROS) << (8 * (8 - digits)))
+    } else {
+        fold8(a.wrapping_sub(ZEROS)) * POW10_INT[digits - 8]
+            + fold8(b.wrapping_sub(ZEROS) << (8 * (16 - digits)))
+    };
+    let w = w as f64;
+    Some(Quotient {
+        numerator: if negative { -w } else { w },
+        denominator: POW10[frac],
+    })
+}
+
+/// The index of the first byte of the pair `a`, `b` (`a`'s byte 0 first)
+/// that is not an ASCII digit, 16 if none; exact for the reason
+/// [`digit_run`] gives, word by word.
+#[inline(always)]
+fn first_non_digit(a: u64, b: u64) -> usize {
+    let flags = |w: u64| {
+        (w.wrapping_sub(0x3030_3030_3030_3030) | w.wrapping_add(0x4646_4646_4646_4646))
+            & 0x8080_8080_8080_8080
+    };
+    let (a, b) = (flags(a), flags(b));
+    if a != 0 {
+        (a.trailing_zeros() / 8) as usize
+    } else if b != 0 {
+        8 + (b.trailing_zeros() / 8) as usize
+    } else {
+        16
+    }
+}
+
+/// Eight digit values (0–9), the most significant in byte 0, as one
+/// integer: pairs, then fours, then all eight.
+#[inline(always)]
+fn fold8(v: u64) -> u64 {
+    let v = (v.wrapping_mul(10)).wrapping_add(v >> 8) & 0x00ff_00ff_00ff_00ff;
+    let v = (v.wrapping_mul(100)).wrapping_add(v >> 16) & 0x0000_ffff_0000_ffff;
+    (v.wrapping_mul(10000)).wrapping_add(v >> 32) & 0xffff_ffff
 }
 
 /// `[+-]digits[.digits]` (either side of the point may be empty, not
@@ -326,6 +425,29 @@ mod tests {
             let frac = format!("{frac:020}");
             let s = format!("{}{int}.{}{tail}", if neg { "-" } else { "" }, &frac[..width]);
             same(s.as_bytes());
+        }
+
+        /// A short line read from its 16-byte load is the line as the
+        /// general reader takes it whole, and every plain line of up to
+        /// 15 bytes without a `+` is taken.
+        #[test]
+        fn short_lines_read_as_the_general_reader_reads_them(
+            line in "-?[0-9]{0,9}\\.?[0-9]{0,9}|[0-9.eE+-]{0,15}|[0-9]{0,6}[\\r\\x80\\x2f\\x3a]?[0-9.]{0,6}",
+            after in "[0-9a-z\\n]{16}",
+        ) {
+            let len = line.len();
+            let s = format!("{line}\n{after}");
+            let fast = short_quotient(s.as_bytes(), len);
+            let general = parse_quotient(s.as_bytes()).filter(|&(_, used)| used == len);
+            match (fast, general) {
+                (Some(a), Some((b, _))) => {
+                    proptest::prop_assert_eq!(a.numerator.to_bits(), b.numerator.to_bits(), "{:?}", line);
+                    proptest::prop_assert_eq!(a.denominator.to_bits(), b.denominator.to_bits(), "{:?}", line);
+                }
+                (None, None) => {}
+                (None, Some(_)) => proptest::prop_assert!(len > 15 || line.starts_with('+'), "{:?} not taken", line),
+                (Some(_), None) => proptest::prop_assert!(false, "{:?} taken, but not a whole number", line),
+            }
         }
 
         #[test]
