@@ -1,7 +1,12 @@
 //! Dynamic Allan deviation: the OADEV of sliding time windows, each
 //! labelled by its mean temperature — the thesis's "3D ADEV" method
-//! (dyx1994/Temperature-dependency-of-a-low-cost-IMU, its dynamic ADEV
-//! script: 30-minute windows stepped every 90 s). On a cooling run the
+//! (dyx1994/Temperature-dependency-of-a-low-cost-IMU,
+//! `DataAnalysisCode/cooling_main.m` and `DAVAR.m`: at Fs = 20 Hz windows of
+//! 36 001 samples, 30 min, whose centres step by 1800 samples, 90 s, each
+//! labelled by the mean of the temperature over it; drawn with `meshz` on
+//! log τ and σ axes). The thesis's windows are odd in length, to have a
+//! centre sample; these start on a sample and hold round(window × rate)
+//! samples, and their τ grid is the octave one. On a cooling run the
 //! windows follow the temperature down, so the surface σ(τ, T) is dense in
 //! temperature where temperature bins give a dozen coarse steps.
 //!

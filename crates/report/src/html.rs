@@ -132,15 +132,18 @@ impl Page {
     pub fn surface3d(&mut self, title: &str, unit: &str, rows: &[(f64, Vec<(f64, f64)>)]) {
         let id = self.surfaces;
         self.surfaces += 1;
+        // Four decimals of a logarithm are 0.02 %, and 0.001 °C is below
+        // the sensor's quantum: finer digits would only lengthen the page.
+        let round = |x: f64, scale: f64| (x * scale).round() / scale;
         let slices: Vec<SurfaceSlice> = rows
             .iter()
             .filter(|r| r.0.is_finite())
             .map(|(t, pts)| SurfaceSlice {
-                t: *t,
+                t: round(*t, 1e3),
                 p: pts
                     .iter()
                     .filter(|p| p.0 > 0.0 && p.1 > 0.0)
-                    .map(|(tau, dev)| [tau.log10(), dev.log10()])
+                    .map(|(tau, dev)| [round(tau.log10(), 1e4), round(dev.log10(), 1e4)])
                     .collect(),
             })
             .collect();

@@ -368,6 +368,9 @@ pub fn adev_heatmap_slices(
     ))
 }
 
+/// Colour levels of a heat map and of its colour bar.
+const LEVELS: usize = 64;
+
 fn adev_heatmap_on<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     title: &str,
@@ -432,8 +435,16 @@ fn adev_heatmap_on<DB: DrawingBackend>(
         .y_label_formatter(&|v| tick_label(*v, step))
         .draw()
         .map_err(err)?;
+    // One cell per slice and τ, in the colour bar's 64 levels; a column of
+    // cells of one level in adjacent slices is drawn as one rectangle, which
+    // keeps the SVG of a dense dynamic ADEV (a hundred windows) small.
+    let level =
+        |dev: f64| (((dev.log10() - dlo) / span * LEVELS as f64).floor() as i64).clamp(0, LEVELS as i64 - 1);
+    let mut open: std::collections::BTreeMap<u64, (i64, f64, f64, f64, f64)> = Default::default();
+    let mut cells: Vec<(i64, f64, f64, f64, f64)> = Vec::new();
     for (i, &(_, points)) in rows.iter().enumerate() {
         let (below, above) = edge(i);
+        let mut seen = std::collections::BTreeSet::new();
         for (k, p) in points.iter().enumerate() {
             let left = if k == 0 {
                 p.tau / 2f64.sqrt()
@@ -444,15 +455,33 @@ fn adev_heatmap_on<DB: DrawingBackend>(
                 Some(q) => (p.tau * q.tau).sqrt(),
                 None => p.tau * 2f64.sqrt(),
             };
-            let colour = heat((p.dev.log10() - dlo) / span);
-            chart
-                .draw_series(std::iter::once(Rectangle::new(
-                    [(left, below), (right, above)],
-                    colour.filled(),
-                )))
-                .map_err(err)?;
+            let key = p.tau.to_bits();
+            seen.insert(key);
+            let l = level(p.dev);
+            match open.get_mut(&key) {
+                Some(c) if c.0 == l && c.1 == left && c.2 == right && c.4 == below => c.4 = above,
+                _ => {
+                    if let Some(c) = open.insert(key, (l, left, right, below, above)) {
+                        cells.push(c);
+                    }
+                }
+            }
+        }
+        // A τ this slice lacks ends the column's run.
+        let ended: Vec<u64> = open.keys().filter(|k| !seen.contains(k)).copied().collect();
+        for k in ended {
+            cells.extend(open.remove(&k));
         }
     }
+    cells.extend(open.into_values());
+    chart
+        .draw_series(cells.iter().map(|&(l, left, right, below, above)| {
+            Rectangle::new(
+                [(left, below), (right, above)],
+                heat((l as f64 + 0.5) / LEVELS as f64).filled(),
+            )
+        }))
+        .map_err(err)?;
     // The colour bar, with its scale in the plotted unit.
     let mut cb = ChartBuilder::on(&bar)
         .margin_top(44)
@@ -468,7 +497,7 @@ fn adev_heatmap_on<DB: DrawingBackend>(
         .y_label_formatter(&|v| tick_label(*v, *v))
         .draw()
         .map_err(err)?;
-    let n = 64;
+    let n = LEVELS;
     cb.draw_series((0..n).map(|i| {
         let (a, b) = (i as f64 / n as f64, (i + 1) as f64 / n as f64);
         Rectangle::new(
@@ -476,7 +505,7 @@ fn adev_heatmap_on<DB: DrawingBackend>(
                 (0.0, 10f64.powf(dlo + a * span)),
                 (1.0, 10f64.powf(dlo + b * span)),
             ],
-            heat(a).filled(),
+            heat((a + b) / 2.0).filled(),
         )
     }))
     .map_err(err)?;
