@@ -494,6 +494,10 @@ fn adev_heatmap_on<DB: DrawingBackend>(
         .disable_x_mesh()
         .disable_x_axis()
         .y_desc(format!("σ [{unit}]"))
+        // The bar's area is narrow: left to themselves, its texts would
+        // be sized to it, under a pixel.
+        .y_label_style(("sans-serif", 12))
+        .axis_desc_style(("sans-serif", 13))
         .y_label_formatter(&|v| tick_label(*v, *v))
         .draw()
         .map_err(err)?;
