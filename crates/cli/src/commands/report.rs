@@ -150,7 +150,11 @@ pub fn run(a: &ReportArgs) -> Result<()> {
                         page.paragraph(&dynamic_note(&d));
                         noted = true;
                     }
-                    page.surface3d(&c.name, &c.unit, &dynamic_slices(&d));
+                    // One window is a curve, not a surface: its heat map
+                    // is one band, and no 3D view is drawn.
+                    if d.windows.len() > 1 {
+                        page.surface3d(&c.name, &c.unit, &dynamic_slices(&d));
+                    }
                     dynamic_heatmap(
                         &mut page,
                         &png,
