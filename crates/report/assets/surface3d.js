@@ -33,7 +33,7 @@ function imuthermSurface(id) {
     return hi > lo ? [lo, hi] : [lo - 0.5, lo + 0.5];
   }
   if (!xs.length) { c.dataset.rendered = '0'; c.dataset.labels = '[]'; return; }
-  var X = range(xs), Y = range(ys), Z = range(zs), yaw = -0.55, pitch = 0.5;
+  var X = range(xs), Y = range(ys), Z = range(zs), yaw = -0.45, pitch = 0.5;
   function n(v, r) { return (v - r[0]) / (r[1] - r[0]) - 0.5; }
   function heat(v) {
     var s = [[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]];
@@ -93,7 +93,8 @@ function imuthermSurface(id) {
       textLater(t[1], q[0] + (q[0] - p[0]) * 1.5, q[1] + (q[1] - p[1]) * 1.5 + 4, 'center', '11px sans-serif');
     });
     if (name) {
-      var mid = from.map(function (v, i) { return (v + to[i]) / 2 + out[i] * 4; });
+      // The name below the middle of the axis, past its tick labels.
+      var mid = from.map(function (v, i) { return (v + to[i]) / 2 + out[i] * 7; });
       var m = at.apply(null, mid);
       textLater(name, m[0], m[1] + 4, 'center', 'bold 12px sans-serif');
     }
