@@ -65,6 +65,14 @@ pub enum AnalysisError {
         /// Its reason.
         cause: thermal::ThermalError,
     },
+    /// A run that cannot be cut into the dynamic ADEV's windows.
+    #[error("{context}: {cause}")]
+    DynamicAdev {
+        /// The file and channel.
+        context: String,
+        /// Its reason.
+        cause: crate::dynamic_adev::DynamicAdevError,
+    },
     /// Navigation refused the data.
     #[error("{context}: {cause}")]
     Ins {
@@ -84,6 +92,13 @@ impl AnalysisError {
     pub(crate) fn thermal(context: impl Into<String>) -> impl FnOnce(thermal::ThermalError) -> Self {
         let context = context.into();
         move |cause| AnalysisError::Thermal { context, cause }
+    }
+
+    pub(crate) fn dynamic_adev(
+        context: impl Into<String>,
+    ) -> impl FnOnce(crate::dynamic_adev::DynamicAdevError) -> Self {
+        let context = context.into();
+        move |cause| AnalysisError::DynamicAdev { context, cause }
     }
 
     pub(crate) fn ins(context: impl Into<String>) -> impl FnOnce(ins::InsError) -> Self {

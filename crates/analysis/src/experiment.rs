@@ -15,6 +15,7 @@ use thermal::surface::{Slicing, SurfaceRow, surface};
 use thermal::tcal::{FitOptions, Model, Run, TcalChannel, fit};
 
 use crate::AnalysisError;
+use crate::dynamic_adev::{DynamicAdev, DynamicOptions, dynamic_adev};
 use crate::navigation::{Navigated, Plan, compensated_channels, horizontal_rms_at, navigate, six_channels};
 use crate::noise::{RunNoise, analyse_run};
 use crate::selection::{Selection, read_channels};
@@ -71,6 +72,14 @@ pub struct Navigation {
     pub by_alignment: Vec<(f64, f64, f64)>,
 }
 
+/// One channel's dynamic ADEV, raw and compensated.
+pub struct DynamicPair {
+    /// The raw samples'.
+    pub raw: DynamicAdev,
+    /// The compensated samples', over the same windows.
+    pub compensated: DynamicAdev,
+}
+
 /// Everything the experiment found.
 pub struct Experiment {
     /// The constant runs' noise terms, in the order of [`Inputs::constant`].
@@ -79,6 +88,9 @@ pub struct Experiment {
     pub cooling: Selection,
     /// Its ADEV over temperature, one surface per channel.
     pub surfaces: Vec<Vec<SurfaceRow>>,
+    /// Its dynamic ADEV (sliding windows), per channel: raw, and
+    /// compensated with [`Experiment::model`] over the same windows.
+    pub dynamic: Vec<DynamicPair>,
     /// The compensation fitted on it.
     pub model: Model,
     /// Its evaluation on the heating run, per channel.
@@ -91,11 +103,13 @@ pub struct Experiment {
 
 impl Experiment {
     /// Runs every analysis on `inputs`; `step` hears the name of each step
-    /// as it starts. `fit_options` are the compensation's.
+    /// as it starts. `fit_options` are the compensation's, `dynamic` the
+    /// dynamic ADEV's windows.
     pub fn run(
         inputs: &Inputs,
         read: &RecordingOptions,
         fit_options: &FitOptions,
+        dynamic: &DynamicOptions,
         mut step: impl FnMut(&str),
     ) -> Result<Experiment, AnalysisError> {
         step("noise terms of the constant-temperature runs");
@@ -149,12 +163,34 @@ impl Experiment {
         model.fitted_on = vec![inputs.cooling.display().to_string()];
         let compensation = evaluate(&inputs.heating, &model, read, &mut notes)?;
 
+        step("dynamic ADEV of the cooling run, raw and compensated");
+        let dynamic = cooling
+            .channels
+            .par_iter()
+            .map(|c| {
+                let context = format!("{}: {}", inputs.cooling.display(), c.name);
+                let mut comp = c.data.clone();
+                model
+                    .apply(&c.name, &mut comp, cool_temp, cooling.rate_hz)
+                    .map_err(AnalysisError::thermal(context.clone()))?;
+                let of = |x: &[f64]| {
+                    dynamic_adev(x, cool_temp, cooling.rate_hz, dynamic)
+                        .map_err(AnalysisError::dynamic_adev(context.clone()))
+                };
+                Ok(DynamicPair {
+                    raw: of(&c.data)?,
+                    compensated: of(&comp)?,
+                })
+            })
+            .collect::<Result<_, AnalysisError>>()?;
+
         step("navigation of the cooling run, raw and compensated");
         let navigation = navigation(&inputs.cooling, &cooling, &model, &mut notes)?;
         Ok(Experiment {
             runs,
             cooling,
             surfaces,
+            dynamic,
             model,
             compensation,
             navigation,

@@ -7,6 +7,8 @@
 //! - [`reading`]: the reader's options from what a user gives;
 //! - [`units`]: the unit systems of noise terms (SI, datasheet, thesis);
 //! - [`noise`]: each run's ADEV and noise terms;
+//! - [`dynamic_adev`]: the OADEV of sliding time windows labelled by their
+//!   mean temperature (the thesis's dynamic ADEV);
 //! - [`datasheet`]: a datasheet's figures (built in for a few parts, or a
 //!   TOML file), each with its source;
 //! - [`summary`]: what an IMU is, first: N, B, K beside the datasheet,
@@ -47,6 +49,7 @@
 mod error;
 
 pub mod datasheet;
+pub mod dynamic_adev;
 pub mod experiment;
 pub mod file_identity;
 pub mod kalibr;

@@ -32,7 +32,7 @@ pub enum Command {
     /// fitted on the cooling run and evaluated on a held-out heating run; writes
     /// DIR/report.html.
     #[command(
-        after_help = "Examples:\n  imutherm demo                 full: 1 h runs at 20 Hz\n  imutherm demo --quick --out /tmp/demo"
+        after_help = "Examples:\n  imutherm demo                 full: 1 h runs at 20 Hz\n  imutherm demo --quick --out /tmp/demo\n  imutherm demo --dyn-window 20min --dyn-step 60s   finer dynamic ADEV windows"
     )]
     Demo(DemoArgs),
     #[cfg(feature = "analysis")]
@@ -78,7 +78,7 @@ pub enum Command {
     /// and problems, the thesis's noise tables, ADEV plots, and the ADEV over
     /// temperature of runs whose temperature changes.
     #[command(
-        after_help = "Example:\n  imutherm report run_34C.txt run_43C.txt run_62C.txt run_82C.txt cooling.txt --out rep"
+        after_help = "Examples:\n  imutherm report run_34C.txt run_43C.txt run_62C.txt run_82C.txt cooling.txt --out rep\n  imutherm report cooling.txt --out rep --dyn-window 10min --dyn-step 30s"
     )]
     Report(ReportArgs),
     #[cfg(feature = "analysis")]
@@ -206,6 +206,9 @@ pub struct ReportArgs {
     pub datasheet: Option<String>,
 
     #[command(flatten)]
+    pub dynamic: DynamicArgs,
+
+    #[command(flatten)]
     pub read: ReadArgs,
 }
 
@@ -290,6 +293,24 @@ pub struct DemoArgs {
     /// or `none`.
     #[arg(long, default_value = "MPU-9250", value_name = "NAME|FILE.toml|none")]
     pub datasheet: String,
+
+    #[command(flatten)]
+    pub dynamic: DynamicArgs,
+}
+
+/// The dynamic ADEV's windows (the report's 3D ADEV of a run whose
+/// temperature changes).
+#[derive(Debug, Args)]
+pub struct DynamicArgs {
+    /// Length of each sliding window of the dynamic ADEV: seconds, or a
+    /// number with s, min or h [default: 30min, the thesis's]. A window
+    /// longer than the run is an error.
+    #[arg(long, value_name = "DURATION", value_parser = flags::duration)]
+    pub dyn_window: Option<f64>,
+
+    /// Step between the starts of two windows [default: 90s, the thesis's].
+    #[arg(long, value_name = "DURATION", value_parser = flags::duration)]
+    pub dyn_step: Option<f64>,
 }
 
 #[cfg(feature = "analysis")]

@@ -408,6 +408,18 @@ pub fn datasheet(spec: &str) -> anyhow::Result<analysis::datasheet::Datasheet> {
     })
 }
 
+/// The dynamic ADEV's windows from `--dyn-window` and `--dyn-step`, the
+/// thesis's where not given.
+#[cfg(feature = "analysis")]
+pub fn dynamic_options(a: &crate::args::DynamicArgs) -> analysis::dynamic_adev::DynamicOptions {
+    use analysis::dynamic_adev::{DEFAULT_STEP_S, DEFAULT_WINDOW_S, DynamicOptions};
+    DynamicOptions {
+        window_s: a.dyn_window.unwrap_or(DEFAULT_WINDOW_S),
+        step_s: a.dyn_step.unwrap_or(DEFAULT_STEP_S),
+        ..DynamicOptions::default()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -18,8 +18,16 @@ fn quick_demo_writes_a_complete_report() {
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.starts_with("<!DOCTYPE html>") && html.trim_end().ends_with("</html>"));
     // Eight sensor ADEV plots (two per run), six per-axis ADEV plots over
-    // temperature, two raw-data plots, six heat maps, six bias plots.
-    assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 28, "figures");
+    // temperature, two raw-data plots, six heat maps of temperature bins and
+    // six of the dynamic ADEV, six bias plots.
+    assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 34, "figures");
+    // The dynamic ADEV's 3D views, raw and compensated per channel, over
+    // the thesis's windows: a 1 h quick cooling run holds 21.
+    assert_eq!(html.matches("<canvas").count(), 12, "3D views");
+    assert!(
+        html.contains("sliding windows of 1800 s stepped every 90 s (21 windows)"),
+        "dynamic ADEV note"
+    );
     assert!(html.contains("Angle random walk N [°/√s]"));
     assert!(html.contains("34 °C") && html.contains("82 °C"));
     assert!(html.contains("residual bias over temperature on the held-out heating run"));
@@ -39,7 +47,7 @@ fn quick_demo_writes_a_complete_report() {
     }
     // --format png: every plot also as a PNG file.
     let pngs = std::fs::read_dir(out.join("figures")).unwrap().count();
-    assert_eq!(pngs, 28, "PNG figures");
+    assert_eq!(pngs, 34, "PNG figures");
     let model = read_json(&out.join("tcal_model.json"));
     assert_eq!(model["schema"], "imutherm.tcal/1");
 }

@@ -259,6 +259,53 @@ const BAD: &[(&[&str], &str, &str)] = &[
 ];
 
 #[test]
+fn a_dynamic_adev_window_that_is_not_a_duration_or_longer_than_the_run_is_a_usage_error() {
+    let dir = tempfile::tempdir().unwrap();
+    for (flag, value) in [
+        ("--dyn-window", "30 weeks"),
+        ("--dyn-step", "90 parsecs"),
+        ("--dyn-window", "0"),
+    ] {
+        imutherm()
+            .args(["report", MISSING, "--out"])
+            .arg(dir.path().join("rep"))
+            .args([flag, value])
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(format!("for '{flag} ")));
+    }
+    // Longer than the quick demo's 1 h cooling run: refused before any
+    // simulation.
+    let demo = dir.path().join("demo");
+    imutherm()
+        .args(["demo", "--quick", "--dyn-window", "2h", "--out"])
+        .arg(&demo)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(
+            "--dyn-window 7200 s is longer than the demo's cooling run (3600 s)",
+        ));
+    assert!(!demo.join("cooling_100_to_20C.txt").exists());
+    // Longer than a report's run whose temperature changes, named.
+    let cooling = Simulation::new()
+        .profile("cooling:90:25:600")
+        .duration("600")
+        .rate("5")
+        .write(dir.path(), "cooling.txt");
+    imutherm()
+        .arg("report")
+        .arg(&cooling)
+        .args(["--dyn-window", "15min", "--out"])
+        .arg(dir.path().join("rep"))
+        .assert()
+        .code(2)
+        .stderr(
+            predicate::str::contains("--dyn-window 900 s is longer than")
+                .and(predicate::str::contains("cooling.txt (600.0 s)")),
+        );
+}
+
+#[test]
 fn every_bad_flag_value_exits_2_naming_the_flag() {
     for (args, flag, says) in BAD {
         let out = imutherm().args(*args).output().unwrap();

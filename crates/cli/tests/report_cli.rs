@@ -34,8 +34,9 @@ fn report_escapes_file_names_and_draws_every_figure() {
     assert!(html.contains("&lt;script&gt;alert(1)&lt;/script&gt;.txt"));
     assert!(!html.contains("<script>"));
     // Two sensor ADEV plots per run, six per-axis ADEV plots; for the run
-    // whose temperature changes two raw-data plots and six heat maps.
-    assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 18);
+    // whose temperature changes two raw-data plots, six heat maps of its
+    // temperature bins and six of its dynamic ADEV (one 30 min window).
+    assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 24);
     assert!(html.contains("Velocity random walk N"));
     // Each run navigated without aiding, measured beside its prediction.
     assert!(html.contains("Navigation without GNSS"));

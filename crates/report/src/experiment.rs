@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use allan::noise_terms::{Minimum, NoiseTerms, Term, TermEstimate};
 use analysis::AnalysisError;
+use analysis::dynamic_adev::DynamicAdev;
 use analysis::experiment::{COMPARED_AT_S, Experiment};
 use analysis::navigation::{Navigated, Plan};
 use analysis::noise::{ChannelNoise, RunNoise, held_value};
@@ -14,13 +15,13 @@ use analysis::thesis::ThesisTables;
 use analysis::units::{deg, si_unit};
 use imu::Quantity;
 use thermal::evaluation::{BinMean, spread};
-use thermal::surface::SurfaceRow;
 
 use crate::PlotError;
 use crate::ReportError;
-use crate::html::Page;
+use crate::html::{Page, significant};
 use crate::plots::{
-    Asymptote, Curve, Drawn, Target, adev_heatmap, adev_plot, bias_plot, temperature_colour, time_plot,
+    Asymptote, Curve, Drawn, Target, adev_heatmap, adev_heatmap_slices, adev_plot, bias_plot,
+    temperature_colour, time_plot,
 };
 
 /// The mark near the start of a log imutherm wrote.
@@ -346,15 +347,31 @@ pub fn time_figures(page: &mut Page, sel: &Selection, title: &str, png: &PngDir)
     Ok(())
 }
 
-/// The cooling run's ADEV over temperature: a 3D surface and a heat map
-/// per channel.
+/// The cooling run's ADEV over temperature, per channel: the dynamic ADEV
+/// (sliding windows labelled by their mean temperature, the thesis's
+/// method) as 3D views, raw beside compensated, and as a heat map beside
+/// the heat map of the temperature bins.
 pub fn surface_section(page: &mut Page, exp: &Experiment, png: &PngDir) -> Result<(), ReportError> {
     let cool = &exp.cooling;
     page.heading("Cooling run: ADEV over temperature (3D ADEV)");
-    for (c, rows) in cool.channels.iter().zip(&exp.surfaces) {
-        page.surface3d(&c.name, &c.unit, &surface_slices(rows));
+    if let Some(pair) = exp.dynamic.first() {
+        page.paragraph(&dynamic_note(&pair.raw));
     }
-    for (c, rows) in cool.channels.iter().zip(&exp.surfaces) {
+    for ((c, rows), pair) in cool.channels.iter().zip(&exp.surfaces).zip(&exp.dynamic) {
+        page.surface3d(&format!("{}: raw", c.name), &c.unit, &dynamic_slices(&pair.raw));
+        page.surface3d(
+            &format!("{}: compensated", c.name),
+            &c.unit,
+            &dynamic_slices(&pair.compensated),
+        );
+        dynamic_heatmap(
+            page,
+            png,
+            &c.name,
+            &c.unit,
+            &pair.raw,
+            &format!("adev_dynamic_{}", c.name),
+        )?;
         figure(
             page,
             png,
@@ -366,10 +383,67 @@ pub fn surface_section(page: &mut Page, exp: &Experiment, png: &PngDir) -> Resul
     Ok(())
 }
 
-/// A surface as the 3D view takes it: (mean temperature, [(τ, σ)]) per slice.
-fn surface_slices(rows: &[SurfaceRow]) -> Vec<(f64, Vec<(f64, f64)>)> {
-    rows.iter()
-        .map(|r| (r.t_mean_c, r.points.iter().map(|p| (p.tau, p.dev)).collect()))
+/// What the dynamic ADEV's windows were, and any left without a curve.
+pub fn dynamic_note(d: &DynamicAdev) -> String {
+    let o = &d.options;
+    let mut text = format!(
+        "Dynamic ADEV: OADEV over sliding windows of {} s stepped every {} s ({} windows), each \
+         labelled by its mean temperature; the compensated view is the same windows after the \
+         compensation fitted on this run.",
+        significant(o.window_s),
+        significant(o.step_s),
+        d.windows.len()
+    );
+    let gapped = d.windows.iter().filter(|w| w.gap_samples > 0).count();
+    if gapped > 0 {
+        text.push_str(&format!(
+            " {gapped} windows have gaps (their terms that cross a gap are skipped)."
+        ));
+    }
+    for s in &d.skipped {
+        text.push_str(&format!(
+            " The window {}–{} s has no curve: {}.",
+            significant(s.start_s),
+            significant(s.end_s),
+            s.reason
+        ));
+    }
+    text
+}
+
+/// The dynamic ADEV as a heat map: τ across, the windows' mean temperature
+/// up.
+pub fn dynamic_heatmap(
+    page: &mut Page,
+    png: &PngDir,
+    name: &str,
+    unit: &str,
+    d: &DynamicAdev,
+    png_name: &str,
+) -> Result<(), ReportError> {
+    let slices: Vec<(f64, &[allan::Point])> = d
+        .windows
+        .iter()
+        .map(|w| (w.t_mean_c, w.points.as_slice()))
+        .collect();
+    figure(
+        page,
+        png,
+        png_name,
+        &format!(
+            "{name}: dynamic ADEV, σ(τ) of {} s windows against their mean temperature",
+            significant(d.options.window_s)
+        ),
+        |t| adev_heatmap_slices(t, name, unit, &slices),
+    )
+}
+
+/// A dynamic ADEV as the 3D view takes it: (mean temperature, [(τ, σ)]) per
+/// window.
+pub fn dynamic_slices(d: &DynamicAdev) -> Vec<(f64, Vec<(f64, f64)>)> {
+    d.windows
+        .iter()
+        .map(|w| (w.t_mean_c, w.points.iter().map(|p| (p.tau, p.dev)).collect()))
         .collect()
 }
 

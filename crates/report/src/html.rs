@@ -125,22 +125,25 @@ impl Page {
         });
     }
 
-    /// An interactive 3D surface σ(τ, T) (drag to turn it), drawn on a
-    /// canvas by a few lines of script embedded in the page, so the report
-    /// needs no network and no library. `rows` are (mean temperature °C,
+    /// An interactive 3D surface σ(τ, T) (drag to turn it, the value under
+    /// the pointer read out), drawn on a canvas by imutherm's own script
+    /// embedded in the page, so the report needs no network and no library. `rows` are (mean temperature °C,
     /// [(τ s, σ)]) per slice.
     pub fn surface3d(&mut self, title: &str, unit: &str, rows: &[(f64, Vec<(f64, f64)>)]) {
         let id = self.surfaces;
         self.surfaces += 1;
+        // Four decimals of a logarithm are 0.02 %, and 0.001 °C is below
+        // the sensor's quantum: finer digits would only lengthen the page.
+        let round = |x: f64, scale: f64| (x * scale).round() / scale;
         let slices: Vec<SurfaceSlice> = rows
             .iter()
             .filter(|r| r.0.is_finite())
             .map(|(t, pts)| SurfaceSlice {
-                t: *t,
+                t: round(*t, 1e3),
                 p: pts
                     .iter()
                     .filter(|p| p.0 > 0.0 && p.1 > 0.0)
-                    .map(|(tau, dev)| [tau.log10(), dev.log10()])
+                    .map(|(tau, dev)| [round(tau.log10(), 1e4), round(dev.log10(), 1e4)])
                     .collect(),
             })
             .collect();
@@ -241,43 +244,11 @@ pub fn significant(x: f64) -> String {
     }
 }
 
-/// The 3D surface: project each cell of the (log τ, T, log σ) grid, sort the
-/// quads back to front, fill them by height. Marks the canvas
-/// `data-rendered` when done, which the browser test reads.
-const SURFACE_JS: &str = r#"
-function imuthermSurface(id){
- var c=document.getElementById(id),g=c.getContext('2d');
- var rows=JSON.parse(document.getElementById(id+'-data').textContent);
- var xs=[],ys=[],zs=[];
- rows.forEach(function(r){r.p.forEach(function(q){xs.push(q[0]);zs.push(q[1]);});ys.push(r.t);});
- function rng(a){var lo=Math.min.apply(null,a),hi=Math.max.apply(null,a);return [lo,hi>lo?hi:lo+1];}
- var X=rng(xs),Y=rng(ys),Z=rng(zs),yaw=-0.7,pitch=0.5;
- function n(v,r){return (v-r[0])/(r[1]-r[0])-0.5;}
- function heat(v){var s=[[68,1,84],[59,82,139],[33,145,140],[94,201,98],[253,231,37]];
-  var x=Math.max(0,Math.min(1,v))*4,i=Math.min(3,Math.floor(x)),f=x-i,a=s[i],b=s[i+1];
-  return 'rgb('+[0,1,2].map(function(k){return Math.round(a[k]+(b[k]-a[k])*f);}).join(',')+')';}
- function proj(x,y,z){var cx=Math.cos(yaw),sx=Math.sin(yaw),cp=Math.cos(pitch),sp=Math.sin(pitch);
-  var x1=x*cx-y*sx,y1=x*sx+y*cx,z1=z*cp-y1*sp,d=y1*cp+z*sp;
-  return [c.width/2+x1*360,c.height/2-z1*300,d];}
- function draw(){g.fillStyle='#fff';g.fillRect(0,0,c.width,c.height);var quads=[];
-  for(var i=0;i+1<rows.length;i++){var a=rows[i],b=rows[i+1];
-   for(var j=0;j+1<Math.min(a.p.length,b.p.length);j++){
-    var pts=[[a.p[j][0],a.t,a.p[j][1]],[a.p[j+1][0],a.t,a.p[j+1][1]],[b.p[j+1][0],b.t,b.p[j+1][1]],[b.p[j][0],b.t,b.p[j][1]]];
-    var pr=pts.map(function(p){return proj(n(p[0],X),n(p[1],Y),n(p[2],Z));});
-    var h=pts.reduce(function(s,p){return s+n(p[2],Z)+0.5;},0)/4;
-    quads.push({p:pr,d:pr.reduce(function(s,q){return s+q[2];},0),h:h});}}
-  quads.sort(function(u,v){return v.d-u.d;});
-  quads.forEach(function(q){g.beginPath();g.moveTo(q.p[0][0],q.p[0][1]);
-   for(var k=1;k<4;k++){g.lineTo(q.p[k][0],q.p[k][1]);}g.closePath();
-   g.fillStyle=heat(q.h);g.fill();g.strokeStyle='rgba(0,0,0,0.25)';g.stroke();});
-  g.fillStyle='#222';g.font='14px sans-serif';g.fillText(c.dataset.title+' — σ(τ, T) ['+c.dataset.unit+']',10,20);
-  c.dataset.rendered=String(quads.length);}
- var drag=null;c.addEventListener('mousedown',function(e){drag=[e.clientX,e.clientY];});
- window.addEventListener('mouseup',function(){drag=null;});
- c.addEventListener('mousemove',function(e){if(!drag)return;yaw+=(e.clientX-drag[0])*0.01;
-  pitch=Math.max(-1.5,Math.min(1.5,pitch+(e.clientY-drag[1])*0.01));drag=[e.clientX,e.clientY];draw();});
- draw();}
-"#;
+/// The 3D view's script (`assets/surface3d.js`): axes with ticks in real
+/// units, a colour bar, the value under the pointer, drag to turn. Marks
+/// the canvas `data-rendered` and `data-labels` when done, which the
+/// browser test reads.
+const SURFACE_JS: &str = include_str!("../assets/surface3d.js");
 
 const STYLE: &str = "body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}\
 table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:.25em .6em;text-align:right}\

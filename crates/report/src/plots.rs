@@ -348,37 +348,71 @@ pub fn adev_heatmap(
     unit: &str,
     rows: &[SurfaceRow],
 ) -> Result<Drawn, PlotError> {
+    let slices: Vec<(f64, &[Point])> = rows.iter().map(|r| (r.t_mean_c, r.points.as_slice())).collect();
+    adev_heatmap_slices(target, title, unit, &slices)
+}
+
+/// [`adev_heatmap`] of any slices, (mean temperature °C, OADEV points)
+/// each: the dynamic ADEV's windows as well as temperature bins. Each
+/// slice fills the band halfway to its neighbours in temperature.
+pub fn adev_heatmap_slices(
+    target: Target,
+    title: &str,
+    unit: &str,
+    slices: &[(f64, &[Point])],
+) -> Result<Drawn, PlotError> {
+    let mut rows: Vec<(f64, &[Point])> = slices.iter().copied().filter(|s| s.0.is_finite()).collect();
+    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
     draw!(target, (720, 480), |root| adev_heatmap_on(
-        root, title, unit, rows
+        root, title, unit, &rows
     ))
 }
+
+/// Colour levels of a heat map and of its colour bar.
+const LEVELS: usize = 64;
 
 fn adev_heatmap_on<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     title: &str,
     unit: &str,
-    rows: &[SurfaceRow],
+    rows: &[(f64, &[Point])],
 ) -> Result<(), PlotError> {
     font();
     root.fill(&WHITE).map_err(err)?;
     let (main, bar) = root.split_horizontally(640);
-    let taus = log_range(rows.iter().flat_map(|r| r.points.iter().map(|p| p.tau)));
-    let (tmin, tmax) = rows.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
-        (a.min(r.t_mean_c), b.max(r.t_mean_c))
-    });
-    let (tmin, tmax) = if tmin.is_finite() && tmax > tmin {
+    let taus = log_range(rows.iter().flat_map(|r| r.1.iter().map(|p| p.tau)));
+    let (tmin, tmax) = match (rows.first(), rows.last()) {
+        (Some(a), Some(b)) if b.0 > a.0 => (a.0, b.0),
+        (Some(a), _) => (a.0 - 1.0, a.0 + 1.0),
+        _ => (0.0, 1.0),
+    };
+    // The band of slice k: halfway to each neighbour; the outer halves as
+    // wide as the inner ones.
+    let edge = |k: usize| -> (f64, f64) {
+        let t = rows[k].0;
+        let below = if k > 0 {
+            (t - rows[k - 1].0) / 2.0
+        } else {
+            f64::NAN
+        };
+        let above = rows.get(k + 1).map_or(f64::NAN, |r| (r.0 - t) / 2.0);
+        let (below, above) = match (below.is_finite(), above.is_finite()) {
+            (true, true) => (below, above),
+            (true, false) => (below, below),
+            (false, true) => (above, above),
+            (false, false) => (1.0, 1.0),
+        };
+        (t - below, t + above)
+    };
+    let (lo_t, hi_t) = if rows.is_empty() {
         (tmin, tmax)
     } else {
-        (tmin - 1.0, tmin + 1.0)
+        (edge(0).0, edge(rows.len() - 1).1)
     };
-    let step = if rows.len() > 1 {
-        (tmax - tmin) / (rows.len() - 1) as f64
-    } else {
-        1.0
-    };
+    let step = (hi_t - lo_t).max(f64::MIN_POSITIVE);
     let devs: Vec<f64> = rows
         .iter()
-        .flat_map(|r| r.points.iter().map(|p| p.dev.log10()))
+        .flat_map(|r| r.1.iter().map(|p| p.dev.log10()))
         .collect();
     let (dlo, dhi) = devs
         .iter()
@@ -391,39 +425,63 @@ fn adev_heatmap_on<DB: DrawingBackend>(
         .margin(12)
         .x_label_area_size(40)
         .y_label_area_size(60)
-        .build_cartesian_2d(
-            (taus.0..taus.1).log_scale(),
-            (tmin - step / 2.0)..(tmax + step / 2.0),
-        )
+        .build_cartesian_2d((taus.0..taus.1).log_scale(), lo_t..hi_t)
         .map_err(err)?;
     chart
         .configure_mesh()
         .x_desc("τ [s]")
         .y_desc("temperature [°C]")
         .x_label_formatter(&|v| tick_label(*v, *v))
-        .y_label_formatter(&|v| tick_label(*v, tmax - tmin + step))
+        .y_label_formatter(&|v| tick_label(*v, step))
         .draw()
         .map_err(err)?;
-    for r in rows {
-        for (k, p) in r.points.iter().enumerate() {
+    // One cell per slice and τ, in the colour bar's 64 levels; a column of
+    // cells of one level in adjacent slices is drawn as one rectangle, which
+    // keeps the SVG of a dense dynamic ADEV (a hundred windows) small.
+    let level =
+        |dev: f64| (((dev.log10() - dlo) / span * LEVELS as f64).floor() as i64).clamp(0, LEVELS as i64 - 1);
+    let mut open: std::collections::BTreeMap<u64, (i64, f64, f64, f64, f64)> = Default::default();
+    let mut cells: Vec<(i64, f64, f64, f64, f64)> = Vec::new();
+    for (i, &(_, points)) in rows.iter().enumerate() {
+        let (below, above) = edge(i);
+        let mut seen = std::collections::BTreeSet::new();
+        for (k, p) in points.iter().enumerate() {
             let left = if k == 0 {
                 p.tau / 2f64.sqrt()
             } else {
-                (p.tau * r.points[k - 1].tau).sqrt()
+                (p.tau * points[k - 1].tau).sqrt()
             };
-            let right = match r.points.get(k + 1) {
+            let right = match points.get(k + 1) {
                 Some(q) => (p.tau * q.tau).sqrt(),
                 None => p.tau * 2f64.sqrt(),
             };
-            let colour = heat((p.dev.log10() - dlo) / span);
-            chart
-                .draw_series(std::iter::once(Rectangle::new(
-                    [(left, r.t_mean_c - step / 2.0), (right, r.t_mean_c + step / 2.0)],
-                    colour.filled(),
-                )))
-                .map_err(err)?;
+            let key = p.tau.to_bits();
+            seen.insert(key);
+            let l = level(p.dev);
+            match open.get_mut(&key) {
+                Some(c) if c.0 == l && c.1 == left && c.2 == right && c.4 == below => c.4 = above,
+                _ => {
+                    if let Some(c) = open.insert(key, (l, left, right, below, above)) {
+                        cells.push(c);
+                    }
+                }
+            }
+        }
+        // A τ this slice lacks ends the column's run.
+        let ended: Vec<u64> = open.keys().filter(|k| !seen.contains(k)).copied().collect();
+        for k in ended {
+            cells.extend(open.remove(&k));
         }
     }
+    cells.extend(open.into_values());
+    chart
+        .draw_series(cells.iter().map(|&(l, left, right, below, above)| {
+            Rectangle::new(
+                [(left, below), (right, above)],
+                heat((l as f64 + 0.5) / LEVELS as f64).filled(),
+            )
+        }))
+        .map_err(err)?;
     // The colour bar, with its scale in the plotted unit.
     let mut cb = ChartBuilder::on(&bar)
         .margin_top(44)
@@ -436,10 +494,14 @@ fn adev_heatmap_on<DB: DrawingBackend>(
         .disable_x_mesh()
         .disable_x_axis()
         .y_desc(format!("σ [{unit}]"))
+        // The bar's area is narrow: left to themselves, its texts would
+        // be sized to it, under a pixel.
+        .y_label_style(("sans-serif", 12))
+        .axis_desc_style(("sans-serif", 13))
         .y_label_formatter(&|v| tick_label(*v, *v))
         .draw()
         .map_err(err)?;
-    let n = 64;
+    let n = LEVELS;
     cb.draw_series((0..n).map(|i| {
         let (a, b) = (i as f64 / n as f64, (i + 1) as f64 / n as f64);
         Rectangle::new(
@@ -447,7 +509,7 @@ fn adev_heatmap_on<DB: DrawingBackend>(
                 (0.0, 10f64.powf(dlo + a * span)),
                 (1.0, 10f64.powf(dlo + b * span)),
             ],
-            heat(a).filled(),
+            heat((a + b) / 2.0).filled(),
         )
     }))
     .map_err(err)?;

@@ -71,6 +71,14 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     } else {
         (3600.0, 3.0 * 3600.0)
     };
+    let dynamic = crate::flags::dynamic_options(&a.dynamic);
+    if dynamic.window_s > cooling_s {
+        crate::flags::usage_error(format!(
+            "--dyn-window {} s is longer than the demo's cooling run ({cooling_s} s){}",
+            dynamic.window_s,
+            if a.quick { " with --quick" } else { "" }
+        ));
+    }
     let runs_named: Vec<String> = TEMPERATURES.iter().map(|t| format!("run_{t:.0}C.txt")).collect();
     let mut own: Vec<(&str, &str)> = runs_named.iter().map(|n| (n.as_str(), LOG_MARK)).collect();
     own.extend([
@@ -137,6 +145,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
             max_auto_order: thermal::firmware::Firmware::MAX_ORDER,
             ..FitOptions::default()
         },
+        &dynamic,
         |step| eprintln!("{step}…"),
     )?;
     notes(&exp.notes);

@@ -4,14 +4,15 @@ use std::path::Path;
 
 use anyhow::{Context, Result, bail};
 
+use analysis::dynamic_adev::{DynamicAdevError, dynamic_adev};
 use analysis::navigation::{Plan, navigate, six_channels};
 use analysis::noise::analyse_run;
 use analysis::summary::Summary;
 use ins::drift::report_times;
 use ins::strapdown::NavOptions;
 use report::experiment::{
-    PAGE_MARK, PngDir, adev_figures, command_section, figure, noise_tables, recordings_navigation_section,
-    refuse_foreign_files, time_figures,
+    PAGE_MARK, PngDir, adev_figures, command_section, dynamic_heatmap, dynamic_note, dynamic_slices, figure,
+    noise_tables, recordings_navigation_section, refuse_foreign_files, time_figures,
 };
 use report::html::Page;
 use report::plots::adev_heatmap;
@@ -53,6 +54,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     let mut rows = Vec::new();
     let mut problems = Vec::new();
     let mut changing = Vec::new();
+    let dynamic = crate::flags::dynamic_options(&a.dynamic);
     for f in &a.files {
         let (rec, rep, _) = analysis::robot_logs::read_recording_with_report(f, &read)?;
         let temp = rec.temperature().map(|t| {
@@ -65,6 +67,18 @@ pub fn run(a: &ReportArgs) -> Result<()> {
         if let Some((lo, _, hi)) = temp
             && hi - lo >= SURFACE_SPAN_C
         {
+            // Asked for in so many words, a window the run cannot hold is
+            // the user's to change; the default one is left out with a note.
+            if a.dynamic.dyn_window.is_some()
+                && let Some(d) = rec.duration_s()
+                && dynamic.window_s > d
+            {
+                crate::flags::usage_error(format!(
+                    "--dyn-window {} s is longer than {} ({d:.1} s)",
+                    dynamic.window_s,
+                    f.display()
+                ));
+            }
             changing.push(f.clone());
         }
         rows.push(vec![
@@ -128,7 +142,35 @@ pub fn run(a: &ReportArgs) -> Result<()> {
         let sel = read_channels(f, &[], &read)?;
         time_figures(&mut page, &sel, &f.display().to_string(), &png)?;
         let Some(temp) = &sel.temperature else { continue };
+        let mut noted = false;
         for c in &sel.channels {
+            match dynamic_adev(&c.data, temp, sel.rate_hz, &dynamic) {
+                Ok(d) => {
+                    if !noted {
+                        page.paragraph(&dynamic_note(&d));
+                        noted = true;
+                    }
+                    // One window is a curve, not a surface: its heat map
+                    // is one band, and no 3D view is drawn.
+                    if d.windows.len() > 1 {
+                        page.surface3d(&c.name, &c.unit, &dynamic_slices(&d));
+                    }
+                    dynamic_heatmap(
+                        &mut page,
+                        &png,
+                        &c.name,
+                        &c.unit,
+                        &d,
+                        &format!("adev_dynamic_{}_{}", f.display(), c.name),
+                    )?;
+                }
+                Err(e @ DynamicAdevError::WindowLongerThanRun { .. }) if !noted => {
+                    page.paragraph(&format!("No dynamic ADEV: {e} (--dyn-window)."));
+                    noted = true;
+                }
+                Err(DynamicAdevError::WindowLongerThanRun { .. }) => {}
+                Err(e) => return Err(e).with_context(|| format!("{}: {}", f.display(), c.name)),
+            }
             let rows = surface(
                 &c.data,
                 temp,

@@ -5,6 +5,8 @@
 // module; the rest would warn as dead code in that crate.
 #![allow(dead_code)]
 
+pub mod chromium;
+
 use std::path::{Path, PathBuf};
 use std::process::Output;
 

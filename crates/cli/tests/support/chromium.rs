@@ -1,0 +1,58 @@
+//! Headless Chromium for the browser tests: where it is, the flags that keep
+//! it off the network, and where screenshots are kept.
+
+use std::path::{Path, PathBuf};
+
+/// The browser on PATH, if any.
+pub fn chromium() -> Option<PathBuf> {
+    ["chromium", "chromium-browser", "google-chrome"]
+        .iter()
+        .find_map(|name| {
+            std::env::var_os("PATH")?
+                .to_str()?
+                .split(':')
+                .map(|d| PathBuf::from(d).join(name))
+                .find(|p| p.is_file())
+        })
+}
+
+/// Headless, without a GPU, and with every request sent to a closed port:
+/// a page that needs the network shows it.
+pub const FLAGS: [&str; 13] = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--enable-logging=stderr",
+    "--v=0",
+    "--proxy-server=127.0.0.1:9",
+    "--proxy-bypass-list=<-loopback>",
+    "--hide-scrollbars",
+];
+
+/// `target/report-screenshots/`, kept as CI artefacts; created.
+pub fn screenshots(fallback: &Path) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .parent()
+        .map_or_else(|| fallback.to_path_buf(), |t| t.join("report-screenshots"));
+    std::fs::create_dir_all(&dir).expect("screenshot folder");
+    dir
+}
+
+/// What a page logged that a clean page does not.
+pub fn console_errors(log: &str) -> Vec<&'static str> {
+    [
+        "Uncaught",
+        "CONSOLE(",
+        "SyntaxError",
+        "ReferenceError",
+        "TypeError",
+    ]
+    .into_iter()
+    .filter(|bad| log.contains(bad))
+    .collect()
+}
