@@ -73,6 +73,84 @@ pub enum AnalysisError {
         /// Its reason.
         cause: crate::dynamic_adev::DynamicAdevError,
     },
+    /// A compensation fit refused the runs; the context names them.
+    #[error("{context}")]
+    Compensation {
+        /// The runs, comma-separated.
+        context: String,
+        /// Its reason.
+        #[source]
+        cause: thermal::ThermalError,
+    },
+    /// A model refused to compensate a channel.
+    #[error(transparent)]
+    Model(thermal::ThermalError),
+    /// A model cannot be written for a firmware, or a parameter file is not
+    /// one the firmware loads.
+    #[error("{context}")]
+    Firmware {
+        /// The flag or file at fault.
+        context: String,
+        /// Its reason.
+        #[source]
+        cause: thermal::firmware::FirmwareError,
+    },
+    /// A file the compensation needs (a run's bytes, a parameter file)
+    /// could not be read.
+    #[error("reading {}", path.display())]
+    File {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's reason.
+        #[source]
+        cause: std::io::Error,
+    },
+    /// One run given twice, by two names or as a copy: it would count
+    /// twice in a fit. A usage error.
+    #[error("{} and {} are the same recording: give each run once", first.display(), second.display())]
+    SameRecording {
+        /// The run given first.
+        first: PathBuf,
+        /// The same run given again.
+        second: PathBuf,
+    },
+    /// More averaging bins than a fit is allowed.
+    #[error(
+        "--bin-width {width}: bins over {lo:.2} to {hi:.2} °C would be {bins:.0}; at most \
+         {max} are fitted: give a wider bin",
+        max = crate::compensation::MAX_FIT_BINS
+    )]
+    TooManyBins {
+        /// The bin width, °C.
+        width: f64,
+        /// The lowest temperature, °C.
+        lo: f64,
+        /// The highest, °C.
+        hi: f64,
+        /// The bins that would be.
+        bins: f64,
+    },
+    /// A polynomial order the firmware cannot evaluate. A usage error.
+    #[error("--order {order} --for {}: {} evaluates a cubic at most (--order 3 or auto)", firmware.key(), firmware.name())]
+    OrderForFirmware {
+        /// The order asked for.
+        order: usize,
+        /// The firmware.
+        firmware: thermal::firmware::Firmware,
+    },
+    /// A calibration slot the firmware does not have. A usage error.
+    #[error(
+        "--instance {instance}: {} has calibration instances {} to {}",
+        firmware.name(),
+        firmware.instances().start(),
+        firmware.instances().end()
+    )]
+    Instance {
+        /// The slot asked for.
+        instance: u8,
+        /// The firmware.
+        firmware: thermal::firmware::Firmware,
+    },
     /// Navigation refused the data.
     #[error("{context}: {cause}")]
     Ins {
@@ -84,6 +162,17 @@ pub enum AnalysisError {
 }
 
 impl AnalysisError {
+    /// Whether the error is in the flags given rather than in the data: the
+    /// command line ends such with status 2.
+    pub fn is_usage(&self) -> bool {
+        matches!(
+            self,
+            AnalysisError::SameRecording { .. }
+                | AnalysisError::OrderForFirmware { .. }
+                | AnalysisError::Instance { .. }
+        )
+    }
+
     pub(crate) fn allan(context: impl Into<String>) -> impl FnOnce(allan::AllanError) -> Self {
         let context = context.into();
         move |cause| AnalysisError::Allan { context, cause }

@@ -17,6 +17,8 @@
 //!   HTML by their callers;
 //! - [`kalibr`]: Kalibr's `imu.yaml`;
 //! - [`navigation`]: what the noise costs in metres without GNSS;
+//! - [`compensation`]: the temperature compensation's fit, checks,
+//!   firmware view and evaluation document, as `tcal` and Python share them;
 //! - [`experiment`]: the thesis's whole experiment (noise terms, ADEV over
 //!   temperature, compensation fitted and evaluated on a held-out run,
 //!   navigation) as one value.
@@ -48,6 +50,7 @@
 
 mod error;
 
+pub mod compensation;
 pub mod datasheet;
 pub mod dynamic_adev;
 pub mod experiment;

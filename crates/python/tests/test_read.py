@@ -134,7 +134,11 @@ def cli_info(path):
 
 
 @pytest.mark.skipif("IMUTHERM_BIN" not in os.environ, reason="IMUTHERM_BIN names no command line")
-@pytest.mark.parametrize("which", ["text", "imu_zstd.mcap", "imu_bz2.bag", "gap.bag"])
+# The formats the command line reads: text, MCAP, ROS 1 (bz2, lz4), a ROS 2
+# SQLite3 bag and PX4 ULog (DataFlash, whose fixture holds two IMUs, in
+# test_dataflash_fixture_as_dfreader_reads_it).
+@pytest.mark.parametrize("which", ["text", "imu_zstd.mcap", "imu_bz2.bag", "imu_lz4.bag", "gap.bag",
+                                   "bag_sqlite3/bag_sqlite3.db3", "../px4/sample_log_small.ulg"])
 def test_same_as_info_json(which, text_log):
     path = text_log[0] if which == "text" else FIXTURES / which
     info = cli_info(path)

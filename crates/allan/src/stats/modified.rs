@@ -196,17 +196,7 @@ mod tests {
             seed in 0u64..1000,
             gaps in proptest::collection::vec(0.0f64..1.0, 0..6),
         ) {
-            let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-            let mut acc = 0.0;
-            let mut x: Vec<f64> = (0..len)
-                .map(|_| {
-                    state ^= state << 13;
-                    state ^= state >> 7;
-                    state ^= state << 17;
-                    acc += (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-                    acc
-                })
-                .collect();
+            let mut x = crate::work::random_walk(len, seed);
             // Gaps inside the series (a NaN at an edge is trimmed).
             for g in gaps {
                 let i = 1 + (g * (len.saturating_sub(2)) as f64) as usize;

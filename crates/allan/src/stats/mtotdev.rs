@@ -419,16 +419,10 @@ pub(crate) mod tests {
     /// A reproducible irregular series (random walk plus trend and offset)
     /// for checks against the direct definition.
     pub(crate) fn walk(len: usize, seed: u64) -> Vec<f64> {
-        let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-        let mut acc = 0.0;
-        (0..len)
-            .map(|i| {
-                s ^= s << 13;
-                s ^= s >> 7;
-                s ^= s << 17;
-                acc += (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-                acc + 0.01 * i as f64 + 3.0
-            })
+        crate::work::random_walk(len, seed)
+            .into_iter()
+            .enumerate()
+            .map(|(i, x)| x + 0.01 * i as f64 + 3.0)
             .collect()
     }
 

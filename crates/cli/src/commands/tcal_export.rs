@@ -11,24 +11,11 @@ use thermal::tcal::Model;
 use crate::args::TcalExportArgs;
 use crate::flags::usage_error;
 
-/// Refuses a calibration slot the firmware does not have.
-pub fn check_instance(firmware: Firmware, instance: Option<u8>) {
-    if let Some(n) = instance {
-        let range = firmware.instances();
-        if !range.contains(&n) {
-            usage_error(format!(
-                "--instance {n}: {} has calibration instances {} to {}",
-                firmware.name(),
-                range.start(),
-                range.end()
-            ));
-        }
-    }
-}
-
 pub fn run(a: &TcalExportArgs) -> Result<()> {
     let firmware = Firmware::from(a.firmware);
-    check_instance(firmware, a.instance);
+    if let Err(e) = analysis::compensation::check_instance(firmware, a.instance) {
+        usage_error(e);
+    }
     // The one check that the output is not the model: a usage error,
     // before anything is read (so it is not repeated when the file is
     // written).
