@@ -29,7 +29,7 @@ fn err<E: std::fmt::Debug>(e: E) -> PlotError {
 }
 
 /// Colours that stay apart in print and for most colour vision.
-const PALETTE: [RGBColor; 7] = [
+pub(crate) const PALETTE: [RGBColor; 7] = [
     RGBColor(0, 114, 178),
     RGBColor(213, 94, 0),
     RGBColor(0, 158, 115),
@@ -543,6 +543,15 @@ pub const TIME_COLUMNS: usize = 1000;
 
 /// (time, min, max) of each of at most [`TIME_COLUMNS`] equal slices of `x`.
 pub fn envelope(x: &[f64], rate_hz: f64) -> Vec<(f64, f64, f64)> {
+    envelope_with_mean(x, rate_hz)
+        .into_iter()
+        .map(|(t, lo, _, hi)| (t, lo, hi))
+        .collect()
+}
+
+/// (time, min, mean, max) of each of at most [`TIME_COLUMNS`] equal slices
+/// of `x`, over its finite samples; a slice with none is left out.
+pub fn envelope_with_mean(x: &[f64], rate_hz: f64) -> Vec<(f64, f64, f64, f64)> {
     if x.is_empty() {
         return Vec::new();
     }
@@ -550,13 +559,11 @@ pub fn envelope(x: &[f64], rate_hz: f64) -> Vec<(f64, f64, f64)> {
     x.chunks(per)
         .enumerate()
         .filter_map(|(i, c)| {
-            let (lo, hi) = c
-                .iter()
-                .filter(|v| v.is_finite())
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-                    (a.min(v), b.max(v))
-                });
-            lo.is_finite().then(|| ((i * per) as f64 / rate_hz, lo, hi))
+            let (lo, hi, sum, n) = c.iter().filter(|v| v.is_finite()).fold(
+                (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize),
+                |(a, b, s, n), &v| (a.min(v), b.max(v), s + v, n + 1),
+            );
+            (n > 0).then(|| ((i * per) as f64 / rate_hz, lo, sum / n as f64, hi))
         })
         .collect()
 }

@@ -24,4 +24,10 @@ fn vendored_files_match_their_recorded_hashes() {
             .collect();
         assert_eq!(digest, hex, "{file} differs from the vendored release");
     }
+    // And the page embeds exactly these files.
+    assert_eq!(
+        report::charts::UPLOT_JS.as_bytes(),
+        std::fs::read(dir.join("uPlot.iife.min.js")).unwrap().as_slice()
+    );
+    assert!(report::charts::UPLOT_JS.contains("uPlot"));
 }
