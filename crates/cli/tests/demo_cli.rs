@@ -19,7 +19,14 @@ fn quick_demo_writes_a_complete_report() {
     assert!(html.starts_with("<!DOCTYPE html>") && html.trim_end().ends_with("</html>"));
     // Eight sensor ADEV plots (two per run), six per-axis ADEV plots over
     // temperature, two raw-data plots, six heat maps, six bias plots.
-    assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 28, "figures");
+    // The ADEV and raw-data plots are also interactive charts, their SVG
+    // kept for print.
+    let charts = html
+        .matches("<figure class=\"plot\"><div class=\"static\"><svg")
+        .count();
+    let figures = html.matches("<figure class=\"plot\"><svg").count() + charts;
+    assert_eq!(figures, 28, "figures");
+    assert_eq!(charts, 16, "interactive charts");
     assert!(html.contains("Angle random walk N [°/√s]"));
     assert!(html.contains("34 °C") && html.contains("82 °C"));
     assert!(html.contains("residual bias over temperature on the held-out heating run"));
