@@ -1,7 +1,9 @@
 //! The demo's report in a real browser: headless Chromium renders it with
 //! the network disabled, every figure must hold a drawn plot, the summary
 //! must be on the first screen of a 1280×800 window, the page must log no
-//! error and fetch nothing, and the screenshots are kept under
+//! error and fetch nothing, an ADEV chart must show the hovered point's τ
+//! and σ and hide a trace toggled in its legend, and the screenshots
+//! (one of them hovered) are kept under
 //! `target/report-screenshots/` for people to look at.
 //!
 //! Needs Debian's `chromium`. `.ci/run` installs it and sets
@@ -12,19 +14,8 @@ use std::path::PathBuf;
 use std::process::Command as Process;
 
 mod support;
+use support::chromium::{chromium, console_errors};
 use support::imutherm;
-
-fn chromium() -> Option<PathBuf> {
-    ["chromium", "chromium-browser", "google-chrome"]
-        .iter()
-        .find_map(|name| {
-            std::env::var_os("PATH")?
-                .to_str()?
-                .split(':')
-                .map(|d| PathBuf::from(d).join(name))
-                .find(|p| p.is_file())
-        })
-}
 
 #[test]
 fn the_demo_report_renders_in_chromium() {
@@ -97,8 +88,12 @@ fn the_demo_report_renders_in_chromium() {
         .output()
         .expect("chromium runs");
     let html = String::from_utf8_lossy(&dom.stdout);
-    let figures: Vec<&str> = html.split("<figure class=\"plot\">").skip(1).collect();
-    assert_eq!(figures.len(), 28, "figures in the rendered page");
+    // A figure whose chart the script drew is `plot live`; its SVG stays,
+    // for print.
+    let figures: Vec<&str> = html.split("<figure class=\"plot").skip(1).collect();
+    assert_eq!(figures.len(), 34, "figures in the rendered page");
+    let live = figures.iter().filter(|f| f.starts_with(" live\"")).count();
+    assert_eq!(live, 16, "ADEV and raw-data figures drawn as interactive charts");
     for (i, f) in figures.iter().enumerate() {
         let body = f.split("</figure>").next().unwrap_or("");
         assert!(body.contains("<svg"), "figure {i} has no svg");
@@ -107,9 +102,11 @@ fn the_demo_report_renders_in_chromium() {
             + body.matches("<polyline").count();
         assert!(marks > 10, "figure {i} is nearly empty ({marks} marks)");
     }
-    // The six interactive surfaces were drawn by their script.
-    let canvases = html.matches("<canvas").count();
-    assert_eq!(canvases, 6, "3D surfaces");
+    // The twelve 3D views (dynamic ADEV, raw and compensated per channel)
+    // were drawn by their script (the charts' canvases are uPlot's, inside
+    // `div.chart`).
+    let canvases = html.matches("<canvas id=\"surface").count();
+    assert_eq!(canvases, 12, "3D surfaces");
     let rendered = html
         .split("data-rendered=\"")
         .skip(1)
@@ -120,12 +117,11 @@ fn the_demo_report_renders_in_chromium() {
                 .is_some_and(|n| n > 0)
         })
         .count();
-    assert_eq!(rendered, 6, "surfaces drawn");
+    assert_eq!(rendered, 12, "surfaces drawn");
     // No script error or console message from the page.
     let log = String::from_utf8_lossy(&run.stderr).to_string() + &String::from_utf8_lossy(&dom.stderr);
-    for bad in ["Uncaught", "CONSOLE(", "SyntaxError", "ReferenceError"] {
-        assert!(!log.contains(bad), "the page logged '{bad}': {log}");
-    }
+    let bad = console_errors(&log);
+    assert!(bad.is_empty(), "the page logged: {bad:?}");
 
     // The first screen: a 1280×800 window, as a reader opens the page.
     let first = shots.join("report-first-screen.png");
@@ -185,10 +181,175 @@ fn the_demo_report_renders_in_chromium() {
     assert_eq!(parts[2], "0", "the page fetched from the network");
     let log =
         String::from_utf8_lossy(&run_first.stderr).to_string() + &String::from_utf8_lossy(&measured.stderr);
-    for bad in ["Uncaught", "CONSOLE(", "SyntaxError", "ReferenceError"] {
-        assert!(!log.contains(bad), "the page logged '{bad}': {log}");
-    }
-    for s in [&shot, &first] {
+    let bad = console_errors(&log);
+    assert!(bad.is_empty(), "the page logged: {bad:?}");
+    let hovered = hover_probe(&browser, &common, &profile, &page, &out, &shots);
+    for s in [&shot, &first, &hovered] {
         eprintln!("screenshot: {}", s.display());
     }
 }
+
+/// What a reader does with an ADEV chart, done by a probe appended to a
+/// copy of the page (the report carries no test code): the mouse moved to
+/// a data point's pixel (from the chart's own scales, `u.valToPos`), the
+/// legend read, the trace toggled off from the legend and on again. The
+/// values the legend shows must be the point's τ and σ with its interval,
+/// as the page's JSON holds them; the toggled trace's pixels must go. The
+/// chart is moved to the top of the copy so the screenshot shows it
+/// hovered.
+fn hover_probe(
+    browser: &std::path::Path,
+    common: &[&str],
+    profile: &std::path::Path,
+    page: &std::path::Path,
+    out: &std::path::Path,
+    shots: &std::path::Path,
+) -> PathBuf {
+    let probe = out.join("report-hover.html");
+    let html = std::fs::read_to_string(page).unwrap();
+    std::fs::write(
+        &probe,
+        html.replace("</body>", &format!("<script>{HOVER_PROBE}</script></body>")),
+    )
+    .unwrap();
+    let url = format!("file://{}", probe.display());
+    let run = |extra: &[String]| {
+        Process::new(browser)
+            .args(common)
+            .arg(format!("--user-data-dir={}", profile.display()))
+            .arg("--window-size=1280,800")
+            // Lets the probe's timers run before the page is dumped.
+            .arg("--virtual-time-budget=5000")
+            .args(extra)
+            .arg(&url)
+            .output()
+            .expect("chromium runs")
+    };
+    let dumped = run(&["--dump-dom".to_string()]);
+    let dom = String::from_utf8_lossy(&dumped.stdout);
+    let found = dom
+        .split("data-hover=\"")
+        .nth(1)
+        .and_then(|s| s.split('"').next())
+        .unwrap_or_else(|| {
+            panic!(
+                "the hover probe did not run: {}",
+                String::from_utf8_lossy(&dumped.stderr)
+            )
+        })
+        .replace("&quot;", "\"")
+        .replace("&amp;", "&");
+    eprintln!("hover: {found}");
+    let v: serde_json::Value = serde_json::from_str(&found).expect("probe findings are JSON");
+    assert!(
+        v["charts"].as_u64().unwrap_or(0) >= 16,
+        "interactive charts: {found}"
+    );
+    let json: Vec<f64> = v["json"]
+        .as_array()
+        .expect("the hovered point's JSON values")
+        .iter()
+        .map(|x| x.as_f64().expect("a number"))
+        .collect();
+    // The cursor snapped to the hovered point.
+    assert_eq!(v["cursor"], v["idx"], "cursor index: {found}");
+    // The legend shows four significant digits: equal to 1 part in 1000.
+    let close = |shown: f64, want: f64| (shown - want).abs() <= 1e-3 * want.abs();
+    let numbers = |text: &str| -> Vec<f64> {
+        text.split(|c: char| c == '[' || c == ']' || c == ',' || c.is_whitespace())
+            .filter(|w| !w.is_empty())
+            .map(|w| {
+                w.parse::<f64>()
+                    .unwrap_or_else(|_| panic!("'{w}' in '{text}' is not a number"))
+            })
+            .collect()
+    };
+    let tau = numbers(v["tau"].as_str().unwrap_or(""));
+    assert!(
+        tau.len() == 1 && close(tau[0], json[0]),
+        "τ shown {tau:?}, in the page {}",
+        json[0]
+    );
+    let sigma = numbers(v["sigma"].as_str().unwrap_or(""));
+    assert_eq!(sigma.len(), 3, "σ [lo, hi] shown: {found}");
+    for (shown, want) in sigma.iter().zip(&json[1..]) {
+        assert!(
+            close(*shown, *want),
+            "σ shown {sigma:?}, in the page {:?}",
+            &json[1..]
+        );
+    }
+    // The trace's colour is on its line before the toggle and gone after.
+    assert!(
+        v["before"].as_u64().unwrap_or(255) < 40,
+        "trace not drawn where expected: {found}"
+    );
+    assert_eq!(v["shown"], false, "the trace is still shown: {found}");
+    assert_eq!(v["off"], true, "the legend entry is not marked off: {found}");
+    assert!(
+        v["after"].as_u64().unwrap_or(0) > 80,
+        "the toggled trace is still drawn: {found}"
+    );
+    let shot = shots.join("report-hover.png");
+    let shown = run(&[format!("--screenshot={}", shot.display())]);
+    assert!(shown.status.success(), "chromium failed");
+    let log = String::from_utf8_lossy(&dumped.stderr).to_string() + &String::from_utf8_lossy(&shown.stderr);
+    let errors = console_errors(&log);
+    assert!(errors.is_empty(), "the page logged errors: {errors:?}");
+    shot
+}
+
+/// The probe: hovers the middle point of the last trace that has a band in
+/// the first ADEV chart, then toggles that trace off and on from the
+/// legend; writes what it saw into `data-hover` on the body.
+const HOVER_PROBE: &str = r#"
+window.addEventListener('load', function () {
+  setTimeout(function () {
+    var out = { charts: (window.imuthermCharts || []).length };
+    var c = (window.imuthermCharts || []).filter(function (c) { return c.spec.x.log; })[0];
+    if (!c) { document.body.setAttribute('data-hover', JSON.stringify(out)); return; }
+    var u = c.u, spec = c.spec, k = 0;
+    spec.series.forEach(function (s, j) { if (s.lo) k = j; });
+    var ys = spec.series[k].y, i = Math.floor(ys.length / 2);
+    while (i + 1 < ys.length && (ys[i] == null || ys[i + 1] == null)) i++;
+    document.body.insertBefore(c.figure, document.body.firstChild);
+    var hover = function () {
+      var r = u.over.getBoundingClientRect();
+      u.over.dispatchEvent(new MouseEvent('mousemove', {
+        clientX: r.left + u.valToPos(spec.xs[i], 'x'),
+        clientY: r.top + u.valToPos(ys[i], 'y'), bubbles: true }));
+    };
+    hover();
+    var legend = u.root.querySelectorAll('.u-legend .u-series');
+    var text = function (row) { var v = row.querySelector('.u-value'); return v ? v.textContent : ''; };
+    out.idx = i; out.cursor = u.cursor.idx;
+    out.tau = text(legend[0]); out.sigma = text(legend[k + 1]);
+    out.json = [spec.xs[i], ys[i], spec.series[k].lo[i], spec.series[k].hi[i]];
+    // Within 1 px of the trace's line halfway to the next point, how far
+    // the nearest colour is from the trace's (largest channel difference).
+    var mx = (u.valToPos(spec.xs[i], 'x', true) + u.valToPos(spec.xs[i + 1], 'x', true)) / 2;
+    var my = (u.valToPos(ys[i], 'y', true) + u.valToPos(ys[i + 1], 'y', true)) / 2;
+    var want = [1, 3, 5].map(function (p) { return parseInt(spec.series[k].colour.substr(p, 2), 16); });
+    var nearest = function () {
+      var d = u.ctx.getImageData(Math.round(mx) - 1, Math.round(my) - 1, 3, 3).data, best = 1e9;
+      for (var p = 0; p < d.length; p += 4) {
+        best = Math.min(best, Math.max(Math.abs(d[p] - want[0]), Math.abs(d[p + 1] - want[1]),
+          Math.abs(d[p + 2] - want[2])));
+      }
+      return best;
+    };
+    out.before = nearest();
+    legend[k + 1].firstChild.dispatchEvent(new MouseEvent('click', { bubbles: true }));
+    setTimeout(function () {
+      out.shown = u.series[k + 1].show;
+      out.off = legend[k + 1].classList.contains('u-off');
+      out.after = nearest();
+      legend[k + 1].firstChild.dispatchEvent(new MouseEvent('click', { bubbles: true }));
+      setTimeout(function () {
+        hover();
+        document.body.setAttribute('data-hover', JSON.stringify(out));
+      }, 50);
+    }, 50);
+  }, 50);
+});
+"#;

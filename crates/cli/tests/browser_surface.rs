@@ -120,7 +120,8 @@ fn the_3d_views_draw_axes_labelled_in_real_units() {
             "{hover}"
         );
     }
-    let errors = console_errors(&String::from_utf8_lossy(&dom.stderr));
+    let log = String::from_utf8_lossy(&dom.stderr);
+    let errors = console_errors(&log);
     assert!(errors.is_empty(), "the page logged {errors:?}");
 
     let shot = screenshots(&out).join("report-surface.png");
@@ -133,7 +134,8 @@ fn the_3d_views_draw_axes_labelled_in_real_units() {
         .output()
         .expect("chromium runs");
     assert!(run.status.success(), "chromium failed");
-    let errors = console_errors(&String::from_utf8_lossy(&run.stderr));
+    let log = String::from_utf8_lossy(&run.stderr);
+    let errors = console_errors(&log);
     assert!(errors.is_empty(), "the page logged {errors:?}");
     let png = std::fs::read(&shot).expect("screenshot written");
     assert!(

@@ -19,8 +19,14 @@ fn quick_demo_writes_a_complete_report() {
     assert!(html.starts_with("<!DOCTYPE html>") && html.trim_end().ends_with("</html>"));
     // Eight sensor ADEV plots (two per run), six per-axis ADEV plots over
     // temperature, two raw-data plots, six heat maps of temperature bins and
-    // six of the dynamic ADEV, six bias plots.
-    assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 34, "figures");
+    // six of the dynamic ADEV, six bias plots. The ADEV and raw-data plots
+    // are also interactive charts, their SVG kept for print.
+    let charts = html
+        .matches("<figure class=\"plot\"><div class=\"static\"><svg")
+        .count();
+    let figures = html.matches("<figure class=\"plot\"><svg").count() + charts;
+    assert_eq!(figures, 34, "figures");
+    assert_eq!(charts, 16, "interactive charts");
     // The dynamic ADEV's 3D views, raw and compensated per channel, over
     // the thesis's windows: a 1 h quick cooling run holds 21.
     assert_eq!(html.matches("<canvas").count(), 12, "3D views");

@@ -32,11 +32,21 @@ fn report_escapes_file_names_and_draws_every_figure() {
         .success();
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("&lt;script&gt;alert(1)&lt;/script&gt;.txt"));
-    assert!(!html.contains("<script>"));
+    // The page carries scripts of its own since its charts became
+    // interactive, but the file's name never appears unescaped: not in the
+    // text, not in a chart's JSON (written with `\u003c` for `<`).
+    assert!(!html.contains("<script>alert"));
     // Two sensor ADEV plots per run, six per-axis ADEV plots; for the run
     // whose temperature changes two raw-data plots, six heat maps of its
     // temperature bins and six of its dynamic ADEV (one 30 min window).
-    assert_eq!(html.matches("<figure class=\"plot\"><svg").count(), 24);
+    let static_svg = html.matches("<figure class=\"plot\"><svg").count();
+    let with_chart = html
+        .matches("<figure class=\"plot\"><div class=\"static\"><svg")
+        .count();
+    assert_eq!(static_svg + with_chart, 24);
+    // Every ADEV and raw-data plot is also an interactive chart; the heat
+    // maps stay static.
+    assert_eq!(with_chart, 12);
     assert!(html.contains("Velocity random walk N"));
     // Each run navigated without aiding, measured beside its prediction.
     assert!(html.contains("Navigation without GNSS"));

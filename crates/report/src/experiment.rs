@@ -18,6 +18,7 @@ use thermal::evaluation::{BinMean, spread};
 
 use crate::PlotError;
 use crate::ReportError;
+use crate::charts::{Chart, adev_chart, time_chart};
 use crate::html::{Page, significant};
 use crate::plots::{
     Asymptote, Curve, Drawn, Target, adev_heatmap, adev_heatmap_slices, adev_plot, bias_plot,
@@ -98,6 +99,25 @@ pub fn figure(
 ) -> Result<(), ReportError> {
     if let Some(svg) = plot(Target::Svg)?.into_svg() {
         page.figure(&svg, caption);
+    }
+    if let Some(p) = png.path(png_name) {
+        plot(Target::Png(&p))?;
+    }
+    Ok(())
+}
+
+/// A figure as [`figure`] draws it that is also an interactive chart on the
+/// page ([`Page::chart_figure`]).
+pub fn chart_figure(
+    page: &mut Page,
+    png: &PngDir,
+    png_name: &str,
+    caption: &str,
+    plot: impl Fn(Target) -> Result<Drawn, PlotError>,
+    chart: &Chart,
+) -> Result<(), ReportError> {
+    if let Some(svg) = plot(Target::Svg)?.into_svg() {
+        page.chart_figure(&svg, caption, chart);
     }
     if let Some(p) = png.path(png_name) {
         plot(Target::Png(&p))?;
@@ -254,12 +274,13 @@ pub fn adev_figures(page: &mut Page, runs: &[RunNoise], png: &PngDir) -> Result<
                 "accelerometer"
             };
             let title = format!("{what} at {run}");
-            figure(
+            chart_figure(
                 page,
                 png,
                 &format!("adev_{title}"),
                 &format!("{title}: the three axes, 95 % bands"),
                 |t| adev_plot(t, &title, &unit, &curves),
+                &adev_chart(&title, &unit, &curves),
             )?;
         }
     }
@@ -294,12 +315,13 @@ pub fn adev_figures(page: &mut Page, runs: &[RunNoise], png: &PngDir) -> Result<
             .iter()
             .find(|r| r.channel.name == name)
             .map_or(String::new(), |r| r.channel.unit.clone());
-        figure(
+        chart_figure(
             page,
             png,
             &format!("adev_{name}"),
             &format!("{name}: overlapping ADEV, 95 % bands"),
             |t| adev_plot(t, &name, &unit, &curves),
+            &adev_chart(&name, &unit, &curves),
         )?;
     }
     Ok(())
@@ -327,21 +349,14 @@ pub fn time_figures(page: &mut Page, sel: &Selection, title: &str, png: &PngDir)
             continue;
         };
         let heading = format!("{title}: {what}");
-        figure(
+        let temperature = sel.temperature.as_deref();
+        chart_figure(
             page,
             png,
             &format!("time_{heading}"),
             &format!("{title}: {what} samples (min/max per pixel column) and temperature"),
-            |t| {
-                time_plot(
-                    t,
-                    &heading,
-                    &unit,
-                    &chans,
-                    sel.rate_hz,
-                    sel.temperature.as_deref(),
-                )
-            },
+            |t| time_plot(t, &heading, &unit, &chans, sel.rate_hz, temperature),
+            &time_chart(&heading, &unit, &chans, sel.rate_hz, temperature),
         )?;
     }
     Ok(())

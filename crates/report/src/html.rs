@@ -6,6 +6,8 @@ use serde::Serialize;
 
 use analysis::summary::Summary;
 
+use crate::charts::{CHARTS_JS, Chart, UPLOT_CSS, UPLOT_JS};
+
 /// Escapes text for HTML content and attribute values.
 pub fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
@@ -49,6 +51,9 @@ enum Block {
     Figure {
         svg: String,
         caption: String,
+        /// The interactive chart's data as JSON, drawn by the page's
+        /// script in place of the SVG on screen.
+        chart: Option<String>,
     },
     Surface {
         id: usize,
@@ -122,6 +127,19 @@ impl Page {
         self.blocks.push(Block::Figure {
             svg: svg.to_string(),
             caption: caption.to_string(),
+            chart: None,
+        });
+    }
+
+    /// A figure that is also an interactive chart ([`Chart`]): on screen
+    /// the chart replaces the SVG (values under the cursor, zoom, traces
+    /// toggled from the legend); the SVG stays for print and for a browser
+    /// without scripts. The charting library goes into the page once.
+    pub fn chart_figure(&mut self, svg: &str, caption: &str, chart: &Chart) {
+        self.blocks.push(Block::Figure {
+            svg: svg.to_string(),
+            caption: caption.to_string(),
+            chart: Some(chart.to_json()),
         });
     }
 
@@ -207,6 +225,10 @@ impl Page {
                     title => &self.title,
                     style => STYLE,
                     surface_js => SURFACE_JS,
+                    has_charts => self.blocks.iter().any(|b| matches!(b, Block::Figure { chart: Some(_), .. })),
+                    uplot_js => UPLOT_JS,
+                    uplot_css => UPLOT_CSS,
+                    charts_js => CHARTS_JS,
                     parts => &parts,
                     sections => &sections,
                     has_summary => self.blocks.iter().any(|b| matches!(b, Block::Summary { .. })),
@@ -256,8 +278,9 @@ th{background:#eee}caption{font-weight:bold;text-align:left;padding:.3em 0}figur
 figure.surface{display:inline-block;margin:.5em}canvas{border:1px solid #ddd;cursor:grab}figcaption{font-size:.9em;color:#555}pre{background:#f4f4f4;padding:.6em;overflow-x:auto}\
 section.summary{border:1px solid #bbb;padding:0 1em;margin:1em 0}table.summary td:first-child,table.summary td:nth-child(2){text-align:left}\
 tr.outside td{background:#fde8e8}.src{display:block;font-size:.75em;color:#666}\
+figure.live>.static{display:none}.chart .u-title{font-size:16px}.chart .u-legend{font-size:13px;max-width:720px}.chart canvas{border:0;cursor:crosshair}.chart .u-legend th,.chart .u-legend td{border:0;background:none;padding:1px 3px}.chart-note{font-size:.8em;color:#666;margin:.2em 0}\
 nav.toc{font-size:.9em;line-height:1.6}nav.toc a{margin-right:.8em}details>summary{cursor:pointer}details>summary h2{display:inline}\
-@media print{body{max-width:none;margin:0;font-size:10pt}nav.toc,canvas,figure.surface{display:none}\
+@media print{body{max-width:none;margin:0;font-size:10pt}nav.toc,canvas,figure.surface,.chart{display:none}figure.live>.static{display:block}\
 details>summary{list-style:none}details>summary::-webkit-details-marker{display:none}figure,table,section.summary{break-inside:avoid}\
 h2{break-after:avoid}svg{max-width:100%;height:auto}pre{white-space:pre-wrap}}";
 
@@ -314,6 +337,34 @@ mod tests {
              </body>\n</html>\n"
         );
         assert!(html.contains("<title>t &amp; u</title>"));
+    }
+
+    #[test]
+    fn a_chart_figure_carries_its_data_the_svg_for_print_and_the_library_once() {
+        let mut p = Page::new("c");
+        let pts = allan::analyze(
+            &[1.0, 2.0, 1.5, 1.7, 1.2, 1.9, 1.4, 1.6],
+            &allan::Options::default(),
+        )
+        .unwrap()
+        .points;
+        let chart = crate::charts::adev_chart("a</script>", "g", &[crate::plots::Curve::plain("x", &pts)]);
+        p.chart_figure("<svg/>", "one", &chart);
+        p.chart_figure("<svg/>", "two", &chart);
+        let html = p.finish().unwrap();
+        assert_eq!(html.matches("<div class=\"static\"><svg/></div>").count(), 2);
+        assert_eq!(html.matches("var uPlot=").count(), 1);
+        assert_eq!(html.matches("classList.add('live')").count(), 1);
+        assert!(html.contains(".u-legend"));
+        let start = html.find("class=\"chart-data\">").unwrap() + "class=\"chart-data\">".len();
+        let json = &html[start..start + html[start..].find("</script>").unwrap()];
+        let v: serde_json::Value = serde_json::from_str(json).unwrap();
+        assert_eq!(v["title"], "a</script>");
+        assert_eq!(v["xs"].as_array().unwrap().len(), pts.len());
+        // A page without charts carries no script.
+        let mut plain = Page::new("p");
+        plain.figure("<svg/>", "f");
+        assert!(!plain.finish().unwrap().contains("<script"));
     }
 
     #[test]

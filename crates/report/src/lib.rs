@@ -26,6 +26,7 @@
 //! assert!(svg.starts_with("<svg"));
 //! ```
 
+pub mod charts;
 pub mod experiment;
 pub mod html;
 pub mod plots;

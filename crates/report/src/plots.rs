@@ -4,6 +4,7 @@ use std::sync::Once;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use allan::Point;
 use thermal::surface::SurfaceRow;
@@ -29,7 +30,7 @@ fn err<E: std::fmt::Debug>(e: E) -> PlotError {
 }
 
 /// Colours that stay apart in print and for most colour vision.
-const PALETTE: [RGBColor; 7] = [
+pub(crate) const PALETTE: [RGBColor; 7] = [
     RGBColor(0, 114, 178),
     RGBColor(213, 94, 0),
     RGBColor(0, 158, 115),
@@ -526,7 +527,7 @@ pub fn bias_plot(
     after: &[(f64, f64)],
     model: &dyn Fn(f64) -> f64,
 ) -> Result<Drawn, PlotError> {
-    draw!(target, (720, 420), |root| bias_plot_on(
+    draw!(target, (720, 420 + LEGEND_STRIP), |root| bias_plot_on(
         root, title, unit, before, after, model
     ))
 }
@@ -541,6 +542,8 @@ fn bias_plot_on<DB: DrawingBackend>(
 ) -> Result<(), PlotError> {
     font();
     root.fill(&WHITE).map_err(err)?;
+    let (root, strip) = root.split_vertically(420);
+    let root = &root;
     let all = before.iter().chain(after);
     let (tlo, thi, ylo, yhi) = all.fold(
         (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY),
@@ -569,9 +572,7 @@ fn bias_plot_on<DB: DrawingBackend>(
     let (c0, c1, c2) = (PALETTE[0], PALETTE[1], PALETTE[2]);
     chart
         .draw_series(before.iter().map(|&(t, y)| Circle::new((t, y), 3, c0.filled())))
-        .map_err(err)?
-        .label("bin means, raw")
-        .legend(move |(x, y)| Circle::new((x + 9, y), 3, c0.filled()));
+        .map_err(err)?;
     let steps = 200;
     chart
         .draw_series(LineSeries::new(
@@ -581,21 +582,62 @@ fn bias_plot_on<DB: DrawingBackend>(
             }),
             c1.stroke_width(2),
         ))
-        .map_err(err)?
-        .label("fitted bias p(T)")
-        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c1.stroke_width(2)));
+        .map_err(err)?;
     chart
         .draw_series(after.iter().map(|&(t, y)| Circle::new((t, y), 3, c2.filled())))
-        .map_err(err)?
-        .label("bin means, compensated")
-        .legend(move |(x, y)| Circle::new((x + 9, y), 3, c2.filled()));
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 14))
-        .draw()
         .map_err(err)?;
+    legend_strip(
+        &strip,
+        &[
+            ("bin means, raw".into(), Mark::Dot(c0)),
+            ("fitted bias p(T)".into(), Mark::Line(c1)),
+            ("bin means, compensated".into(), Mark::Dot(c2)),
+        ],
+    )
+}
+
+/// Pixels below a plot for its legend.
+const LEGEND_STRIP: u32 = 30;
+
+/// How a legend entry shows its trace.
+enum Mark {
+    /// A line.
+    Line(RGBColor),
+    /// A point.
+    Dot(RGBColor),
+    /// A filled band.
+    Band(RGBColor),
+}
+
+/// The legend in a strip of its own below the plot, one row left to right,
+/// so that it never hides data (a legend inside the axes sits on the
+/// curves wherever they run).
+fn legend_strip<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    items: &[(String, Mark)],
+) -> Result<(), PlotError> {
+    let style = ("sans-serif", 14)
+        .into_font()
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Left, VPos::Center));
+    let y = (area.dim_in_pixel().1 / 2) as i32;
+    // Lined up with the plot's left edge (its y label area).
+    let mut x = 92;
+    for (label, mark) in items {
+        match mark {
+            Mark::Line(c) => area.draw(&PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))),
+            Mark::Dot(c) => area.draw(&Circle::new((x + 9, y), 3, c.filled())),
+            Mark::Band(c) => area.draw(&Rectangle::new(
+                [(x, y - 4), (x + 18, y + 4)],
+                c.mix(0.5).filled(),
+            )),
+        }
+        .map_err(err)?;
+        area.draw(&Text::new(label.clone(), (x + 24, y), style.clone()))
+            .map_err(err)?;
+        let (w, _) = area.estimate_text_size(label, &style).map_err(err)?;
+        x += 24 + w as i32 + 20;
+    }
     Ok(())
 }
 
@@ -605,6 +647,15 @@ pub const TIME_COLUMNS: usize = 1000;
 
 /// (time, min, max) of each of at most [`TIME_COLUMNS`] equal slices of `x`.
 pub fn envelope(x: &[f64], rate_hz: f64) -> Vec<(f64, f64, f64)> {
+    envelope_with_mean(x, rate_hz)
+        .into_iter()
+        .map(|(t, lo, _, hi)| (t, lo, hi))
+        .collect()
+}
+
+/// (time, min, mean, max) of each of at most [`TIME_COLUMNS`] equal slices
+/// of `x`, over its finite samples; a slice with none is left out.
+pub fn envelope_with_mean(x: &[f64], rate_hz: f64) -> Vec<(f64, f64, f64, f64)> {
     if x.is_empty() {
         return Vec::new();
     }
@@ -612,13 +663,11 @@ pub fn envelope(x: &[f64], rate_hz: f64) -> Vec<(f64, f64, f64)> {
     x.chunks(per)
         .enumerate()
         .filter_map(|(i, c)| {
-            let (lo, hi) = c
-                .iter()
-                .filter(|v| v.is_finite())
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-                    (a.min(v), b.max(v))
-                });
-            lo.is_finite().then(|| ((i * per) as f64 / rate_hz, lo, hi))
+            let (lo, hi, sum, n) = c.iter().filter(|v| v.is_finite()).fold(
+                (f64::INFINITY, f64::NEG_INFINITY, 0.0, 0usize),
+                |(a, b, s, n), &v| (a.min(v), b.max(v), s + v, n + 1),
+            );
+            (n > 0).then(|| ((i * per) as f64 / rate_hz, lo, sum / n as f64, hi))
         })
         .collect()
 }
@@ -633,7 +682,7 @@ pub fn time_plot(
     rate_hz: f64,
     temperature: Option<&[f64]>,
 ) -> Result<Drawn, PlotError> {
-    draw!(target, (720, 520), |root| time_plot_on(
+    draw!(target, (720, 520 + LEGEND_STRIP), |root| time_plot_on(
         root,
         title,
         unit,
@@ -653,6 +702,8 @@ fn time_plot_on<DB: DrawingBackend>(
 ) -> Result<(), PlotError> {
     font();
     root.fill(&WHITE).map_err(err)?;
+    let (root, strip) = root.split_vertically(520);
+    let root = &root;
     let (top, bottom) = if temperature.is_some() {
         root.split_vertically(340)
     } else {
@@ -685,7 +736,7 @@ fn time_plot_on<DB: DrawingBackend>(
         .y_label_formatter(&|v| tick_label(*v, y_span))
         .draw()
         .map_err(err)?;
-    for (i, ((name, _), env)) in channels.iter().zip(&envs).enumerate() {
+    for (i, env) in envs.iter().enumerate() {
         let colour = PALETTE[i % PALETTE.len()];
         let band: Vec<(f64, f64)> = env
             .iter()
@@ -694,17 +745,17 @@ fn time_plot_on<DB: DrawingBackend>(
             .collect();
         chart
             .draw_series(std::iter::once(Polygon::new(band, colour.mix(0.5))))
-            .map_err(err)?
-            .label(name.clone())
-            .legend(move |(x, y)| Rectangle::new([(x, y - 4), (x + 18, y + 4)], colour.mix(0.5).filled()));
+            .map_err(err)?;
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 14))
-        .draw()
-        .map_err(err)?;
+    let mut items: Vec<(String, Mark)> = channels
+        .iter()
+        .enumerate()
+        .map(|(i, (name, _))| (name.clone(), Mark::Band(PALETTE[i % PALETTE.len()])))
+        .collect();
+    if temperature.is_some() {
+        items.push(("temperature".into(), Mark::Line(RED)));
+    }
+    legend_strip(&strip, &items)?;
     if let Some(temp) = temperature {
         let env = envelope(temp, rate_hz);
         let (tlo, thi) = env.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), e| {
@@ -736,7 +787,39 @@ fn time_plot_on<DB: DrawingBackend>(
 
 #[cfg(test)]
 mod tests {
-    use super::tick_label;
+    use super::*;
+
+    /// The y of the text element holding `label` in `svg`.
+    fn text_y(svg: &str, label: &str) -> f64 {
+        let end = svg
+            .find(&format!(">{label}</text>"))
+            .or_else(|| svg.find(&format!(">\n{label}\n</text>")))
+            .unwrap_or_else(|| panic!("no {label} in {}", &svg[svg.len().saturating_sub(1500)..]));
+        let tag = &svg[svg[..end].rfind("<text").expect("text element")..end];
+        let y = tag.split(" y=\"").nth(1).and_then(|v| v.split('"').next());
+        y.and_then(|v| v.parse().ok()).expect("y attribute")
+    }
+
+    #[test]
+    fn legends_sit_below_the_axes_not_on_the_data() {
+        let pts = [(20.0, 1.0), (40.0, 2.0), (60.0, 3.0)];
+        let svg = bias_plot(Target::Svg, "b", "g", &pts, &pts, &|t| t / 20.0)
+            .unwrap()
+            .into_svg()
+            .unwrap();
+        // The plot takes the top 420 px; the legend the strip below.
+        for label in ["bin means, raw", "fitted bias p(T)", "bin means, compensated"] {
+            assert!(text_y(&svg, label) > 420.0, "{label} is inside the plot");
+        }
+        let x: Vec<f64> = (0..500).map(|i| (i % 5) as f64).collect();
+        let svg = time_plot(Target::Svg, "t", "g", &[("ax".into(), &x)], 10.0, Some(&x))
+            .unwrap()
+            .into_svg()
+            .unwrap();
+        for label in ["ax", "temperature"] {
+            assert!(text_y(&svg, label) > 520.0, "{label} is inside the plot");
+        }
+    }
 
     #[test]
     fn ticks_carry_no_float_noise() {
