@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """The AllanTools side of the benchmark: what a user of AllanTools 2024.6 would write.
 
-    allantools_oadev.py FILE [RATE] > out.json
+    allantools_oadev.py FILE [RATE [TAUS]] > out.json
 
 Reads a one-column text file with pandas, computes the overlapping Allan
-deviation of the rate (frequency) data at octave taus, and prints JSON:
+deviation of the rate (frequency) data at TAUS (AllanTools' own names:
+octave, the default, or all, decade, many), and prints JSON:
 {"taus": [...], "devs": [...], "ns": [...], "samples": N,
  "read_seconds": ..., "compute_seconds": ...}.
 The two inner timings show where AllanTools' time goes; the benchmark itself
@@ -21,17 +22,18 @@ import pandas as pd
 
 
 def main():
-    if len(sys.argv) not in (2, 3):
+    if len(sys.argv) not in (2, 3, 4):
         sys.exit(__doc__)
     path = sys.argv[1]
-    rate = float(sys.argv[2]) if len(sys.argv) == 3 else 100.0
+    rate = float(sys.argv[2]) if len(sys.argv) >= 3 else 100.0
+    tau_grid = sys.argv[3] if len(sys.argv) == 4 else "octave"
 
     t0 = time.perf_counter()
     data = pd.read_csv(path, header=None).iloc[:, 0].to_numpy()
     t1 = time.perf_counter()
     # AllanTools reports some conditions with print(); keep stdout pure JSON.
     with contextlib.redirect_stdout(sys.stderr):
-        taus, devs, _errs, ns = allantools.oadev(data, rate=rate, data_type="freq", taus="octave")
+        taus, devs, _errs, ns = allantools.oadev(data, rate=rate, data_type="freq", taus=tau_grid)
     t2 = time.perf_counter()
 
     json.dump({

@@ -9,6 +9,10 @@
 //! of the file over wall seconds, and over the CPU seconds all threads
 //! spent (the per-core figure that a busy machine does not distort). A
 //! two-thread figure follows for reference.
+//!
+//! `table_parse --file PATH` reads a given file instead (best of 5, one
+//! thread) and prints one line, `PATH: … MB/s, … MB/CPU-s`, for
+//! `bench/ratios.sh` to set beside pandas on the same bytes.
 
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -97,7 +101,21 @@ fn speed(path: &Path, pool: &rayon::ThreadPool, reps: usize, rows: usize) -> (f6
 }
 
 fn main() {
-    let mut args = std::env::args().skip(1);
+    let mut args = std::env::args().skip(1).peekable();
+    if args.peek().is_some_and(|a| a == "--file") {
+        let path = std::path::PathBuf::from(args.nth(1).expect("--file PATH"));
+        let rows = TableReader::open(&path)
+            .and_then(|r| r.read(None))
+            .expect("the file reads")
+            .rows();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .expect("thread pool");
+        let (wall, cpu) = speed(&path, &pool, 5, rows);
+        println!("{}: {wall:.0} MB/s, {cpu:.0} MB/CPU-s", path.display());
+        return;
+    }
     let rows1: usize = args.next().map_or(10_000_000, |a| a.parse().expect("ROWS_1COL"));
     let rows7: usize = args.next().map_or(1_000_000, |a| a.parse().expect("ROWS_7COL"));
     let dir = tempfile::tempdir().expect("temporary directory");

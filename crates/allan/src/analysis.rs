@@ -137,6 +137,30 @@ pub fn analyze_series_with_progress(
     opts: &Options,
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<Vec<Point>, AllanError> {
+    let mut curves =
+        analyze_series_grids_with_progress(series, opts, std::slice::from_ref(&opts.taus), progress)?;
+    Ok(curves.pop().unwrap_or_default())
+}
+
+/// [`analyze_series`] on several tau grids at once (`opts.taus` is not
+/// used): the statistic and the noise identification run once per
+/// averaging factor of their union, and each grid's points are then made
+/// from its own factors alone, exactly as [`analyze_series`] makes them on
+/// that grid. One curve per grid, in the order of `grids`.
+pub fn analyze_series_grids(
+    series: &PhaseSeries,
+    opts: &Options,
+    grids: &[TauSpec],
+) -> Result<Vec<Vec<Point>>, AllanError> {
+    analyze_series_grids_with_progress(series, opts, grids, &|_| {})
+}
+
+fn analyze_series_grids_with_progress(
+    series: &PhaseSeries,
+    opts: &Options,
+    grids: &[TauSpec],
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<Vec<Point>>, AllanError> {
     let stat = opts.stat;
     if !(opts.confidence > 0.0 && opts.confidence < 1.0) {
         return Err(AllanError::InvalidConfidence(opts.confidence));
@@ -159,64 +183,139 @@ pub fn analyze_series_with_progress(
         });
     }
     let tau0 = series.tau0();
-    let ms = taus::averaging_factors(&opts.taus, stat, n_phase, tau0);
+    let grid_ms: Vec<Vec<usize>> = grids
+        .iter()
+        .map(|g| taus::averaging_factors(g, stat, n_phase, tau0))
+        .collect();
+    let mut ms: Vec<usize> = grid_ms.iter().flatten().copied().collect();
+    ms.sort_unstable();
+    ms.dedup();
     // Noise type is identified on data no gap crosses.
     let clean = series.longest_clean_stretch();
     let n_valid = n_phase.saturating_sub(series.nan_samples() - series.trimmed_samples());
 
     let estimates = stats::compute_many_with_progress(stat, series, &ms, progress);
-    let found: Vec<(usize, Estimate, NoiseId)> = ms
+    let found: Vec<Option<(Estimate, NoiseId)>> = ms
         .par_iter()
         .zip(estimates)
-        .filter_map(|(&m, est)| {
+        .map(|(&m, est)| {
             let est = est?;
             if est.n < MIN_TERMS || !est.dev.is_finite() {
                 return None;
             }
-            Some((m, est, noise_id::identify_finite(clean, m, stat)))
+            Some((est, noise_id::identify_finite(clean, m, stat)))
         })
         .collect();
-    let mut ids: Vec<NoiseId> = found.iter().map(|f| f.2).collect();
-    noise_id::cap_by_shorter_tau(&mut ids);
-    let points: Vec<Point> = found
+    grid_ms
         .iter()
-        .zip(ids)
-        .map(|(&(m, ref est, _), id)| {
-            let edf = match edf_for(stat, id.alpha, m, n_valid) {
-                Some(e) if e.is_finite() && e > 0.0 => e,
-                // Outside the EDF model's range (a noise steeper than the
-                // statistic can converge on): fall back to the number of
-                // terms, which is the white-noise, non-overlapped bound.
-                _ => est.n as f64,
-            };
-            let (dev_lo, dev_hi) = chi2_interval(est.dev, edf, opts.confidence);
-            Point {
-                tau: taus::tau_of(stat, m, tau0),
-                m,
-                dev: est.dev,
-                n: est.n,
-                edf,
-                dev_lo,
-                dev_hi,
-                alpha: id.alpha,
-                noise_id: id.method,
+        .map(|g| {
+            // The grid's own usable factors, ascending: the cap reads the
+            // shorter taus of this grid only.
+            let own: Vec<(usize, Estimate, NoiseId)> = g
+                .iter()
+                .filter_map(|m| {
+                    let i = ms.binary_search(m).ok()?;
+                    found[i].map(|(est, id)| (*m, est, id))
+                })
+                .collect();
+            let mut ids: Vec<NoiseId> = own.iter().map(|f| f.2).collect();
+            noise_id::cap_by_shorter_tau(&mut ids);
+            let points: Vec<Point> = own
+                .iter()
+                .zip(ids)
+                .map(|(&(m, ref est, _), id)| {
+                    let edf = match edf_for(stat, id.alpha, m, n_valid) {
+                        Some(e) if e.is_finite() && e > 0.0 => e,
+                        // Outside the EDF model's range (a noise steeper than the
+                        // statistic can converge on): fall back to the number of
+                        // terms, which is the white-noise, non-overlapped bound.
+                        _ => est.n as f64,
+                    };
+                    let (dev_lo, dev_hi) = chi2_interval(est.dev, edf, opts.confidence);
+                    Point {
+                        tau: taus::tau_of(stat, m, tau0),
+                        m,
+                        dev: est.dev,
+                        n: est.n,
+                        edf,
+                        dev_lo,
+                        dev_hi,
+                        alpha: id.alpha,
+                        noise_id: id.method,
+                    }
+                })
+                .collect();
+            if points.is_empty() {
+                return Err(AllanError::NoUsableTau {
+                    stat: stat.name(),
+                    n: n_phase,
+                    rate_hz: 1.0 / tau0,
+                    max_m: taus::max_factor(stat, n_phase),
+                });
             }
+            Ok(points)
         })
-        .collect();
-    if points.is_empty() {
-        return Err(AllanError::NoUsableTau {
-            stat: stat.name(),
-            n: n_phase,
-            rate_hz: 1.0 / tau0,
-            max_m: taus::max_factor(stat, n_phase),
-        });
-    }
-    Ok(points)
+        .collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(32))]
+        /// Several grids at once give each grid's curve exactly as it alone
+        /// gives it: the noise type's cap reads only the grid's own taus.
+        #[test]
+        fn grids_at_once_are_each_grid_alone(
+            seed in proptest::prelude::any::<u64>(),
+            len in 8usize..3000,
+            gaps in 0usize..20,
+            kind in 0usize..3,
+        ) {
+            let mut state = seed | 1;
+            let mut next = || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+            };
+            let mut acc = 0.0;
+            let mut y: Vec<f64> = (0..len)
+                .map(|_| match kind {
+                    0 => next(),
+                    1 => {
+                        acc += next();
+                        acc
+                    }
+                    _ => {
+                        acc += 0.01 * next();
+                        acc + next()
+                    }
+                })
+                .collect();
+            for _ in 0..gaps {
+                let at = ((next() + 0.5) * len as f64) as usize % len;
+                y[at] = f64::NAN;
+            }
+            let grids = [TauSpec::Octave, TauSpec::Many, TauSpec::Decade];
+            for stat in [Stat::Oadev, Stat::Mdev, Stat::Hdev] {
+                let series = PhaseSeries::new(&y, DataType::Freq, 10.0).unwrap();
+                let opts = Options { stat, rate_hz: 10.0, ..Options::default() };
+                let together = analyze_series_grids(&series, &opts, &grids);
+                // Each grid alone, the first refusal standing for all.
+                let alone: Result<Vec<Vec<Point>>, AllanError> = grids
+                    .iter()
+                    .map(|g| analyze_series(&series, &Options { taus: g.clone(), ..opts.clone() }))
+                    .collect();
+                match (together, alone) {
+                    (Ok(t), Ok(a)) => proptest::prop_assert_eq!(t, a),
+                    (Err(t), Err(a)) => proptest::prop_assert_eq!(t.to_string(), a.to_string()),
+                    (t, a) => proptest::prop_assert!(false, "{stat:?}: {t:?} against {a:?}"),
+                }
+            }
+        }
+    }
 
     #[test]
     fn a_statistic_that_cannot_skip_gaps_names_the_first_one_in_the_input() {

@@ -44,8 +44,8 @@ pub mod taus;
 pub mod work;
 
 pub use analysis::{
-    Curve, DEFAULT_CONFIDENCE, Options, Point, analyze, analyze_series, analyze_series_with_progress,
-    analyze_vec, analyze_vec_with_progress,
+    Curve, DEFAULT_CONFIDENCE, Options, Point, analyze, analyze_series, analyze_series_grids,
+    analyze_series_with_progress, analyze_vec, analyze_vec_with_progress,
 };
 pub use error::AllanError;
 pub use noise_id::NoiseIdMethod;

@@ -4,8 +4,6 @@
 
 use std::path::Path;
 
-use rayon::prelude::*;
-
 use allan::noise_terms::{Term, analyze_terms};
 use ins::drift::{CurvePoint, Spread, drift_over_windows};
 use ins::monte_carlo::{MonteCarloSetup, monte_carlo};
@@ -64,6 +62,30 @@ pub fn six_channels(file: &Path, sel: &Selection) -> Result<Vec<Vec<f64>>, Analy
                 })
         })
         .collect()
+}
+
+/// [`six_channels`], moving the samples out of `sel` rather than copying
+/// them, for a caller that needs nothing else of the selection's channels:
+/// a long recording is then held once.
+pub fn take_six_channels(file: &Path, sel: &mut Selection) -> Result<Vec<Vec<f64>>, AnalysisError> {
+    let at: Vec<usize> = CHANNELS
+        .iter()
+        .map(|name| {
+            sel.channels
+                .iter()
+                .position(|c| c.name == *name)
+                .ok_or_else(|| AnalysisError::MissingChannel {
+                    file: file.to_path_buf(),
+                    what: format!(
+                        "no {name} channel; ins needs the three accelerometer and three gyroscope axes"
+                    ),
+                })
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(at
+        .into_iter()
+        .map(|i| std::mem::take(&mut sel.channels[i].data))
+        .collect())
 }
 
 /// The six channels compensated with `model`, from the selection's
@@ -169,9 +191,12 @@ pub fn navigate(file: &Path, six: &[Vec<f64>], rate: f64, plan: &Plan) -> Result
     };
     let drift = drift_over_windows(&imu, opts, plan.every_s, &plan.times)
         .map_err(AnalysisError::ins(file.display().to_string()))?;
+    // One axis at a time: each analysis turns a copy of its channel into
+    // phase (and runs in parallel inside), so at most one channel's copy
+    // is held beside the six, whatever the number of cores.
     let axes: Vec<AxisNoise> = CHANNELS
-        .par_iter()
-        .zip(six.par_iter())
+        .iter()
+        .zip(six)
         .map(|(name, data)| axis_noise(file, name, data, rate))
         .collect::<Result<_, _>>()?;
     let noise = NoiseModel {

@@ -6,7 +6,7 @@ use std::path::Path;
 use rayon::prelude::*;
 
 use allan::Point;
-use allan::noise_terms::{Chosen, NoiseTerms, Term, analyze_terms};
+use allan::noise_terms::{Chosen, NoiseTerms, Term, analyze_terms_vec};
 use imu::{Quantity, RecordingOptions};
 
 use crate::AnalysisError;
@@ -19,8 +19,15 @@ pub const FIGURE_CONFIDENCE: f64 = 0.95;
 
 /// One channel of one run, analysed.
 pub struct ChannelNoise {
-    /// The channel.
+    /// The channel, its samples gone into the analysis (`data` is empty:
+    /// several recordings' channels are held at once, and each is read
+    /// again where its samples are wanted).
     pub channel: SelectedChannel,
+    /// Number of samples the analysis took, gaps included.
+    pub samples: usize,
+    /// Mean of its finite samples (none without one), taken before they
+    /// went into the analysis: the summary's bias slope across runs.
+    pub mean: Option<f64>,
     /// Its OADEV at octave taus, [`FIGURE_CONFIDENCE`] intervals.
     pub points: Vec<Point>,
     /// Its noise terms.
@@ -44,12 +51,21 @@ pub fn analyse_run(path: &Path, read: &RecordingOptions) -> Result<RunNoise, Ana
     let channels = sel
         .channels
         .into_par_iter()
-        .map(|channel| {
-            let (points, terms) = analyze_terms(&channel.data, rate, FIGURE_CONFIDENCE).map_err(
+        .map(|mut channel| {
+            let data = std::mem::take(&mut channel.data);
+            let samples = data.len();
+            let (n, sum) = data
+                .iter()
+                .filter(|x| x.is_finite())
+                .fold((0usize, 0.0), |(n, s), x| (n + 1, s + x));
+            let mean = (n > 0).then(|| sum / n as f64);
+            let (points, terms) = analyze_terms_vec(data, rate, FIGURE_CONFIDENCE).map_err(
                 AnalysisError::allan(format!("{}: {}", path.display(), channel.name)),
             )?;
             Ok(ChannelNoise {
                 channel,
+                samples,
+                mean,
                 points,
                 terms,
             })

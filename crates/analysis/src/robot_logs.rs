@@ -165,5 +165,5 @@ pub(crate) fn read_channels(
         .into_iter()
         .map(|i| take_channel(file, i + 1, &mut rec.channels[i], rate_hz, report.lines))
         .collect();
-    Ok(selection(&rec, channels, rate_hz, notes))
+    Ok(selection(&mut rec, channels, rate_hz, notes))
 }

@@ -146,7 +146,7 @@ pub fn read_channels(
             report.lines,
         ));
     }
-    Ok(selection(&rec, out, rate_hz, notes))
+    Ok(selection(&mut rec, out, rate_hz, notes))
 }
 
 /// What the reader found and did, one line each (`warning: …`, `note: …`):
@@ -224,15 +224,20 @@ pub(crate) fn take_channel(
     }
 }
 
-/// The selection of `channels`, with the recording's temperature and its
-/// mean over the samples that have one.
+/// The selection of `channels`, with the recording's temperature (moved
+/// out of `rec`, not copied: a long recording's peak memory stays that of
+/// its columns) and its mean over the samples that have one.
 pub(crate) fn selection(
-    rec: &imu::Recording,
+    rec: &mut imu::Recording,
     channels: Vec<SelectedChannel>,
     rate_hz: f64,
     notes: Vec<String>,
 ) -> Selection {
-    let temperature = rec.temperature().map(|t| t.data.clone());
+    let temperature = rec
+        .channels
+        .iter_mut()
+        .find(|c| c.quantity == Quantity::Temperature)
+        .map(|t| std::mem::take(&mut t.data));
     let temperature_mean_c = temperature.as_ref().and_then(|t| {
         let (sum, n) = t
             .iter()

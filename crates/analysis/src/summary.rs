@@ -356,9 +356,7 @@ fn across_runs(runs: &[RunNoise], name: &str, q: Quantity) -> Option<Slope> {
         .filter_map(|r| {
             let t = r.temperature_mean_c?;
             let c = r.channels.iter().find(|c| c.channel.name == name)?;
-            let finite = c.channel.data.iter().filter(|x| x.is_finite());
-            let (n, sum) = finite.fold((0usize, 0.0), |(n, s), x| (n + 1, s + x));
-            (n > 0).then(|| (t, sum / n as f64))
+            Some((t, c.mean?))
         })
         .collect();
     line_slope(&pts).map(|fit| slope_in(fit, scale, q, "run means"))

@@ -65,7 +65,17 @@ pub const MAX_WINDOWS: usize = 10_000;
 /// finite values (the sensor's quantum, 1/333.87 °C for an MPU-9250,
 /// PS-MPU-9250A-01 Table 3). None for fewer than two distinct values.
 pub fn temperature_resolution(temp: &[f64]) -> Option<f64> {
-    let mut t: Vec<f64> = temp.iter().copied().filter(|t| t.is_finite()).collect();
+    // The distinct values, chunk by chunk: a quantized sensor has a few
+    // thousand, so a long recording is not copied whole to be sorted. The
+    // smallest step between neighbours is the same with or without the
+    // repeats.
+    let distinct = |c: &[f64]| {
+        let mut t: Vec<f64> = c.iter().copied().filter(|t| t.is_finite()).collect();
+        t.sort_unstable_by(f64::total_cmp);
+        t.dedup_by(|a, b| a.total_cmp(b).is_eq());
+        t
+    };
+    let mut t: Vec<f64> = temp.par_chunks(1 << 16).flat_map_iter(distinct).collect();
     t.par_sort_unstable_by(f64::total_cmp);
     t.windows(2)
         .map(|w| w[1] - w[0])
@@ -97,18 +107,21 @@ pub fn surface(
         confidence,
     };
     let analyse = |series: Vec<f64>, t: &[f64], start: f64, end: f64| -> Option<SurfaceRow> {
-        let used: Vec<f64> = series
+        // The temperatures of the samples used, summed in order (from
+        // -0.0, as `Iterator::sum`) without keeping them: (count, sum,
+        // first, last).
+        let (samples, sum, first, last) = series
             .iter()
             .zip(t)
             .filter(|(v, _)| !v.is_nan())
-            .map(|(_, &t)| t)
-            .collect();
-        if used.len() < MIN_SLICE_SAMPLES {
+            .fold((0usize, -0.0, None, 0.0), |(n, s, f, _), (_, &t)| {
+                (n + 1, s + t, f.or(Some(t)), t)
+            });
+        if samples < MIN_SLICE_SAMPLES {
             return None;
         }
-        let t_mean_c = used.iter().sum::<f64>() / used.len() as f64;
-        let t_change_c = used.last().copied().unwrap_or(0.0) - used.first().copied().unwrap_or(0.0);
-        let samples = used.len();
+        let t_mean_c = sum / samples as f64;
+        let t_change_c = last - first.unwrap_or(0.0);
         let curve = allan::analyze_vec(series, &opts).ok()?;
         let terms = identify(&curve.points, &curve.points, confidence);
         Some(SurfaceRow {
@@ -157,12 +170,19 @@ pub fn surface(
                 .into_par_iter()
                 .filter_map(|k| {
                     let (a, b) = (k as f64 * bin_width_c, (k + 1) as f64 * bin_width_c);
-                    let series: Vec<f64> = data
+                    let inside = |t: f64| t >= a && t < b;
+                    // From the bin's first sample to its last: the NaN edges
+                    // outside would be trimmed as missing edges anyway
+                    // (`PhaseSeries`), and a bin of a cooling run is a short
+                    // stretch of it, not a copy of the whole channel.
+                    let first = temp.iter().position(|&t| inside(t))?;
+                    let last = temp.iter().rposition(|&t| inside(t))?;
+                    let series: Vec<f64> = data[first..=last]
                         .iter()
-                        .zip(temp)
-                        .map(|(&v, &t)| if t >= a && t < b { v } else { f64::NAN })
+                        .zip(&temp[first..=last])
+                        .map(|(&v, &t)| if inside(t) { v } else { f64::NAN })
                         .collect();
-                    analyse(series, temp, a, b)
+                    analyse(series, &temp[first..=last], a, b)
                 })
                 .collect())
         }
@@ -230,6 +250,121 @@ mod tests {
             Err(e) => e.to_string(),
             Ok(rows) => panic!("{slicing:?}: {} rows, expected a refusal", rows.len()),
         }
+    }
+
+    /// The surface of temperature bins as first written: every bin a copy
+    /// of the whole channel, NaN outside it, and the temperatures used
+    /// collected. What the trimmed bins must reproduce.
+    fn straightforward_bins(
+        data: &[f64],
+        temp: &[f64],
+        width: f64,
+    ) -> Vec<(f64, f64, f64, f64, usize, Vec<Point>)> {
+        let (lo, hi) = temp
+            .iter()
+            .filter(|t| t.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &t| {
+                (a.min(t), b.max(t))
+            });
+        let opts = Options {
+            taus: TauSpec::Octave,
+            ..Options::default()
+        };
+        ((lo / width).floor() as i64..=(hi / width).floor() as i64)
+            .filter_map(|k| {
+                let (a, b) = (k as f64 * width, (k + 1) as f64 * width);
+                let series: Vec<f64> = data
+                    .iter()
+                    .zip(temp)
+                    .map(|(&v, &t)| if t >= a && t < b { v } else { f64::NAN })
+                    .collect();
+                let used: Vec<f64> = series
+                    .iter()
+                    .zip(temp)
+                    .filter(|(v, _)| !v.is_nan())
+                    .map(|(_, &t)| t)
+                    .collect();
+                if used.len() < MIN_SLICE_SAMPLES {
+                    return None;
+                }
+                let mean = used.iter().sum::<f64>() / used.len() as f64;
+                let change = used[used.len() - 1] - used[0];
+                let curve = allan::analyze(&series, &opts).ok()?;
+                Some((a, b, mean, change, used.len(), curve.points))
+            })
+            .collect()
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(24))]
+        #[test]
+        fn trimmed_bins_give_what_whole_length_bins_gave(
+            seed in proptest::prelude::any::<u64>(),
+            n in 200usize..6000,
+            gaps in 0usize..40,
+            width in 0.05f64..2.0,
+        ) {
+            // A wandering, quantized temperature that leaves and re-enters
+            // bins, and data with gaps of its own.
+            let mut state = seed | 1;
+            let mut next = || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 11) as f64 / (1u64 << 53) as f64
+            };
+            let q = 1.0 / 333.87;
+            let mut t = 40.0;
+            let temp: Vec<f64> = (0..n)
+                .map(|_| {
+                    t += (next() - 0.5) * 0.05;
+                    (t / q).round() * q
+                })
+                .collect();
+            let mut data: Vec<f64> = (0..n).map(|_| next() - 0.5).collect();
+            for _ in 0..gaps {
+                let at = (next() * n as f64) as usize % n;
+                data[at] = f64::NAN;
+            }
+            let got = surface(&data, &temp, 1.0, Slicing::Temperature { bin_width_c: width }, allan::DEFAULT_CONFIDENCE)
+                .unwrap();
+            let want = straightforward_bins(&data, &temp, width);
+            proptest::prop_assert_eq!(got.len(), want.len());
+            for (g, w) in got.iter().zip(&want) {
+                proptest::prop_assert_eq!((g.start, g.end, g.t_mean_c, g.t_change_c, g.samples), (w.0, w.1, w.2, w.3, w.4));
+                proptest::prop_assert_eq!(&g.points, &w.5);
+            }
+            // The resolution from distinct values chunk by chunk is the one
+            // of the whole channel sorted.
+            let mut all: Vec<f64> = temp.iter().copied().filter(|t| t.is_finite()).collect();
+            all.sort_unstable_by(f64::total_cmp);
+            let whole = all.windows(2).map(|w| w[1] - w[0]).filter(|&d| d > 0.0).min_by(f64::total_cmp);
+            proptest::prop_assert_eq!(temperature_resolution(&temp), whole);
+        }
+    }
+
+    #[test]
+    fn the_resolution_over_many_chunks_is_that_of_the_whole_channel() {
+        // A random walk over several chunks of distinct-value collection,
+        // its smallest step in one chunk only.
+        let mut t = 30.0f64;
+        let mut temp: Vec<f64> = (0..300_000u64)
+            .map(|i| {
+                t += if (i * 2_654_435_761) % 7 < 3 { 0.25 } else { -0.25 };
+                t
+            })
+            .collect();
+        temp[200_001] = temp[200_000] + 0.001;
+        temp[5] = f64::NAN;
+        let mut all: Vec<f64> = temp.iter().copied().filter(|t| t.is_finite()).collect();
+        all.sort_unstable_by(f64::total_cmp);
+        let whole = all
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .filter(|&d| d > 0.0)
+            .min_by(f64::total_cmp);
+        assert_eq!(temperature_resolution(&temp), whole);
+        assert!(whole.is_some_and(|q| q < 0.01));
     }
 
     #[test]

@@ -30,7 +30,7 @@ pub use fit::{FitResult, fit_model};
 pub use slope::{MIN_EDF, Minimum, SlopeResult, slope_method};
 pub use thesis::{ThesisReading, thesis_reading};
 
-use crate::analysis::analyze_series;
+use crate::analysis::analyze_series_grids;
 use crate::{AllanError, DataType, Options, PhaseSeries, Point, TauSpec};
 
 /// √(2 ln 2 / π) = 0.664…: the Allan deviation floor of flicker noise of
@@ -305,21 +305,28 @@ pub fn analyze_terms(
     rate_hz: f64,
     confidence: f64,
 ) -> Result<(Vec<Point>, NoiseTerms), AllanError> {
-    let series = PhaseSeries::new(y, DataType::Freq, rate_hz)?;
+    analyze_terms_vec(y.to_vec(), rate_hz, confidence)
+}
+
+/// [`analyze_terms`], taking the samples by value so that they become the
+/// phase in place: a long recording is not copied. Both grids are computed
+/// in one pass over their union of averaging factors
+/// ([`analyze_series_grids`]), each curve exactly as its grid alone gives it.
+pub fn analyze_terms_vec(
+    y: Vec<f64>,
+    rate_hz: f64,
+    confidence: f64,
+) -> Result<(Vec<Point>, NoiseTerms), AllanError> {
+    let series = PhaseSeries::from_vec(y, DataType::Freq, rate_hz)?;
     let opts = Options {
         rate_hz,
-        taus: TauSpec::Octave,
         confidence,
         ..Options::default()
     };
-    let sparse = analyze_series(&series, &opts)?;
-    let dense = analyze_series(
-        &series,
-        &Options {
-            taus: TauSpec::Many,
-            ..opts
-        },
-    )?;
+    let mut curves = analyze_series_grids(&series, &opts, &[TauSpec::Octave, TauSpec::Many])?.into_iter();
+    let (Some(sparse), Some(dense)) = (curves.next(), curves.next()) else {
+        unreachable!("analyze_series_grids returns one curve per grid")
+    };
     let terms = identify(&dense, &sparse, confidence);
     Ok((sparse, terms))
 }

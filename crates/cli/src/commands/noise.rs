@@ -9,7 +9,7 @@ use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use allan::noise_terms::{Chosen, Minimum, NoiseTerms, Term, TermEstimate, TermValue, analyze_terms};
+use allan::noise_terms::{Chosen, Minimum, NoiseTerms, Term, TermEstimate, TermValue, analyze_terms_vec};
 use imu::Quantity;
 
 use analysis::kalibr::{KalibrChannel, kalibr_yaml};
@@ -26,7 +26,10 @@ const SCHEMA: &str = "imutherm.noise/1";
 
 struct Analysed {
     file_index: usize,
+    /// The channel, its samples gone into the analysis.
     channel: SelectedChannel,
+    /// Number of samples the analysis took, gaps included.
+    samples: usize,
     terms: NoiseTerms,
 }
 
@@ -89,12 +92,16 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
     }
     let analysed: Vec<Analysed> = work
         .into_par_iter()
-        .map(|(file_index, channel)| {
-            let (_, terms) = analyze_terms(&channel.data, channel.rate_hz, confidence)
+        .map(|(file_index, mut channel)| {
+            // Turned into phase in place: no second copy of a long channel.
+            let data = std::mem::take(&mut channel.data);
+            let samples = data.len();
+            let (_, terms) = analyze_terms_vec(data, channel.rate_hz, confidence)
                 .with_context(|| format!("{}: {}", channel.file.display(), channel.name))?;
             Ok(Analysed {
                 file_index,
                 channel,
+                samples,
                 terms,
             })
         })
@@ -180,7 +187,7 @@ fn write_compact(out: &mut impl Write, analysis: Analysis, units: Units) -> Resu
         let t = analysis.temps[i]
             .map(|t| format!(", mean temperature {t:.1} °C"))
             .unwrap_or_default();
-        let samples = rows.first().map_or(0, |r| r.channel.data.len());
+        let samples = rows.first().map_or(0, |r| r.samples);
         writeln!(
             out,
             "# {} — {} Hz, {:.0} s{t}; intervals at {:.1} %",
@@ -468,7 +475,7 @@ fn write_json(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<
                             "B": r.terms.slope.thesis.b.map(|v| serde_json::json!({"si": json_value(&v, Term::BiasInstability, ch, Units::Si), "tau": v.tau})),
                         },
                         "chosen": chosen,
-                        "samples": ch.data.len(),
+                        "samples": r.samples,
                         "sigma_min": sigma_min,
                         "slope": slope,
                         "fit": fit,

@@ -5,7 +5,7 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 
 use analysis::dynamic_adev::{DynamicAdevError, dynamic_adev};
-use analysis::navigation::{Plan, navigate, six_channels};
+use analysis::navigation::{Plan, navigate, take_six_channels};
 use analysis::noise::analyse_run;
 use analysis::summary::Summary;
 use ins::drift::report_times;
@@ -57,12 +57,14 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     let dynamic = crate::flags::dynamic_options(&a.dynamic);
     for f in &a.files {
         let (rec, rep, _) = analysis::robot_logs::read_recording_with_report(f, &read)?;
+        // One pass, without a copy of the channel; the sum in order from
+        // -0.0, as `Iterator::sum`.
         let temp = rec.temperature().map(|t| {
-            let v: Vec<f64> = t.data.iter().copied().filter(|x| x.is_finite()).collect();
-            let (lo, hi) = v.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-                (a.min(x), b.max(x))
-            });
-            (lo, v.iter().sum::<f64>() / v.len().max(1) as f64, hi)
+            let (lo, hi, sum, n) = t.data.iter().filter(|x| x.is_finite()).fold(
+                (f64::INFINITY, f64::NEG_INFINITY, -0.0, 0usize),
+                |(a, b, s, n), &x| (a.min(x), b.max(x), s + x, n + 1),
+            );
+            (lo, sum / n.max(1) as f64, hi)
         });
         if let Some((lo, _, hi)) = temp
             && hi - lo >= SURFACE_SPAN_C
@@ -222,8 +224,12 @@ fn navigation_section(
     };
     let mut navigated = Vec::new();
     for f in files {
-        let sel = read_channels(f, &[], read)?;
-        let n = six_channels(f, &sel).and_then(|six| navigate(f, &six, sel.rate_hz, &plan));
+        let mut sel = read_channels(f, &[], read)?;
+        let six = take_six_channels(f, &mut sel);
+        let rate = sel.rate_hz;
+        // What is left, the temperature, is not navigated: freed first.
+        drop(sel);
+        let n = six.and_then(|six| navigate(f, &six, rate, &plan));
         navigated.push((f.clone(), n));
     }
     recordings_navigation_section(page, &plan, &navigated);
