@@ -20,7 +20,7 @@ use support::{Simulation, imutherm};
 /// of its pixels are not background, and the value read out when the
 /// pointer is over the surface.
 const PROBE: &str = r#"<script>(function(){
-var out=[],cs=document.querySelectorAll('canvas');
+var out=[],cs=document.querySelectorAll('canvas[id^=surface]');
 var holder=document.createElement('div');document.body.prepend(holder);
 cs.forEach(function(c,i){if(i<2){holder.appendChild(c.closest('figure'));}});
 cs.forEach(function(c){
