@@ -14,17 +14,12 @@ use std::path::PathBuf;
 use std::process::Command as Process;
 
 mod support;
-use support::chromium::{chromium, console_errors};
+use support::chromium::{FLAGS, chromium_or_skip, console_errors, screenshots};
 use support::imutherm;
 
 #[test]
 fn the_demo_report_renders_in_chromium() {
-    let Some(browser) = chromium() else {
-        assert!(
-            std::env::var_os("IMUTHERM_REQUIRE_BROWSER").is_none(),
-            "IMUTHERM_REQUIRE_BROWSER is set but no chromium is installed"
-        );
-        eprintln!("skipped: no chromium on PATH (apt-get install chromium to run this test)");
+    let Some(browser) = chromium_or_skip() else {
         return;
     };
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("browser-demo");
@@ -37,27 +32,11 @@ fn the_demo_report_renders_in_chromium() {
     let page = out.join("report.html");
     let url = format!("file://{}", page.display());
     let profile = out.join("chromium-profile");
-    let common = [
-        "--headless",
-        "--no-sandbox",
-        "--disable-gpu",
-        "--disable-quic",
-        "--no-first-run",
-        "--disable-background-networking",
-        "--disable-component-update",
-        "--disable-sync",
-        "--enable-logging=stderr",
-        "--v=0",
-        // No network: every request goes to a closed port (the page must
-        // need none; the probe below checks it made none).
-        "--proxy-server=127.0.0.1:9",
-        "--proxy-bypass-list=<-loopback>",
-    ];
+    // No network: every request goes to a closed port (the page must need
+    // none; the probe below checks it made none).
+    let common = FLAGS;
     // Kept as CI artefacts: target/report-screenshots/.
-    let shots = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .parent()
-        .map_or_else(|| out.clone(), |t| t.join("report-screenshots"));
-    std::fs::create_dir_all(&shots).expect("screenshot folder");
+    let shots = screenshots(&out);
     let shot = shots.join("report.png");
     let run = Process::new(&browser)
         .args(common)

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use std::process::Command as Process;
 
 mod support;
-use support::chromium::{FLAGS, chromium, console_errors, screenshots};
+use support::chromium::{FLAGS, chromium_or_skip, console_errors, screenshots};
 use support::{Simulation, imutherm};
 
 /// Appended to a copy of the page (the report carries no test code): moves
@@ -37,12 +37,7 @@ var pre=document.createElement('pre');pre.id='probe';pre.textContent=JSON.string
 
 #[test]
 fn the_3d_views_draw_axes_labelled_in_real_units() {
-    let Some(browser) = chromium() else {
-        assert!(
-            std::env::var_os("IMUTHERM_REQUIRE_BROWSER").is_none(),
-            "IMUTHERM_REQUIRE_BROWSER is set but no chromium is installed"
-        );
-        eprintln!("skipped: no chromium on PATH (apt-get install chromium to run this test)");
+    let Some(browser) = chromium_or_skip() else {
         return;
     };
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("browser-surface");

@@ -16,6 +16,21 @@ pub fn chromium() -> Option<PathBuf> {
         })
 }
 
+/// The browser, or `None` after saying the test is skipped; with
+/// `IMUTHERM_REQUIRE_BROWSER` set (as `.ci/run` sets it) a missing browser
+/// fails the test instead.
+pub fn chromium_or_skip() -> Option<PathBuf> {
+    let found = chromium();
+    if found.is_none() {
+        assert!(
+            std::env::var_os("IMUTHERM_REQUIRE_BROWSER").is_none(),
+            "IMUTHERM_REQUIRE_BROWSER is set but no chromium is installed"
+        );
+        eprintln!("skipped: no chromium on PATH (apt-get install chromium to run this test)");
+    }
+    found
+}
+
 /// Headless, without a GPU, and with every request sent to a closed port:
 /// a page that needs the network shows it.
 pub const FLAGS: [&str; 13] = [
