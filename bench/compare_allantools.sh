@@ -37,21 +37,14 @@ done
 [[ "$runs" =~ ^[1-9][0-9]*$ ]] || { echo "--runs must be a positive integer" >&2; exit 2; }
 
 rate=100
-bench_dir="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-root="$(dirname "$bench_dir")"
-venv="$bench_dir/.venv"
-py="$venv/bin/python"
-data_dir="$bench_dir/data"
+# shellcheck source=bench/allantools_env.sh
+source "$(dirname "${BASH_SOURCE[0]}")/allantools_env.sh"
 out_dir="$data_dir/results"
 mkdir -p "$out_dir"
 
 # ---------------------------------------------------------------- Python side
 echo "== AllanTools environment ($venv)"
-if ! "$py" -c 'import allantools, numpy, pandas
-assert allantools.__version__ in ("2024.6", "2024.06")' 2>/dev/null; then
-  "${PYTHON:-python3}" -m venv "$venv"
-  "$py" -m pip install --quiet --disable-pip-version-check allantools==2024.6 numpy pandas
-fi
+ensure_allantools_venv
 "$py" -c 'import sys, allantools, numpy, pandas, scipy
 print("  python %s, allantools %s, numpy %s, pandas %s, scipy %s" % (sys.version.split()[0],
       allantools.__version__, numpy.__version__, pandas.__version__, scipy.__version__))'
