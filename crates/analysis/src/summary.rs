@@ -210,12 +210,13 @@ impl Summary {
                                 .into_iter()
                                 .map(|t| term_summary(c, t, sheet))
                                 .collect(),
-                            bias_datasheet: with_verdict(
-                                cell(sheet, q, |s| {
+                            bias_datasheet: {
+                                let mut d = cell(sheet, q, |s| {
                                     s.sensor(q).and_then(|f| f.bias_over_temperature.clone())
-                                }),
-                                bias_slope.as_ref(),
-                            ),
+                                });
+                                set_verdict(&mut d, bias_slope.as_ref());
+                                d
+                            },
                             bias_slope,
                             noise_growth,
                         }
@@ -255,8 +256,7 @@ impl Summary {
             if let Some(slope) = line_slope(&c.before.iter().map(|b| (b.t, b.mean)).collect::<Vec<_>>())
                 .map(|fit| slope_in(fit, scale, c.quantity, "held-out run"))
             {
-                let cell = std::mem::replace(&mut axis.bias_datasheet, DatasheetCell::NoDatasheet);
-                axis.bias_datasheet = with_verdict(without_verdict(cell), Some(&slope));
+                set_verdict(&mut axis.bias_datasheet, Some(&slope));
                 axis.bias_slope = Some(slope);
             }
             let (raw, comp) = (spread(&c.before).rms, spread(&c.after).rms);
@@ -376,23 +376,22 @@ fn slope_in((value, half_width): (f64, f64), scale: f64, q: Quantity, from: &'st
 }
 
 /// The datasheet's ± figure bounds |slope|: "above" when the whole
-/// interval lies beyond it.
-fn with_verdict(mut cell: DatasheetCell, slope: Option<&Slope>) -> DatasheetCell {
-    if let (Some(slope), DatasheetCell::Given { figure, verdict }) = (slope, &mut cell)
-        && let Some(v) = figure.value
-        && figure.unit.as_deref() == Some(slope.unit)
-    {
-        let lo = slope.value.abs() - slope.half_width;
-        *verdict = Some(if lo > v { "above" } else { "within" });
-    }
-    cell
-}
-
-fn without_verdict(mut cell: DatasheetCell) -> DatasheetCell {
-    if let DatasheetCell::Given { verdict, .. } = &mut cell {
-        *verdict = None;
-    }
-    cell
+/// interval lies beyond it, "within" otherwise; no verdict without a slope
+/// in the figure's unit (a verdict from an earlier slope is dropped).
+fn set_verdict(cell: &mut DatasheetCell, slope: Option<&Slope>) {
+    let DatasheetCell::Given { figure, verdict } = cell else {
+        return;
+    };
+    *verdict = match (slope, figure.value) {
+        (Some(slope), Some(v)) if figure.unit.as_deref() == Some(slope.unit) => {
+            Some(if slope.value.abs() - slope.half_width > v {
+                "above"
+            } else {
+                "within"
+            })
+        }
+        _ => None,
+    };
 }
 
 /// Least-squares slope of (temperature, mean) points and the half-width
