@@ -7,6 +7,7 @@ mod allan_dev;
 mod differences;
 mod hadamard;
 pub mod htotdev;
+mod mdev_scan;
 mod modified;
 pub mod mtotdev;
 pub mod theo1;

@@ -10,7 +10,7 @@ use super::Estimate;
 use crate::phase::PhaseSeries;
 
 /// Steps between exact recomputations of the running window sum.
-const RESYNC: usize = 1024;
+pub(super) const RESYNC: usize = 1024;
 
 /// Resync intervals whose running sums run side by side.
 const LANES: usize = 4;
@@ -22,7 +22,7 @@ pub fn mdev(series: &PhaseSeries, m: usize) -> Option<Estimate> {
         return None;
     }
     let (sum, n) = match series.gap_index() {
-        None => window_squares(x, m, |_| true, |v| v),
+        None => (super::mdev_scan::gap_free_squares(x, m), x.len() - 3 * m + 1),
         // A second difference with a missing phase point counts as zero in
         // the running sum; every window that holds it is skipped anyway.
         Some(g) => window_squares(
