@@ -211,3 +211,79 @@ pub(crate) fn sum_squared_overlapped_many(x: &[f64], ms: &[usize], order: Order)
         );
     sums.into_iter().zip(terms).collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The squared difference at j, as SP 1065 writes it.
+    fn term(x: &[f64], j: usize, m: usize, order: Order) -> f64 {
+        let v = match order {
+            Order::Second => x[j + 2 * m] - 2.0 * x[j + m] + x[j],
+            Order::Third => x[j + 3 * m] - 3.0 * x[j + 2 * m] + 3.0 * x[j + m] - x[j],
+        };
+        v * v
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// Whatever the CPU, the same bits: the dispatched block sum (AVX2
+        /// where the CPU has it) against the portable one, on random walks of
+        /// any length and step, in both orders.
+        #[test]
+        fn every_block_sum_gives_the_same_bits(len in 4usize..6000, m_seed in 0usize..2000, seed in 0u64..1000) {
+            let x = crate::work::random_walk(len, seed);
+            for order in [Order::Second, Order::Third] {
+                let m = 1 + m_seed % (len / (order.span() + 1)).max(1);
+                if order.span() * m >= len {
+                    continue;
+                }
+                let terms = len - order.span() * m;
+                prop_assert_eq!(
+                    block_sum(order, &x, 0, terms, m).to_bits(),
+                    block_sum_portable(order, &x, 0, terms, m).to_bits()
+                );
+            }
+        }
+
+        /// One factor at a time equals the blocked sweep over many, and both
+        /// equal the definition to rounding.
+        #[test]
+        fn one_factor_equals_the_sweep_and_the_definition(len in 4usize..6000, seed in 0u64..1000) {
+            let x = crate::work::random_walk(len, seed);
+            let series = PhaseSeries::new(&x, crate::DataType::Phase, 1.0).unwrap();
+            let ms: Vec<usize> = (0..12).map(|k| 1usize << k).filter(|&m| 3 * m < len).collect();
+            for order in [Order::Second, Order::Third] {
+                let swept = sum_squared_overlapped_many(&x, &ms, order);
+                for (&m, &(sum, n)) in ms.iter().zip(&swept) {
+                    if order.span() * m >= len {
+                        continue;
+                    }
+                    prop_assert_eq!(sum_squared(&series, m, 1, order), (sum, n));
+                    let direct: f64 = (0..len - order.span() * m).map(|j| term(&x, j, m, order)).sum();
+                    prop_assert!(((sum - direct) / direct).abs() < 1e-12, "m={} {} vs {}", m, sum, direct);
+                }
+            }
+        }
+
+        /// The non-overlapped sums' four accumulators against one running sum.
+        #[test]
+        fn strided_sums_equal_the_definition(len in 4usize..6000, m_seed in 1usize..500, seed in 0u64..1000) {
+            let x = crate::work::random_walk(len, seed);
+            let series = PhaseSeries::new(&x, crate::DataType::Phase, 1.0).unwrap();
+            let m = 1 + m_seed % (len / 4).max(1);
+            for order in [Order::Second, Order::Third] {
+                if order.span() * m >= len {
+                    continue;
+                }
+                let (sum, n) = sum_squared(&series, m, m, order);
+                let starts = (0..len - order.span() * m).step_by(m);
+                let direct: f64 = starts.clone().map(|j| term(&x, j, m, order)).sum();
+                prop_assert_eq!(n, starts.count());
+                prop_assert!(((sum - direct) / direct).abs() < 1e-12, "m={} {} vs {}", m, sum, direct);
+            }
+        }
+    }
+}
