@@ -144,12 +144,16 @@ impl PhaseSeries {
         if !(rate_hz.is_finite() && rate_hz > 0.0) {
             return Err(AllanError::InvalidRate(rate_hz));
         }
-        // One parallel scan for everything the conversion needs to know.
+        // One parallel scan for everything the conversion needs to know,
+        // its chunks joined in order: a reduction tree shaped by work
+        // stealing would change the mean's last bits from run to run.
         let scan = data
             .par_chunks(SCAN_CHUNK)
             .enumerate()
             .map(|(c, chunk)| Scan::of(c * SCAN_CHUNK, chunk))
-            .reduce(Scan::empty, Scan::join);
+            .collect::<Vec<_>>()
+            .into_iter()
+            .fold(Scan::empty(), Scan::join);
         if let Some(index) = scan.first_infinite {
             return Err(AllanError::Infinite { index });
         }

@@ -175,8 +175,9 @@ const BLOCK: usize = 2048;
 /// three times (at offsets 0, m and 2m). Swept block by block with the
 /// factors in increasing order, the window at 2m of one octave factor is the
 /// window at m of the next, still in cache: for an octave grid the memory
-/// traffic falls from three series per tau to about one. Blocks run in
-/// parallel. Returns (sum, terms) per factor, in the order of `ms`.
+/// traffic falls from three series per tau to about one. Runs of blocks go
+/// in parallel, with the same result whatever the threads. Returns (sum,
+/// terms) per factor, in the order of `ms`.
 pub(crate) fn sum_squared_overlapped_many(x: &[f64], ms: &[usize], order: Order) -> Vec<(f64, usize)> {
     let n = x.len();
     let reach = order.span();
@@ -186,11 +187,18 @@ pub(crate) fn sum_squared_overlapped_many(x: &[f64], ms: &[usize], order: Order)
         .collect();
     let longest = terms.iter().copied().max().unwrap_or(0);
     let blocks = longest.div_ceil(BLOCK);
-    let sums = (0..blocks)
+    // Blocks go to a number of runs that depends on the series and the grid
+    // alone, each run summed in order and the runs' sums added in order: the
+    // same bits whatever the threads (a fold split by work stealing would
+    // change the last bits from run to run). At most 32 runs, and at most
+    // 2^22 partial sums held at once.
+    let runs = blocks.clamp(1, 32).min((1 << 22) / ms.len().max(1)).max(1);
+    let per_run = blocks.div_ceil(runs).max(1);
+    let partial: Vec<Vec<f64>> = (0..blocks.div_ceil(per_run))
         .into_par_iter()
-        .fold(
-            || vec![0.0; ms.len()],
-            |mut acc, b| {
+        .map(|r| {
+            let mut acc = vec![0.0; ms.len()];
+            for b in r * per_run..((r + 1) * per_run).min(blocks) {
                 let j0 = b * BLOCK;
                 for ((slot, &m), &t) in acc.iter_mut().zip(ms).zip(&terms) {
                     let j1 = (j0 + BLOCK).min(t);
@@ -199,16 +207,14 @@ pub(crate) fn sum_squared_overlapped_many(x: &[f64], ms: &[usize], order: Order)
                     }
                     *slot += block_sum(order, x, j0, j1 - j0, m);
                 }
-                acc
-            },
-        )
-        .reduce(
-            || vec![0.0; ms.len()],
-            |mut a, b| {
-                a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
-                a
-            },
-        );
+            }
+            acc
+        })
+        .collect();
+    let mut sums = vec![0.0; ms.len()];
+    for run in partial {
+        sums.iter_mut().zip(run).for_each(|(s, p)| *s += p);
+    }
     sums.into_iter().zip(terms).collect()
 }
 
@@ -224,6 +230,35 @@ mod tests {
             Order::Third => x[j + 3 * m] - 3.0 * x[j + 2 * m] + 3.0 * x[j + m] - x[j],
         };
         v * v
+    }
+
+    /// Whatever the threads, the same bits: the sweep and the phase
+    /// conversion on one thread and on three, on a series long enough for
+    /// many blocks and several scan chunks.
+    #[test]
+    fn the_same_bits_on_any_number_of_threads() {
+        let rate = crate::work::random_walk(300_000, 5);
+        let ms: Vec<usize> = (1..2000).step_by(7).collect();
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let series = PhaseSeries::new(&rate, crate::DataType::Freq, 1.0).unwrap();
+                let phase: Vec<u64> = series.points().iter().map(|v| v.to_bits()).collect();
+                let sums: Vec<(u64, usize)> =
+                    sum_squared_overlapped_many(series.points(), &ms, Order::Second)
+                        .into_iter()
+                        .map(|(s, n)| (s.to_bits(), n))
+                        .collect();
+                (phase, sums)
+            })
+        };
+        let one = on(1);
+        for _ in 0..3 {
+            assert!(on(3) == one, "a three-thread run differs from the one-thread run");
+        }
     }
 
     proptest! {
