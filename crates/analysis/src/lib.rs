@@ -8,7 +8,8 @@
 //! - [`units`]: the unit systems of noise terms (SI, datasheet, thesis);
 //! - [`noise`]: each run's ADEV and noise terms;
 //! - [`dynamic_adev`]: the OADEV of sliding time windows labelled by their
-//!   mean temperature (the thesis's dynamic ADEV);
+//!   mean temperature (the thesis's dynamic ADEV), `thermal`'s own, which
+//!   `imutherm thermal --by time` slices with too;
 //! - [`datasheet`]: a datasheet's figures (built in for a few parts, or a
 //!   TOML file), each with its source;
 //! - [`summary`]: what an IMU is, first: N, B, K beside the datasheet,
@@ -52,7 +53,7 @@ mod error;
 
 pub mod compensation;
 pub mod datasheet;
-pub mod dynamic_adev;
+pub use thermal::dynamic_adev;
 pub mod experiment;
 pub mod file_identity;
 pub mod kalibr;

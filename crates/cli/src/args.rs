@@ -220,7 +220,8 @@ Examples:
 
 A temperature bin keeps the samples taken while the temperature was inside it; the
 rest are gaps, so no Allan term joins two visits to the bin. A time window is labelled
-with its mean temperature and its temperature change.";
+with its mean temperature and its temperature change. A slice left with fewer than 64
+samples has no row; it is listed, with the reason, under `skipped` (--json) or the table.";
 
 #[cfg(feature = "analysis")]
 #[derive(Debug, Args)]

@@ -133,3 +133,66 @@ fn degenerate_inputs_exit_1() {
             "the model has channel 'accel_x', the file does not",
         ));
 }
+
+/// A 10 Hz log of one gyro over a linear cooling: its samples lost over
+/// 1000..1990 (the second 100 s window keeps 10), its temperature lost over
+/// 2100..2150.
+fn gappy_log() -> (String, Vec<f64>) {
+    let temps: Vec<f64> = (0..3000).map(|i| 80.0 - 0.01 * i as f64).collect();
+    let mut body =
+        String::from("# format: imutherm-log/1\n# sample_rate_hz: 10\ngyro_x[rad/s], temp[degC]\n");
+    for (i, t) in temps.iter().enumerate() {
+        let gyro = if (1000..1990).contains(&i) {
+            "nan".to_string()
+        } else {
+            format!("{}", ((i * 7919) % 101) as f64 * 1e-4)
+        };
+        let temp = if (2100..2150).contains(&i) {
+            "nan".to_string()
+        } else {
+            format!("{t}")
+        };
+        body.push_str(&format!("{gyro}, {temp}\n"));
+    }
+    (body, temps)
+}
+
+#[test]
+fn time_windows_list_what_they_leave_out_and_label_what_they_keep() {
+    let (body, temps) = gappy_log();
+    let (_dir, log) = support::file("gappy.txt", &body);
+    let by_time = ["thermal", "--by", "time", "--window", "100", "--step", "100"];
+    let doc = json_stdout(imutherm().args(by_time).arg("--json").arg(&log));
+    let ch = &doc["channels"][0];
+    let rows = ch["rows"].as_array().unwrap();
+    let starts: Vec<f64> = rows.iter().map(|r| r["start"].as_f64().unwrap()).collect();
+    assert_eq!(starts, [0.0, 200.0]);
+    let skipped = ch["skipped"].as_array().unwrap();
+    assert_eq!(skipped.len(), 1);
+    assert_eq!(
+        (skipped[0]["start"].as_f64(), skipped[0]["end"].as_f64()),
+        (Some(100.0), Some(200.0))
+    );
+    let reason = skipped[0]["reason"].as_str().unwrap();
+    assert!(reason.contains("10 valid samples"), "{reason}");
+    // The last window is labelled by the 950 samples that have a
+    // temperature, not made NaN by the 50 that lack one.
+    let last = &rows[1];
+    assert_eq!(last["samples"], 950);
+    let labelled: Vec<f64> = (2000..3000)
+        .filter(|i| !(2100..2150).contains(i))
+        .map(|i| temps[i])
+        .collect();
+    let mean = labelled.iter().sum::<f64>() / labelled.len() as f64;
+    let got = last["t_mean_c"].as_f64().unwrap();
+    assert!((got - mean).abs() < 1e-9, "{got} {mean}");
+
+    imutherm()
+        .args(by_time)
+        .arg(&log)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains(
+            "no curve for 100.0–200.0 s: 10 valid samples",
+        ));
+}

@@ -55,6 +55,9 @@ pub enum ThermalError {
     /// A parameter out of range.
     #[error("{0}")]
     Invalid(String),
+    /// Time windows that cannot be cut as asked.
+    #[error(transparent)]
+    Windows(#[from] crate::dynamic_adev::DynamicAdevError),
     /// The Allan engine refused the data.
     #[error(transparent)]
     Allan(#[from] allan::AllanError),

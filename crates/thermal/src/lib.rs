@@ -4,6 +4,8 @@
 //! - [`surface`]: the Allan deviation over temperature (the thesis's
 //!   "3D ADEV"), per temperature bin or per sliding time window, with the
 //!   noise terms of each slice;
+//! - [`dynamic_adev`]: the sliding time windows themselves, each window's
+//!   OADEV labelled by its mean temperature (the thesis's dynamic ADEV);
 //! - [`tcal`]: a polynomial compensation of the bias over temperature,
 //!   fitted on binned means with the order chosen by cross-validation,
 //!   applied as the thesis does, `x_comp = x − (p(T) − p(T_ref))`, never
@@ -33,6 +35,7 @@
 mod error;
 mod model_check;
 
+pub mod dynamic_adev;
 pub mod evaluation;
 pub mod firmware;
 pub mod surface;

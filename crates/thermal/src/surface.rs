@@ -5,7 +5,10 @@
 //! A temperature bin keeps the samples taken while the temperature was in
 //! it; everything else becomes a gap, so terms never join stretches from
 //! different visits to the bin (the engine skips terms that cross a gap), and
-//! a τ is kept only where enough contiguous data support it.
+//! a τ is kept only where enough contiguous data support it. Time windows
+//! are [`crate::dynamic_adev`]'s. A slice with too few samples, or that the
+//! statistic refuses, has no row: it is listed in [`Surface::skipped`] with
+//! the reason.
 
 use rayon::prelude::*;
 
@@ -13,6 +16,7 @@ use allan::noise_terms::{NoiseTerms, identify};
 use allan::{Options, Point, Stat, TauSpec};
 
 use crate::ThermalError;
+use crate::dynamic_adev::{DynamicOptions, Label, Skip, dynamic_adev};
 
 /// How the recording is cut.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -50,8 +54,29 @@ pub struct SurfaceRow {
     pub terms: NoiseTerms,
 }
 
+/// A slice with samples but no row, and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SkippedSlice {
+    /// Lower edge of the bin (°C) or start of the window (s).
+    pub start: f64,
+    /// Upper edge of the bin (°C) or end of the window (s).
+    pub end: f64,
+    /// Why it has no curve.
+    pub reason: Skip,
+}
+
+/// The surface: its rows and the slices left out, each in order (bins by
+/// temperature, windows by time).
+#[derive(Debug, Clone)]
+pub struct Surface {
+    /// The analysed slices.
+    pub rows: Vec<SurfaceRow>,
+    /// The slices without a curve.
+    pub skipped: Vec<SkippedSlice>,
+}
+
 /// Fewest samples a slice must hold to be analysed.
-pub const MIN_SLICE_SAMPLES: usize = 64;
+pub const MIN_SLICE_SAMPLES: usize = crate::dynamic_adev::MIN_WINDOW_SAMPLES;
 
 /// Most temperature bins a surface is cut into: 0.1 °C bins over 100 °C.
 /// Each bin costs a pass over the whole recording, so a finer request is
@@ -59,7 +84,7 @@ pub const MIN_SLICE_SAMPLES: usize = 64;
 pub const MAX_BINS: usize = 1000;
 
 /// Most time windows a surface is cut into; each is one OADEV curve.
-pub const MAX_WINDOWS: usize = 10_000;
+pub const MAX_WINDOWS: usize = crate::dynamic_adev::MAX_WINDOWS;
 
 /// The temperature's resolution: the smallest step between two distinct
 /// finite values (the sensor's quantum, 1/333.87 °C for an MPU-9250,
@@ -84,7 +109,8 @@ pub fn temperature_resolution(temp: &[f64]) -> Option<f64> {
 }
 
 /// The ADEV surface of `data` (rate samples at `rate_hz`) against the
-/// temperature `temp` (same length), sliced as asked.
+/// temperature `temp` (same length), sliced as asked: its rows only (see
+/// [`slices`] for the slices left out).
 pub fn surface(
     data: &[f64],
     temp: &[f64],
@@ -92,11 +118,94 @@ pub fn surface(
     slicing: Slicing,
     confidence: f64,
 ) -> Result<Vec<SurfaceRow>, ThermalError> {
+    slices(data, temp, rate_hz, slicing, confidence).map(|s| s.rows)
+}
+
+/// [`surface`], with the slices that have samples but no curve.
+pub fn slices(
+    data: &[f64],
+    temp: &[f64],
+    rate_hz: f64,
+    slicing: Slicing,
+    confidence: f64,
+) -> Result<Surface, ThermalError> {
     if data.len() != temp.len() {
         return Err(ThermalError::Invalid(format!(
             "{} samples but {} temperatures",
             data.len(),
             temp.len()
+        )));
+    }
+    match slicing {
+        Slicing::Temperature { bin_width_c } => bins(data, temp, rate_hz, bin_width_c, confidence),
+        Slicing::Time { window_s, step_s } => {
+            let options = DynamicOptions {
+                window_s,
+                step_s,
+                confidence,
+            };
+            let d = dynamic_adev(data, temp, rate_hz, &options)?;
+            let rows = d
+                .windows
+                .into_par_iter()
+                .map(|w| SurfaceRow {
+                    start: w.start_s,
+                    end: w.end_s,
+                    t_mean_c: w.t_mean_c,
+                    t_change_c: w.t_change_c,
+                    samples: w.samples,
+                    terms: identify(&w.points, &w.points, confidence),
+                    points: w.points,
+                })
+                .collect();
+            let skipped = d
+                .skipped
+                .into_iter()
+                .map(|s| SkippedSlice {
+                    start: s.start_s,
+                    end: s.end_s,
+                    reason: s.reason,
+                })
+                .collect();
+            Ok(Surface { rows, skipped })
+        }
+    }
+}
+
+/// The surface over bins of `bin_width_c`.
+fn bins(
+    data: &[f64],
+    temp: &[f64],
+    rate_hz: f64,
+    bin_width_c: f64,
+    confidence: f64,
+) -> Result<Surface, ThermalError> {
+    if !(bin_width_c.is_finite() && bin_width_c > 0.0) {
+        return Err(ThermalError::Invalid(format!(
+            "bin width {bin_width_c} °C must be positive"
+        )));
+    }
+    let (lo, hi) = temp
+        .iter()
+        .filter(|t| t.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &t| {
+            (a.min(t), b.max(t))
+        });
+    if !lo.is_finite() {
+        return Err(ThermalError::NoTemperature);
+    }
+    let bins = ((hi / bin_width_c).floor() - (lo / bin_width_c).floor()) + 1.0;
+    if bins > MAX_BINS as f64 {
+        return Err(ThermalError::Invalid(format!(
+            "bins of {bin_width_c} °C over {lo:.2} to {hi:.2} °C would be {bins:.0} bins; \
+             at most {MAX_BINS} are analysed: give a wider bin"
+        )));
+    }
+    if let Some(q) = temperature_resolution(temp)
+        && bin_width_c < q
+    {
+        return Err(ThermalError::Invalid(format!(
+            "bins of {bin_width_c} °C are finer than the temperature's resolution, {q:.3e} °C"
         )));
     }
     let opts = Options {
@@ -106,127 +215,56 @@ pub fn surface(
         taus: TauSpec::Octave,
         confidence,
     };
-    let analyse = |series: Vec<f64>, t: &[f64], start: f64, end: f64| -> Option<SurfaceRow> {
-        // The temperatures of the samples used, summed in order (from
-        // -0.0, as `Iterator::sum`) without keeping them: (count, sum,
-        // first, last).
-        let (samples, sum, first, last) = series
-            .iter()
-            .zip(t)
-            .filter(|(v, _)| !v.is_nan())
-            .fold((0usize, -0.0, None, 0.0), |(n, s, f, _), (_, &t)| {
-                (n + 1, s + t, f.or(Some(t)), t)
-            });
-        if samples < MIN_SLICE_SAMPLES {
-            return None;
-        }
-        let t_mean_c = sum / samples as f64;
-        let t_change_c = last - first.unwrap_or(0.0);
-        let curve = allan::analyze_vec(series, &opts).ok()?;
-        let terms = identify(&curve.points, &curve.points, confidence);
-        Some(SurfaceRow {
-            start,
-            end,
-            t_mean_c,
-            t_change_c,
-            samples,
-            points: curve.points,
-            terms,
-        })
-    };
-    match slicing {
-        Slicing::Temperature { bin_width_c } => {
-            if !(bin_width_c.is_finite() && bin_width_c > 0.0) {
-                return Err(ThermalError::Invalid(format!(
-                    "bin width {bin_width_c} °C must be positive"
-                )));
-            }
-            let (lo, hi) = temp
+    let first = (lo / bin_width_c).floor() as i64;
+    let last = (hi / bin_width_c).floor() as i64;
+    let results: Vec<Result<SurfaceRow, SkippedSlice>> = (first..=last)
+        .into_par_iter()
+        .filter_map(|k| {
+            let (a, b) = (k as f64 * bin_width_c, (k + 1) as f64 * bin_width_c);
+            let inside = |t: f64| t >= a && t < b;
+            // From the bin's first sample to its last: the NaN edges
+            // outside would be trimmed as missing edges anyway
+            // (`PhaseSeries`), and a bin of a cooling run is a short
+            // stretch of it, not a copy of the whole channel. A bin the
+            // temperature never visits is no slice at all.
+            let first = temp.iter().position(|&t| inside(t))?;
+            let last = temp.iter().rposition(|&t| inside(t))?;
+            let series: Vec<f64> = data[first..=last]
                 .iter()
-                .filter(|t| t.is_finite())
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &t| {
-                    (a.min(t), b.max(t))
-                });
-            if !lo.is_finite() {
-                return Err(ThermalError::NoTemperature);
+                .zip(&temp[first..=last])
+                .map(|(&v, &t)| if inside(t) { v } else { f64::NAN })
+                .collect();
+            let skip = |reason: Skip| SkippedSlice {
+                start: a,
+                end: b,
+                reason,
+            };
+            let label = Label::of(&series, &temp[first..=last]);
+            if label.samples < MIN_SLICE_SAMPLES {
+                return Some(Err(skip(Skip::TooFewSamples { valid: label.samples })));
             }
-            let bins = ((hi / bin_width_c).floor() - (lo / bin_width_c).floor()) + 1.0;
-            if bins > MAX_BINS as f64 {
-                return Err(ThermalError::Invalid(format!(
-                    "bins of {bin_width_c} °C over {lo:.2} to {hi:.2} °C would be {bins:.0} bins; \
-                     at most {MAX_BINS} are analysed: give a wider bin"
-                )));
-            }
-            if let Some(q) = temperature_resolution(temp)
-                && bin_width_c < q
-            {
-                return Err(ThermalError::Invalid(format!(
-                    "bins of {bin_width_c} °C are finer than the temperature's resolution, {q:.3e} °C"
-                )));
-            }
-            let first = (lo / bin_width_c).floor() as i64;
-            let last = (hi / bin_width_c).floor() as i64;
-            Ok((first..=last)
-                .into_par_iter()
-                .filter_map(|k| {
-                    let (a, b) = (k as f64 * bin_width_c, (k + 1) as f64 * bin_width_c);
-                    let inside = |t: f64| t >= a && t < b;
-                    // From the bin's first sample to its last: the NaN edges
-                    // outside would be trimmed as missing edges anyway
-                    // (`PhaseSeries`), and a bin of a cooling run is a short
-                    // stretch of it, not a copy of the whole channel.
-                    let first = temp.iter().position(|&t| inside(t))?;
-                    let last = temp.iter().rposition(|&t| inside(t))?;
-                    let series: Vec<f64> = data[first..=last]
-                        .iter()
-                        .zip(&temp[first..=last])
-                        .map(|(&v, &t)| if inside(t) { v } else { f64::NAN })
-                        .collect();
-                    analyse(series, &temp[first..=last], a, b)
-                })
-                .collect())
-        }
-        Slicing::Time { window_s, step_s } => {
-            if !(window_s > 0.0 && step_s > 0.0 && window_s.is_finite() && step_s.is_finite()) {
-                return Err(ThermalError::Invalid(format!(
-                    "window {window_s} s and step {step_s} s must be positive"
-                )));
-            }
-            if step_s * rate_hz < 1.0 {
-                return Err(ThermalError::Invalid(format!(
-                    "a step of {step_s} s is shorter than one sample ({:.3e} s at {rate_hz} Hz)",
-                    1.0 / rate_hz
-                )));
-            }
-            let w = (window_s * rate_hz).round() as usize;
-            let s = ((step_s * rate_hz).round() as usize).max(1);
-            if w < MIN_SLICE_SAMPLES || w > data.len() {
-                return Err(ThermalError::Invalid(format!(
-                    "a window of {window_s} s holds {w} samples; it must hold at least {MIN_SLICE_SAMPLES} and at most the {} of the recording",
-                    data.len()
-                )));
-            }
-            let windows = (data.len() - w) / s + 1;
-            if windows > MAX_WINDOWS {
-                return Err(ThermalError::Invalid(format!(
-                    "a step of {step_s} s would cut {windows} windows; at most {MAX_WINDOWS} are analysed: \
-                     give a longer step"
-                )));
-            }
-            let starts: Vec<usize> = (0..=data.len() - w).step_by(s).collect();
-            Ok(starts
-                .into_par_iter()
-                .filter_map(|i| {
-                    analyse(
-                        data[i..i + w].to_vec(),
-                        &temp[i..i + w],
-                        i as f64 / rate_hz,
-                        (i + w) as f64 / rate_hz,
-                    )
-                })
-                .collect())
+            Some(match allan::analyze_vec(series, &opts) {
+                Ok(curve) => Ok(SurfaceRow {
+                    start: a,
+                    end: b,
+                    t_mean_c: label.t_mean_c(),
+                    t_change_c: label.t_change_c(),
+                    samples: label.samples,
+                    terms: identify(&curve.points, &curve.points, confidence),
+                    points: curve.points,
+                }),
+                Err(e) => Err(skip(Skip::Statistic(e))),
+            })
+        })
+        .collect();
+    let (mut rows, mut skipped) = (Vec::new(), Vec::new());
+    for r in results {
+        match r {
+            Ok(row) => rows.push(row),
+            Err(s) => skipped.push(s),
         }
     }
+    Ok(Surface { rows, skipped })
 }
 
 #[cfg(test)]
@@ -408,6 +446,147 @@ mod tests {
             100.0,
         );
         assert!(windows.contains("19901 windows"), "{windows}");
+    }
+
+    /// The time windows as first written: each a copy of the window,
+    /// labelled by the temperatures of its non-NaN samples, dropped when
+    /// too short. What the shared windows must reproduce where the
+    /// temperature has no gap.
+    fn straightforward_windows(
+        data: &[f64],
+        temp: &[f64],
+        rate_hz: f64,
+        w: usize,
+        s: usize,
+    ) -> Vec<(f64, f64, f64, f64, usize, Vec<Point>)> {
+        let opts = Options {
+            rate_hz,
+            taus: TauSpec::Octave,
+            ..Options::default()
+        };
+        (0..=data.len() - w)
+            .step_by(s)
+            .filter_map(|i| {
+                let window = data[i..i + w].to_vec();
+                let used: Vec<f64> = window
+                    .iter()
+                    .zip(&temp[i..i + w])
+                    .filter(|(v, _)| !v.is_nan())
+                    .map(|(_, &t)| t)
+                    .collect();
+                if used.len() < MIN_SLICE_SAMPLES {
+                    return None;
+                }
+                let mean = used.iter().sum::<f64>() / used.len() as f64;
+                let change = used[used.len() - 1] - used[0];
+                let curve = allan::analyze_vec(window, &opts).ok()?;
+                let (start, end) = (i as f64 / rate_hz, (i + w) as f64 / rate_hz);
+                Some((start, end, mean, change, used.len(), curve.points))
+            })
+            .collect()
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(16))]
+        #[test]
+        fn time_windows_give_what_copied_windows_gave(
+            seed in proptest::prelude::any::<u64>(),
+            n in 300usize..4000,
+            gaps in 0usize..3,
+            w in 64usize..300,
+            s in 1usize..200,
+        ) {
+            let (mut data, temp) = ramp(n);
+            let mut state = seed | 1;
+            for _ in 0..gaps {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                // A lost stretch that may empty a window.
+                let at = (state % n as u64) as usize;
+                let len = (state >> 32) as usize % 300;
+                for v in &mut data[at..(at + len).min(n)] {
+                    *v = f64::NAN;
+                }
+            }
+            let rate = 10.0;
+            let slicing = Slicing::Time { window_s: w as f64 / rate, step_s: s as f64 / rate };
+            let got = slices(&data, &temp, rate, slicing, allan::DEFAULT_CONFIDENCE).unwrap();
+            let want = straightforward_windows(&data, &temp, rate, w, s);
+            proptest::prop_assert_eq!(got.rows.len(), want.len());
+            for (g, w) in got.rows.iter().zip(&want) {
+                proptest::prop_assert_eq!((g.start, g.end, g.t_mean_c, g.t_change_c, g.samples), (w.0, w.1, w.2, w.3, w.4));
+                proptest::prop_assert_eq!(&g.points, &w.5);
+            }
+            // What the copied windows dropped is listed, not lost.
+            proptest::prop_assert_eq!(got.rows.len() + got.skipped.len(), (n - w) / s + 1);
+        }
+    }
+
+    #[test]
+    fn a_window_without_temperatures_is_labelled_by_the_samples_that_have_one() {
+        let (data, mut temp) = ramp(3000);
+        // The sensor's temperature lost for a while in the second window.
+        for t in &mut temp[1100..1150] {
+            *t = f64::NAN;
+        }
+        let slicing = Slicing::Time {
+            window_s: 100.0,
+            step_s: 100.0,
+        };
+        let s = slices(&data, &temp, 10.0, slicing, allan::DEFAULT_CONFIDENCE).unwrap();
+        assert_eq!(s.rows.len(), 3);
+        let row = &s.rows[1];
+        assert_eq!(row.samples, 950);
+        let labelled: Vec<f64> = temp[1000..2000]
+            .iter()
+            .copied()
+            .filter(|t| t.is_finite())
+            .collect();
+        let mean = labelled.iter().sum::<f64>() / labelled.len() as f64;
+        assert!((row.t_mean_c - mean).abs() < 1e-9, "{} {mean}", row.t_mean_c);
+    }
+
+    #[test]
+    fn slices_without_enough_samples_are_listed_with_the_reason() {
+        let (mut data, temp) = ramp(3000);
+        for v in &mut data[1000..1990] {
+            *v = f64::NAN;
+        }
+        let slicing = Slicing::Time {
+            window_s: 100.0,
+            step_s: 100.0,
+        };
+        let s = slices(&data, &temp, 10.0, slicing, allan::DEFAULT_CONFIDENCE).unwrap();
+        assert_eq!(s.rows.len(), 2);
+        assert_eq!(
+            s.skipped,
+            vec![SkippedSlice {
+                start: 100.0,
+                end: 200.0,
+                reason: Skip::TooFewSamples { valid: 10 }
+            }]
+        );
+        // A bin the ramp crosses in fewer samples than a slice needs: 20
+        // samples per °C here, so 1 °C bins are all too short.
+        let (data, temp) = ramp(1200);
+        let s = slices(
+            &data,
+            &temp,
+            10.0,
+            Slicing::Temperature { bin_width_c: 1.0 },
+            allan::DEFAULT_CONFIDENCE,
+        )
+        .unwrap();
+        assert!(s.rows.is_empty());
+        let mut visited: Vec<i64> = temp.iter().map(|t| t.floor() as i64).collect();
+        visited.dedup();
+        assert_eq!(s.skipped.len(), visited.len());
+        assert!(
+            s.skipped
+                .iter()
+                .all(|k| matches!(k.reason, Skip::TooFewSamples { valid } if valid < MIN_SLICE_SAMPLES))
+        );
     }
 
     #[test]

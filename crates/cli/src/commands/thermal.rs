@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use serde_json::json;
 
 use allan::noise_terms::{Term, TermEstimate};
-use thermal::surface::{Slicing, SurfaceRow, surface};
+use thermal::surface::{Slicing, Surface, slices};
 
 use crate::args::{SliceBy, ThermalArgs};
 use crate::flags::recording_options;
@@ -34,13 +34,13 @@ pub fn run(a: &ThermalArgs) -> Result<()> {
             a.file.display()
         );
     };
-    let surfaces: Vec<(String, String, Vec<SurfaceRow>)> = sel
+    let surfaces: Vec<(String, String, Surface)> = sel
         .channels
         .par_iter()
         .map(|ch| {
-            surface(&ch.data, temp, sel.rate_hz, slicing, confidence)
+            slices(&ch.data, temp, sel.rate_hz, slicing, confidence)
                 .with_context(|| format!("{}: {}", a.file.display(), ch.name))
-                .map(|rows| (ch.name.clone(), ch.unit.clone(), rows))
+                .map(|s| (ch.name.clone(), ch.unit.clone(), s))
         })
         .collect::<Result<_>>()?;
     let stdout = std::io::stdout();
@@ -52,11 +52,11 @@ pub fn run(a: &ThermalArgs) -> Result<()> {
         };
         let channels: Vec<_> = surfaces
             .iter()
-            .map(|(name, unit, rows)| {
+            .map(|(name, unit, surface)| {
                 json!({
                     "name": name,
                     "unit": unit,
-                    "rows": rows.iter().map(|r| json!({
+                    "rows": surface.rows.iter().map(|r| json!({
                         "start": r.start,
                         "end": r.end,
                         "t_mean_c": r.t_mean_c,
@@ -72,6 +72,11 @@ pub fn run(a: &ThermalArgs) -> Result<()> {
                             "K": term(r.terms.fit.get(Term::RateRandomWalk)),
                             "sigma_min": r.terms.slope.sigma_min.map(|m| json!({"value": m.value, "tau": m.tau})),
                         },
+                    })).collect::<Vec<_>>(),
+                    "skipped": surface.skipped.iter().map(|k| json!({
+                        "start": k.start,
+                        "end": k.end,
+                        "reason": k.reason.to_string(),
                     })).collect::<Vec<_>>(),
                 })
             })
@@ -92,7 +97,8 @@ pub fn run(a: &ThermalArgs) -> Result<()> {
             Slicing::Temperature { .. } => ("bin [°C]", "°C"),
             Slicing::Time { .. } => ("window [s]", "s"),
         };
-        for (name, ch_unit, rows) in &surfaces {
+        for (name, ch_unit, surface) in &surfaces {
+            let rows = &surface.rows;
             writeln!(
                 out,
                 "# {name} [{ch_unit}] — OADEV over {label}, N and B from the fit"
@@ -132,6 +138,13 @@ pub fn run(a: &ThermalArgs) -> Result<()> {
                     }
                 }
                 writeln!(out, "{line}")?;
+            }
+            for k in &surface.skipped {
+                writeln!(
+                    out,
+                    "# no curve for {:.1}–{:.1} {unit}: {}",
+                    k.start, k.end, k.reason
+                )?;
             }
             writeln!(out)?;
         }

@@ -10,12 +10,19 @@
 //! windows follow the temperature down, so the surface σ(τ, T) is dense in
 //! temperature where temperature bins give a dozen coarse steps.
 //!
+//! This is the one implementation of time windows: the report's dynamic
+//! ADEV views use it directly and [`crate::surface`]'s
+//! [`Slicing::Time`](crate::surface::Slicing::Time) adds each window's noise
+//! terms to it.
+//!
 //! The statistic is `allan`'s own, computed on a slice of the recording per
 //! window: nothing is copied up front, and at most one window per worker
-//! thread is held as phase at a time. Windows run in parallel and come back
-//! in time order. A window with gaps is analysed (OADEV skips the terms
-//! that cross them) and says how many samples it lacked; a window with too
-//! few samples, or that the statistic refuses, is listed with its reason.
+//! thread is held, as the phase the statistic builds, at a time. Windows run
+//! in parallel and come back in time order. A window with gaps is analysed
+//! (OADEV skips the terms that cross them) and says how many samples it
+//! lacked; a sample whose temperature is missing cannot be labelled and is a
+//! gap too (as it is in no temperature bin); a window with too few samples,
+//! or that the statistic refuses, is listed with its reason.
 
 use rayon::prelude::*;
 use thiserror::Error;
@@ -288,18 +295,9 @@ fn window(
         end_s,
         reason,
     };
-    // A sample without its temperature cannot be labelled: a gap too.
-    let valid = || {
-        data.iter()
-            .zip(temp)
-            .filter(|(v, t)| !v.is_nan() && t.is_finite())
-            .map(|(_, &t)| t)
-    };
-    let (samples, sum, first_t, last_t) = valid().fold((0usize, 0.0, None, None), |(n, s, f, _), t| {
-        (n + 1, s + t, f.or(Some(t)), Some(t))
-    });
-    if samples < MIN_WINDOW_SAMPLES {
-        return Err(skip(Skip::TooFewSamples { valid: samples }));
+    let label = Label::of(data, temp);
+    if label.samples < MIN_WINDOW_SAMPLES {
+        return Err(skip(Skip::TooFewSamples { valid: label.samples }));
     }
     let unlabelled = temp.iter().any(|t| !t.is_finite());
     let points = if unlabelled {
@@ -317,12 +315,58 @@ fn window(
     Ok(Window {
         start_s,
         end_s,
-        t_mean_c: sum / samples as f64,
-        t_change_c: last_t.unwrap_or(0.0) - first_t.unwrap_or(0.0),
-        samples,
-        gap_samples: data.len() - samples,
+        t_mean_c: label.t_mean_c(),
+        t_change_c: label.t_change_c(),
+        samples: label.samples,
+        gap_samples: data.len() - label.samples,
         points,
     })
+}
+
+/// What labels a slice: its valid samples (neither the sample nor its
+/// temperature missing) and their temperatures, summed in order without
+/// being kept.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Label {
+    /// Valid samples.
+    pub samples: usize,
+    sum: f64,
+    first: f64,
+    last: f64,
+}
+
+impl Label {
+    /// The label of `data` against `temp` (same length).
+    pub fn of(data: &[f64], temp: &[f64]) -> Label {
+        // A sample without its temperature cannot be labelled: a gap too.
+        data.iter()
+            .zip(temp)
+            .filter(|(v, t)| !v.is_nan() && t.is_finite())
+            .fold(
+                Label {
+                    samples: 0,
+                    sum: 0.0,
+                    first: f64::NAN,
+                    last: f64::NAN,
+                },
+                |l, (_, &t)| Label {
+                    samples: l.samples + 1,
+                    sum: l.sum + t,
+                    first: if l.samples == 0 { t } else { l.first },
+                    last: t,
+                },
+            )
+    }
+
+    /// Mean temperature of the valid samples, °C (NaN if none).
+    pub fn t_mean_c(&self) -> f64 {
+        self.sum / self.samples as f64
+    }
+
+    /// Last − first valid temperature, °C (NaN if none).
+    pub fn t_change_c(&self) -> f64 {
+        self.last - self.first
+    }
 }
 
 #[cfg(test)]
