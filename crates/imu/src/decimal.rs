@@ -11,7 +11,7 @@
 //! divided exactly in integers instead (see `long_quotient`).
 
 /// 10^k, exact in a double for k ≤ 22.
-const POW10: [f64; 23] = [
+pub(crate) const POW10: [f64; 23] = [
     1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18,
     1e19, 1e20, 1e21, 1e22,
 ];
@@ -124,7 +124,7 @@ fn parse_quotient(s: &[u8]) -> Option<(Quotient, usize)> {
     if w > 1 << 53 {
         return None;
     }
-    let w = w as f64;
+    let w = exact_f64(w);
     Some((
         Quotient {
             numerator: if negative { -w } else { w },
@@ -197,7 +197,7 @@ pub(crate) fn short_quotient(s: &[u8], len: usize) -> Option<Quotient> {
         fold8(a.wrapping_sub(ZEROS)) * POW10_INT[digits - 8]
             + fold8(b.wrapping_sub(ZEROS) << (8 * (16 - digits)))
     };
-    let w = w as f64;
+    let w = exact_f64(w);
     Some(Quotient {
         numerator: if negative { -w } else { w },
         denominator: POW10[frac],
@@ -232,13 +232,23 @@ fn fold8(v: u64) -> u64 {
     (v.wrapping_mul(10000)).wrapping_add(v >> 32) & 0xffff_ffff
 }
 
+/// `w` ≤ 2^53 as a double, exactly. Through `i64`, because baseline
+/// x86-64 has no unsigned conversion: `u64 as f64` is five instructions
+/// and two constant loads, `i64 as f64` one `cvtsi2sd`; both are exact
+/// below 2^53.
+#[inline(always)]
+fn exact_f64(w: u64) -> f64 {
+    debug_assert!(w <= 1 << 53);
+    w as i64 as f64
+}
+
 /// `[+-]digits[.digits]` (either side of the point may be empty, not
 /// both) that Clinger's fast path reads exactly; `None` for anything else.
 #[inline(always)]
 pub(crate) fn parse_plain(s: &[u8]) -> Option<(f64, usize)> {
     let (negative, w, frac_digits, i) = plain_digits(s)?;
     let v = if w <= 1 << 53 {
-        w as f64 / POW10[frac_digits]
+        exact_f64(w) / POW10[frac_digits]
     } else {
         long_quotient(w, frac_digits)
     };
