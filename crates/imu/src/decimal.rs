@@ -247,18 +247,25 @@ fn exact_f64(w: u64) -> f64 {
 #[inline(always)]
 pub(crate) fn parse_plain(s: &[u8]) -> Option<(f64, usize)> {
     let (negative, w, frac_digits, i) = plain_digits(s)?;
+    Some((plain_value(negative, w, frac_digits), i))
+}
+
+/// The value of a plain decimal from its sign, its digits as one integer
+/// (at most 19 digits) and the number of them after the point.
+#[inline(always)]
+pub(crate) fn plain_value(negative: bool, w: u64, frac_digits: usize) -> f64 {
     let v = if w <= 1 << 53 {
         exact_f64(w) / POW10[frac_digits]
     } else {
         long_quotient(w, frac_digits)
     };
-    Some((if negative { -v } else { v }, i))
+    if negative { -v } else { v }
 }
 
 /// The sign, the digits as one integer, the number of digits after the
 /// point, and the bytes taken, of a plain decimal of at most 19 digits.
 #[inline(always)]
-fn plain_digits(s: &[u8]) -> Option<(bool, u64, usize, usize)> {
+pub(crate) fn plain_digits(s: &[u8]) -> Option<(bool, u64, usize, usize)> {
     let (negative, i) = match s.first() {
         Some(b'-') => (true, 1),
         Some(b'+') => (false, 1),
@@ -283,7 +290,8 @@ fn plain_digits(s: &[u8]) -> Option<(bool, u64, usize, usize)> {
 
 /// w / 10^k correctly rounded, for 2^53 < w < 2^64 and k ≤ 19 (a full
 /// precision double printed shortest, as loggers write them): one integer
-/// division. The numerator is w·2^s with s chosen so that the quotient q
+/// division (Möller and Granlund's division by a precomputed reciprocal,
+/// tried in its place, was no faster on a thesis log). The numerator is w·2^s with s chosen so that the quotient q
 /// has exactly 64 bits; the remainder, as a sticky bit in q's last place
 /// (11 places below the rounding position, so it only breaks a tie that
 /// is not one), makes the correctly rounded u64 → f64 conversion round the

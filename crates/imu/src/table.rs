@@ -947,6 +947,39 @@ impl Layout<'_> {
     /// then handles.
     #[inline]
     fn parse_row_fast(&self, rest: &[u8], values: &mut [f64]) -> Option<usize> {
+        self.parse_row_with(rest, values, crate::decimal::parse_prefix)
+    }
+
+    /// [`Layout::parse_row_fast`] with each cell's digits found and folded
+    /// in SSSE3/SSE4.1 registers (`crate::decimal_x86::plain_digits`), the
+    /// scalar reader deciding whatever that form leaves to it.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "ssse3,sse4.1")]
+    fn parse_row_sse41(&self, rest: &[u8], values: &mut [f64]) -> Option<usize> {
+        self.parse_row_with(rest, values, |s| match crate::decimal_x86::plain_digits(s) {
+            Some((negative, w, frac_digits, used)) => {
+                Some((crate::decimal::plain_value(negative, w, frac_digits), used))
+            }
+            None => crate::decimal::parse_prefix(s),
+        })
+    }
+
+    /// Whether this CPU runs [`Layout::parse_row_sse41`].
+    fn row_simd() -> bool {
+        #[cfg(target_arch = "x86_64")]
+        return crate::decimal_x86::available();
+        #[cfg(not(target_arch = "x86_64"))]
+        false
+    }
+
+    /// A row, read with the cell parse it is given.
+    #[inline(always)]
+    fn parse_row_with(
+        &self,
+        rest: &[u8],
+        values: &mut [f64],
+        cell: impl Fn(&[u8]) -> Option<(f64, usize)>,
+    ) -> Option<usize> {
         let is_blank = |b: u8| b == b' ' || (b == b'\t' && self.delimiter != Delimiter::Tab);
         let sep = match self.delimiter {
             Delimiter::Comma => Some(b','),
@@ -960,7 +993,7 @@ impl Layout<'_> {
             while pos < n && is_blank(rest[pos]) {
                 pos += 1;
             }
-            let (v, used) = crate::decimal::parse_prefix(&rest[pos..])?;
+            let (v, used) = cell(&rest[pos..])?;
             *slot = v;
             pos += used;
             while pos < n && is_blank(rest[pos]) {
@@ -1019,6 +1052,7 @@ impl Layout<'_> {
         let mut values: Vec<f64> = vec![0.0; self.ncols];
         let mut rest = block;
         let single = self.ncols == 1 && self.select == [0];
+        let row_simd = Self::row_simd();
         while !rest.is_empty() {
             // A run of empty lines is skipped at once: a file of nothing but
             // newlines costs one run and a pass over its bytes.
@@ -1048,7 +1082,19 @@ impl Layout<'_> {
                     break;
                 }
             }
-            if let Some(used) = self.parse_row_fast(rest, &mut values) {
+            let fast = if row_simd {
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: `row_simd` is `decimal_x86::available()`, which
+                // found SSSE3 and SSE4.1 on this CPU.
+                unsafe {
+                    self.parse_row_sse41(rest, &mut values)
+                }
+                #[cfg(not(target_arch = "x86_64"))]
+                None
+            } else {
+                self.parse_row_fast(rest, &mut values)
+            };
+            if let Some(used) = fast {
                 for (dst, &i) in columns.iter_mut().zip(self.select) {
                     dst.push(values[i]);
                 }
