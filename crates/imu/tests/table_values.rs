@@ -48,7 +48,7 @@ fn check(cols: usize, sep: &str, rows: &[Vec<String>]) -> Result<(), TestCaseErr
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(24))]
+    #![proptest_config(ProptestConfig::with_cases(16))]
 
     #[test]
     fn cells_read_as_str_parse_reads_them(
