@@ -291,8 +291,9 @@ pub(crate) fn plain_digits(s: &[u8]) -> Option<(bool, u64, usize, usize)> {
 /// w / 10^k correctly rounded, for 2^53 < w < 2^64 and k ≤ 19 (a full
 /// precision double printed shortest, as loggers write them): one integer
 /// division (Möller and Granlund's division by a precomputed reciprocal,
-/// tried in its place, was no faster on a thesis log). The numerator is w·2^s with s chosen so that the quotient q
-/// has exactly 64 bits; the remainder, as a sticky bit in q's last place
+/// tried in its place, was no faster on a thesis log). The numerator is
+/// w·2^s with s chosen so that the quotient q has exactly 64 bits; the
+/// remainder, as a sticky bit in q's last place
 /// (11 places below the rounding position, so it only breaks a tie that
 /// is not one), makes the correctly rounded u64 → f64 conversion round the
 /// exact quotient. Scaling by 2^−s is exact: the result is ≥ 2^53 / 10^19,
