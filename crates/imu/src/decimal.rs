@@ -11,7 +11,7 @@
 //! divided exactly in integers instead (see `long_quotient`).
 
 /// 10^k, exact in a double for k ≤ 22.
-const POW10: [f64; 23] = [
+pub(crate) const POW10: [f64; 23] = [
     1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18,
     1e19, 1e20, 1e21, 1e22,
 ];
@@ -124,7 +124,7 @@ fn parse_quotient(s: &[u8]) -> Option<(Quotient, usize)> {
     if w > 1 << 53 {
         return None;
     }
-    let w = w as f64;
+    let w = exact_f64(w);
     Some((
         Quotient {
             numerator: if negative { -w } else { w },
@@ -197,7 +197,7 @@ pub(crate) fn short_quotient(s: &[u8], len: usize) -> Option<Quotient> {
         fold8(a.wrapping_sub(ZEROS)) * POW10_INT[digits - 8]
             + fold8(b.wrapping_sub(ZEROS) << (8 * (16 - digits)))
     };
-    let w = w as f64;
+    let w = exact_f64(w);
     Some(Quotient {
         numerator: if negative { -w } else { w },
         denominator: POW10[frac],
@@ -232,23 +232,40 @@ fn fold8(v: u64) -> u64 {
     (v.wrapping_mul(10000)).wrapping_add(v >> 32) & 0xffff_ffff
 }
 
+/// `w` ≤ 2^53 as a double, exactly. Through `i64`, because baseline
+/// x86-64 has no unsigned conversion: `u64 as f64` is five instructions
+/// and two constant loads, `i64 as f64` one `cvtsi2sd`; both are exact
+/// below 2^53.
+#[inline(always)]
+fn exact_f64(w: u64) -> f64 {
+    debug_assert!(w <= 1 << 53);
+    w as i64 as f64
+}
+
 /// `[+-]digits[.digits]` (either side of the point may be empty, not
 /// both) that Clinger's fast path reads exactly; `None` for anything else.
 #[inline(always)]
 pub(crate) fn parse_plain(s: &[u8]) -> Option<(f64, usize)> {
     let (negative, w, frac_digits, i) = plain_digits(s)?;
+    Some((plain_value(negative, w, frac_digits), i))
+}
+
+/// The value of a plain decimal from its sign, its digits as one integer
+/// (at most 19 digits) and the number of them after the point.
+#[inline(always)]
+pub(crate) fn plain_value(negative: bool, w: u64, frac_digits: usize) -> f64 {
     let v = if w <= 1 << 53 {
-        w as f64 / POW10[frac_digits]
+        exact_f64(w) / POW10[frac_digits]
     } else {
         long_quotient(w, frac_digits)
     };
-    Some((if negative { -v } else { v }, i))
+    if negative { -v } else { v }
 }
 
 /// The sign, the digits as one integer, the number of digits after the
 /// point, and the bytes taken, of a plain decimal of at most 19 digits.
 #[inline(always)]
-fn plain_digits(s: &[u8]) -> Option<(bool, u64, usize, usize)> {
+pub(crate) fn plain_digits(s: &[u8]) -> Option<(bool, u64, usize, usize)> {
     let (negative, i) = match s.first() {
         Some(b'-') => (true, 1),
         Some(b'+') => (false, 1),
@@ -273,8 +290,10 @@ fn plain_digits(s: &[u8]) -> Option<(bool, u64, usize, usize)> {
 
 /// w / 10^k correctly rounded, for 2^53 < w < 2^64 and k ≤ 19 (a full
 /// precision double printed shortest, as loggers write them): one integer
-/// division. The numerator is w·2^s with s chosen so that the quotient q
-/// has exactly 64 bits; the remainder, as a sticky bit in q's last place
+/// division (Möller and Granlund's division by a precomputed reciprocal,
+/// tried in its place, was no faster on a thesis log). The numerator is
+/// w·2^s with s chosen so that the quotient q has exactly 64 bits; the
+/// remainder, as a sticky bit in q's last place
 /// (11 places below the rounding position, so it only breaks a tie that
 /// is not one), makes the correctly rounded u64 → f64 conversion round the
 /// exact quotient. Scaling by 2^−s is exact: the result is ≥ 2^53 / 10^19,

@@ -33,6 +33,8 @@
 //! ```
 
 mod decimal;
+#[cfg(target_arch = "x86_64")]
+mod decimal_x86;
 pub mod error;
 pub mod header;
 pub mod log_file;

@@ -20,8 +20,9 @@ use std::sync::{Arc, Mutex};
 
 use rayon::prelude::*;
 
-use crate::decimal::Quotient;
 use crate::error::{ReadError, ReadErrorKind};
+
+mod short_lines;
 
 /// Bytes per parse block: large enough to amortise the thread hand-off,
 /// small enough that a batch of them stays a few MiB.
@@ -655,31 +656,6 @@ mod huge_pages {
     pub(super) fn advise(_column: &mut Vec<f64>) {}
 }
 
-/// Lines of one column parsed before their divisions are done.
-const QUOTIENT_BATCH: usize = 64;
-
-/// The length of the line at the start of `s` when its newline lies
-/// within its first 16 bytes (and `s` has 16): two 8-byte words tested for
-/// a newline byte at once. The lowest flagged byte is exact (a borrow
-/// only flags bytes above a true match).
-#[inline(always)]
-fn short_line_len(s: &[u8]) -> Option<usize> {
-    const ONES: u64 = 0x0101_0101_0101_0101;
-    const HIGHS: u64 = 0x8080_8080_8080_8080;
-    let newline = |w: u64| {
-        let x = w ^ (ONES * u64::from(b'\n'));
-        x.wrapping_sub(ONES) & !x & HIGHS
-    };
-    let words = s.get(..16)?;
-    let (a, b) = words.split_at(8);
-    let a = newline(u64::from_le_bytes(a.try_into().ok()?));
-    if a != 0 {
-        return Some((a.trailing_zeros() / 8) as usize);
-    }
-    let b = newline(u64::from_le_bytes(b.try_into().ok()?));
-    (b != 0).then(|| 8 + (b.trailing_zeros() / 8) as usize)
-}
-
 /// Passes a stream through, keeping its last [`TAIL_BYTES`]: the trailer
 /// is found there without reading the input a second time (which a pipe
 /// cannot give, and a live stream would lose bytes to).
@@ -971,6 +947,39 @@ impl Layout<'_> {
     /// then handles.
     #[inline]
     fn parse_row_fast(&self, rest: &[u8], values: &mut [f64]) -> Option<usize> {
+        self.parse_row_with(rest, values, crate::decimal::parse_prefix)
+    }
+
+    /// [`Layout::parse_row_fast`] with each cell's digits found and folded
+    /// in SSSE3/SSE4.1 registers (`crate::decimal_x86::plain_digits`), the
+    /// scalar reader deciding whatever that form leaves to it.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "ssse3,sse4.1")]
+    fn parse_row_sse41(&self, rest: &[u8], values: &mut [f64]) -> Option<usize> {
+        self.parse_row_with(rest, values, |s| match crate::decimal_x86::plain_digits(s) {
+            Some((negative, w, frac_digits, used)) => {
+                Some((crate::decimal::plain_value(negative, w, frac_digits), used))
+            }
+            None => crate::decimal::parse_prefix(s),
+        })
+    }
+
+    /// Whether this CPU runs [`Layout::parse_row_sse41`].
+    fn row_simd() -> bool {
+        #[cfg(target_arch = "x86_64")]
+        return crate::decimal_x86::available();
+        #[cfg(not(target_arch = "x86_64"))]
+        false
+    }
+
+    /// A row, read with the cell parse it is given.
+    #[inline(always)]
+    fn parse_row_with(
+        &self,
+        rest: &[u8],
+        values: &mut [f64],
+        cell: impl Fn(&[u8]) -> Option<(f64, usize)>,
+    ) -> Option<usize> {
         let is_blank = |b: u8| b == b' ' || (b == b'\t' && self.delimiter != Delimiter::Tab);
         let sep = match self.delimiter {
             Delimiter::Comma => Some(b','),
@@ -984,7 +993,7 @@ impl Layout<'_> {
             while pos < n && is_blank(rest[pos]) {
                 pos += 1;
             }
-            let (v, used) = crate::decimal::parse_prefix(&rest[pos..])?;
+            let (v, used) = cell(&rest[pos..])?;
             *slot = v;
             pos += used;
             while pos < n && is_blank(rest[pos]) {
@@ -1043,6 +1052,7 @@ impl Layout<'_> {
         let mut values: Vec<f64> = vec![0.0; self.ncols];
         let mut rest = block;
         let single = self.ncols == 1 && self.select == [0];
+        let row_simd = Self::row_simd();
         while !rest.is_empty() {
             // A run of empty lines is skipped at once: a file of nothing but
             // newlines costs one run and a pass over its bytes.
@@ -1057,36 +1067,8 @@ impl Layout<'_> {
                 // One plain decimal and a newline, the most common row of
                 // all (one gyro axis), without the general row machinery.
                 let column = &mut columns[0];
-                // Each line's end is found from its first 16 bytes apart
-                // from the number's parse, so the next line's address does
-                // not wait for the digits: successive lines overlap in the
-                // processor, and a line the parse does not take whole
-                // leaves for the loop below.
-                // The divisions are done a batch at a time, where they run
-                // two to an instruction (they were a third of the loop).
-                let mut pos = 0;
-                let mut batch = [Quotient {
-                    numerator: 0.0,
-                    denominator: 1.0,
-                }; QUOTIENT_BATCH];
-                loop {
-                    let mut n = 0;
-                    while n < QUOTIENT_BATCH
-                        && let Some(len) = short_line_len(&rest[pos..])
-                    {
-                        match crate::decimal::short_quotient(&rest[pos..], len) {
-                            Some(q) => batch[n] = q,
-                            None => break,
-                        }
-                        n += 1;
-                        pos += len + 1;
-                    }
-                    column.extend(batch[..n].iter().map(|q| q.numerator / q.denominator));
-                    lines += n as u64;
-                    if n < QUOTIENT_BATCH {
-                        break;
-                    }
-                }
+                let (pos, n) = short_lines::read(rest, column);
+                lines += n;
                 rest = &rest[pos..];
                 while let Some((v, used)) = crate::decimal::parse_plain(rest) {
                     if rest.get(used) != Some(&b'\n') {
@@ -1100,7 +1082,19 @@ impl Layout<'_> {
                     break;
                 }
             }
-            if let Some(used) = self.parse_row_fast(rest, &mut values) {
+            let fast = if row_simd {
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: `row_simd` is `decimal_x86::available()`, which
+                // found SSSE3 and SSE4.1 on this CPU.
+                unsafe {
+                    self.parse_row_sse41(rest, &mut values)
+                }
+                #[cfg(not(target_arch = "x86_64"))]
+                None
+            } else {
+                self.parse_row_fast(rest, &mut values)
+            };
+            if let Some(used) = fast {
                 for (dst, &i) in columns.iter_mut().zip(self.select) {
                     dst.push(values[i]);
                 }
@@ -1192,23 +1186,6 @@ impl Layout<'_> {
 
 #[cfg(test)]
 mod tests {
-
-    proptest::proptest! {
-        /// The word test finds the first newline of the first 16 bytes,
-        /// whatever bytes surround it (0x0b and 0x8a differ from a newline
-        /// in one bit each, 0x09 borrows).
-        #[test]
-        fn short_line_len_finds_the_first_newline(bytes in proptest::collection::vec(
-            proptest::prop_oneof![proptest::prelude::Just(b'\n'), proptest::prelude::Just(0x0b_u8),
-                proptest::prelude::Just(0x8a_u8), proptest::prelude::Just(0x09_u8), proptest::prelude::any::<u8>()],
-            0..24,
-        )) {
-            let want = (bytes.len() >= 16)
-                .then(|| bytes[..16].iter().position(|&b| b == b'\n'))
-                .flatten();
-            proptest::prop_assert_eq!(short_line_len(&bytes), want);
-        }
-    }
 
     use super::*;
     use std::io::Write;
