@@ -5,12 +5,14 @@
 //! - OADEV, MDEV and HDEV at single τ on 10^7 points against one read pass
 //!   over them (the memory bandwidth, measured in the same run, on one
 //!   thread): the ratio is the statistic's time in memory passes;
-//! - `analyze` with every τ (`TauSpec::All`) against the statistic alone,
-//!   the difference being noise identification, EDF and intervals.
+//! - `analyze` against the statistic alone on the octave, decade, many and
+//!   every-τ grids, in CPU time on one thread, the difference being noise
+//!   identification, EDF and intervals.
 //!
-//! cargo run --release -p allan --example allan_per_tau [N]
+//! cargo run --release -p allan --example allan_per_tau [N] [grids]
 //!
-//! N defaults to 10^5 (the every-τ part runs only up to 2·10^5). The rate
+//! N defaults to 10^5 (the grids part runs only up to 2·10^5); `grids`
+//! runs that part alone. The rate
 //! series is reproducible white noise (white FM) and its running sum
 //! (random-walk FM), so the lag-1 ACF, B1 and R(n) paths all run.
 
@@ -49,6 +51,10 @@ fn main() {
         .map(|a| a.parse().expect("N is a positive integer"))
         .unwrap_or(100_000);
     let rate = white(n, 7);
+    if std::env::args().nth(2).as_deref() == Some("grids") {
+        per_tau_overhead(&rate);
+        return;
+    }
     let series = PhaseSeries::new(&rate, DataType::Freq, 1.0).expect("finite samples");
     let phase = series.points();
     println!("N = {n} rate samples ({} phase points)", phase.len());
@@ -86,36 +92,83 @@ fn main() {
         println!("\n(analyze with every τ skipped above N = 200000)");
         return;
     }
-    println!("\n-- analyze with every τ: statistic alone against the whole curve --");
+    per_tau_overhead(&rate);
+}
+
+/// CPU time of the calling thread, in seconds: on a shared machine it
+/// counts this run's work alone, where wall time counts the neighbours'.
+fn thread_cpu_seconds() -> f64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `ts` is a valid, writable timespec for the whole call.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID)");
+    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
+}
+
+/// Least CPU time of `reps` runs of `f` on this thread.
+fn best_cpu<T>(reps: usize, mut f: impl FnMut() -> T) -> f64 {
+    (0..reps)
+        .map(|_| {
+            let t0 = thread_cpu_seconds();
+            std::hint::black_box(f());
+            thread_cpu_seconds() - t0
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// `analyze` against the statistic alone on each grid, in CPU time on one
+/// thread: the rest is noise identification, EDF and intervals (goal:
+/// rest/stat ≤ 0.10).
+fn per_tau_overhead(rate: &[f64]) {
+    println!("\n-- analyze against the statistic alone, CPU time on one thread --");
     println!(
-        "{:<8} {:>6} {:>10} {:>10} {:>10} {:>9}",
-        "stat", "taus", "stat s", "curve s", "rest s", "rest/stat"
+        "{:<8} {:<7} {:>6} {:>10} {:>10} {:>10} {:>9}",
+        "stat", "grid", "taus", "stat s", "curve s", "rest s", "rest/stat"
     );
-    for (label, data) in [("wfm", rate.clone()), ("rwfm", integrate(&rate))] {
-        let s = PhaseSeries::new(&data, DataType::Freq, 1.0).expect("finite samples");
-        for stat in [Stat::Oadev, Stat::Hdev] {
-            let ms = taus::averaging_factors(&TauSpec::All, stat, s.len(), s.tau0());
-            let t_stat = best(3, || stats::compute_many(stat, &s, &ms));
-            let opts = Options {
-                stat,
-                taus: TauSpec::All,
-                ..Options::default()
-            };
-            let t_curve = best(3, || {
-                analyze_series(&s, &opts).expect("the series supports the grid")
-            });
-            let rest = t_curve - t_stat;
-            println!(
-                "{:<8} {:>6} {:>10.4} {:>10.4} {:>10.4} {:>9.3}   ({label})",
-                stat.name(),
-                ms.len(),
-                t_stat,
-                t_curve,
-                rest,
-                rest / t_stat
-            );
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("thread pool");
+    let grids = [
+        ("octave", TauSpec::Octave),
+        ("decade", TauSpec::Decade),
+        ("many", TauSpec::Many),
+        ("all", TauSpec::All),
+    ];
+    pool.install(|| {
+        for (label, data) in [("wfm", rate.to_vec()), ("rwfm", integrate(rate))] {
+            let s = PhaseSeries::new(&data, DataType::Freq, 1.0).expect("finite samples");
+            for stat in [Stat::Oadev, Stat::Mdev, Stat::Hdev] {
+                for (grid_name, grid) in &grids {
+                    let ms = taus::averaging_factors(grid, stat, s.len(), s.tau0());
+                    // Short runs repeat more: their minimum needs more draws.
+                    let reps = if *grid_name == "all" { 3 } else { 9 };
+                    let t_stat = best_cpu(reps, || stats::compute_many(stat, &s, &ms));
+                    let opts = Options {
+                        stat,
+                        taus: grid.clone(),
+                        ..Options::default()
+                    };
+                    let t_curve = best_cpu(reps, || {
+                        analyze_series(&s, &opts).expect("the series supports the grid")
+                    });
+                    let rest = t_curve - t_stat;
+                    println!(
+                        "{:<8} {grid_name:<7} {:>6} {:>10.4} {:>10.4} {:>10.4} {:>9.3}   ({label})",
+                        stat.name(),
+                        ms.len(),
+                        t_stat,
+                        t_curve,
+                        rest,
+                        rest / t_stat
+                    );
+                }
+            }
         }
-    }
+    });
 }
 
 /// Phase points of the bandwidth section: 80 MB, well beyond any cache.

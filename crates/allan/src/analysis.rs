@@ -5,7 +5,7 @@ use rayon::prelude::*;
 
 use crate::confidence::chi2_interval;
 use crate::edf::edf_for;
-use crate::noise_id::{self, NoiseId, NoiseIdMethod};
+use crate::noise_id::{self, NoiseId, NoiseIdMethod, Staged};
 use crate::phase::PhaseSeries;
 use crate::stats::{self, Estimate};
 use crate::taus::{self, TauSpec};
@@ -195,7 +195,7 @@ fn analyze_series_grids_with_progress(
     let n_valid = n_phase.saturating_sub(series.nan_samples() - series.trimmed_samples());
 
     let estimates = stats::compute_many_with_progress(stat, series, &ms, progress);
-    let found: Vec<Option<(Estimate, NoiseId)>> = ms
+    let found: Vec<Option<(Estimate, Staged)>> = ms
         .par_iter()
         .zip(estimates)
         .map(|(&m, est)| {
@@ -203,19 +203,68 @@ fn analyze_series_grids_with_progress(
             if est.n < MIN_TERMS || !est.dev.is_finite() {
                 return None;
             }
-            Some((est, noise_id::identify_finite(clean, m, stat)))
+            Some((est, noise_id::identify_finite_staged(clean, m, stat)))
         })
         .collect();
-    grid_ms
+    // Each grid's usable factors, ascending, with the noise type wherever it
+    // is known without R(n) under the grid's cap: the cap reads the shorter
+    // taus of the grid only.
+    let max_abs = std::sync::OnceLock::new();
+    let max_abs = || *max_abs.get_or_init(|| clean.iter().fold(0.0f64, |a, v| a.max(v.abs())));
+    let settled: Vec<Vec<(usize, usize, Option<NoiseId>)>> = grid_ms
         .iter()
         .map(|g| {
-            // The grid's own usable factors, ascending: the cap reads the
-            // shorter taus of this grid only.
+            let mut ceiling = None;
+            g.iter()
+                .filter_map(|&m| {
+                    let i = ms.binary_search(&m).ok()?;
+                    let (_, staged) = found[i].as_ref()?;
+                    let id = match *staged {
+                        Staged::Final(id) => {
+                            if id.method == NoiseIdMethod::Lag1Acf {
+                                ceiling = Some(id.alpha);
+                            }
+                            Some(id)
+                        }
+                        Staged::PhaseNoise { b1 } => {
+                            noise_id::capped_without_rn(ceiling, clean, m, b1, max_abs)
+                        }
+                    };
+                    Some((m, i, id))
+                })
+                .collect()
+        })
+        .collect();
+    // R(n), O(N), only where some grid's cap leaves white and flicker PM
+    // apart; once per factor however many grids need it.
+    let mut need: Vec<usize> = settled
+        .iter()
+        .flatten()
+        .filter(|(_, _, id)| id.is_none())
+        .map(|&(_, i, _)| i)
+        .collect();
+    need.sort_unstable();
+    need.dedup();
+    let split: Vec<NoiseId> = need
+        .par_iter()
+        .map(|&i| match found[i] {
+            Some((_, Staged::PhaseNoise { b1 })) => noise_id::split_phase_noise(clean, ms[i], b1),
+            // Only phase-noise readings are left unsettled.
+            _ => NoiseId::assumed(noise_id::DEFAULT_ALPHA),
+        })
+        .collect();
+    settled
+        .iter()
+        .map(|g| {
             let own: Vec<(usize, Estimate, NoiseId)> = g
                 .iter()
-                .filter_map(|m| {
-                    let i = ms.binary_search(m).ok()?;
-                    found[i].map(|(est, id)| (*m, est, id))
+                .filter_map(|&(m, i, id)| {
+                    let (est, _) = found[i]?;
+                    let id = match id {
+                        Some(id) => id,
+                        None => split[need.binary_search(&i).ok()?],
+                    };
+                    Some((m, est, id))
                 })
                 .collect();
             let mut ids: Vec<NoiseId> = own.iter().map(|f| f.2).collect();
@@ -312,6 +361,79 @@ mod tests {
                     (Ok(t), Ok(a)) => proptest::prop_assert_eq!(t, a),
                     (Err(t), Err(a)) => proptest::prop_assert_eq!(t.to_string(), a.to_string()),
                     (t, a) => proptest::prop_assert!(false, "{stat:?}: {t:?} against {a:?}"),
+                }
+            }
+        }
+    }
+
+    /// The curve's noise types as first computed: the full identification,
+    /// R(n) included, at every usable factor, then the cap.
+    fn noise_types_in_full(
+        series: &PhaseSeries,
+        stat: Stat,
+        grid: &TauSpec,
+    ) -> Vec<(usize, i32, NoiseIdMethod)> {
+        let ms = taus::averaging_factors(grid, stat, series.len(), series.tau0());
+        let clean = series.longest_clean_stretch();
+        let usable: Vec<usize> = ms
+            .iter()
+            .zip(stats::compute_many(stat, series, &ms))
+            .filter(|(_, est)| est.is_some_and(|e| e.n >= MIN_TERMS && e.dev.is_finite()))
+            .map(|(&m, _)| m)
+            .collect();
+        let mut ids: Vec<NoiseId> = usable
+            .iter()
+            .map(|&m| noise_id::identify_finite(clean, m, stat))
+            .collect();
+        noise_id::cap_by_shorter_tau(&mut ids);
+        usable
+            .iter()
+            .zip(ids)
+            .map(|(&m, id)| (m, id.alpha, id.method))
+            .collect()
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(24))]
+        /// R(n) left out where the cap makes it moot changes no point: white
+        /// PM (phase data), white FM and random-walk FM, with gaps.
+        #[test]
+        fn noise_types_equal_the_full_identification(
+            seed in proptest::prelude::any::<u64>(),
+            len in 8usize..1500,
+            gaps in 0usize..6,
+            kind in 0usize..3,
+        ) {
+            let mut state = seed | 1;
+            let mut next = || {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+            };
+            let mut acc = 0.0;
+            let mut y: Vec<f64> = (0..len)
+                .map(|_| match kind {
+                    2 => {
+                        acc += next();
+                        acc
+                    }
+                    _ => next(),
+                })
+                .collect();
+            for _ in 0..gaps {
+                let at = ((next() + 0.5) * len as f64) as usize % len;
+                y[at] = f64::NAN;
+            }
+            let data_type = if kind == 0 { DataType::Phase } else { DataType::Freq };
+            let series = PhaseSeries::new(&y, data_type, 10.0).unwrap();
+            for stat in [Stat::Oadev, Stat::Mdev, Stat::Hdev, Stat::Adev] {
+                for grid in [TauSpec::All, TauSpec::Octave, TauSpec::Many] {
+                    let opts = Options { stat, rate_hz: 10.0, taus: grid.clone(), data_type, ..Options::default() };
+                    let Ok(points) = analyze_series(&series, &opts) else { continue };
+                    let got: Vec<(usize, i32, NoiseIdMethod)> =
+                        points.iter().map(|p| (p.m, p.alpha, p.noise_id)).collect();
+                    proptest::prop_assert_eq!(got, noise_types_in_full(&series, stat, &grid), "{:?} {:?}", stat, grid);
                 }
             }
         }

@@ -189,18 +189,45 @@ pub fn identify(phase: &[f64], m: usize, stat: Stat) -> NoiseId {
 /// own sums. On finite data the result is identical to [`identify`]'s
 /// (checked by a property test); the cost per τ is O(N/m) wherever the
 /// lag-1 ACF or the B1 ratio decides, and O(N) only where R(n) must split
-/// white from flicker PM.
+/// white from flicker PM. The curve's own path is
+/// [`identify_finite_staged`], which leaves R(n) out where the cap makes it
+/// moot; this one stays as its reference in tests.
+#[cfg(test)]
 pub(crate) fn identify_finite(phase: &[f64], m: usize, stat: Stat) -> NoiseId {
     identify_checked(phase, m, stat, true)
 }
 
 fn identify_checked(phase: &[f64], m: usize, stat: Stat, finite: bool) -> NoiseId {
+    match stage(phase, m, stat, finite) {
+        Staged::Final(id) => id,
+        Staged::PhaseNoise { b1 } => split_phase_noise(phase, m, b1),
+    }
+}
+
+/// An identification up to the one step that reads the whole series.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Staged {
+    /// The lag-1 ACF, the B1 ratio (at μ ≠ −2) or the default decided.
+    Final(NoiseId),
+    /// The B1 ratio `b1` found white or flicker PM (μ = −2): R(n) must
+    /// still tell them apart ([`split_phase_noise`]).
+    PhaseNoise { b1: f64 },
+}
+
+/// [`identify_finite`] without its O(N) step: R(n) is left for
+/// [`split_phase_noise`], or for [`capped_without_rn`] to show it is not
+/// needed. O(N/m) per factor (at most [`MAX_ACF_POINTS`] points).
+pub(crate) fn identify_finite_staged(phase: &[f64], m: usize, stat: Stat) -> Staged {
+    stage(phase, m, stat, true)
+}
+
+fn stage(phase: &[f64], m: usize, stat: Stat, finite: bool) -> Staged {
     let (alpha_min, d_max) = family_limits(stat);
     if m == 0 {
-        return NoiseId::assumed(DEFAULT_ALPHA);
+        return Staged::Final(NoiseId::assumed(DEFAULT_ALPHA));
     }
     if let Some(acf) = lag1_acf_id(phase, m, d_max) {
-        return NoiseId {
+        return Staged::Final(NoiseId {
             alpha: acf.alpha.clamp(alpha_min, 2),
             method: NoiseIdMethod::Lag1Acf,
             rho: Some(acf.r1),
@@ -208,25 +235,103 @@ fn identify_checked(phase: &[f64], m: usize, stat: Stat, finite: bool) -> NoiseI
             differences: Some(acf.d),
             b1: None,
             rn: None,
-        };
+        });
     }
     // The ACF path checks the points it uses; this one scans them all, but
     // runs only at the largest factors, where too few points remain.
     if !finite && phase.iter().any(|v| !v.is_finite()) {
-        return NoiseId::assumed(DEFAULT_ALPHA);
+        return Staged::Final(NoiseId::assumed(DEFAULT_ALPHA));
     }
-    if let Some((alpha, b1, rn)) = b1_id(phase, m, alpha_min) {
-        return NoiseId {
-            alpha: alpha.clamp(alpha_min, 2),
+    match b1_mu(phase, m, alpha_min) {
+        Some((-2, b1)) => Staged::PhaseNoise { b1 },
+        Some((mu, b1)) => Staged::Final(NoiseId {
+            alpha: mu_to_alpha(mu).clamp(alpha_min, 2),
             method: NoiseIdMethod::B1Ratio,
             rho: None,
             alpha_estimate: None,
             differences: None,
             b1: Some(b1),
-            rn,
-        };
+            rn: None,
+        }),
+        None => Staged::Final(NoiseId::assumed(DEFAULT_ALPHA)),
     }
-    NoiseId::assumed(DEFAULT_ALPHA)
+}
+
+/// White (α = 2) or flicker (α = 1) PM, after the B1 ratio `b1` found one
+/// of them at factor `m`, by R(n) = MVAR/AVAR against its white-PM (1/m)
+/// and flicker-PM (f_h = 1/(2τ0)) values (AllanTools' `rn_boundary`); the
+/// default [`DEFAULT_ALPHA`] when R(n) is undefined. O(N).
+pub(crate) fn split_phase_noise(phase: &[f64], m: usize, b1: f64) -> NoiseId {
+    let Some(rn) = modified_to_allan_ratio(phase, m) else {
+        return NoiseId::assumed(DEFAULT_ALPHA);
+    };
+    let mf = m as f64;
+    let rn_white = 1.0 / mf;
+    // SP 1065 / IEEE 1139: flicker PM AVAR ∝ (1.038 + 3 ln(2π f_h τ))/(4π²),
+    // MVAR ∝ 3 ln(256/27)/(8π²), with f_h = 1/(2τ0).
+    let avar_flicker = (1.038 + 3.0 * (2.0 * PI * 0.5 * mf).ln()) / (4.0 * PI * PI);
+    let mvar_flicker = 3.0 * (256.0f64 / 27.0).ln() / (8.0 * PI * PI);
+    let rn_flicker = mvar_flicker / avar_flicker;
+    let boundary = (rn_white * rn_flicker).sqrt();
+    // 1 and 2 lie in every family's range: no clamp.
+    let alpha = if rn < boundary { 2 } else { 1 };
+    NoiseId {
+        alpha,
+        method: NoiseIdMethod::B1Ratio,
+        rho: None,
+        alpha_estimate: None,
+        differences: None,
+        b1: Some(b1),
+        rn: Some(rn),
+    }
+}
+
+/// What [`cap_by_shorter_tau`] makes of a [`Staged::PhaseNoise`] reading
+/// at factor `m` under `ceiling` (the α of the lag-1 ACF at the largest
+/// shorter τ of the curve), when that is known without R(n); `None` when
+/// R(n) must be computed.
+///
+/// Why this is exact: [`split_phase_noise`] gives α = 2 or 1 (B1), or 0
+/// (assumed) when R(n) is undefined. Under a ceiling c ≤ −1 all three are
+/// lowered to c, method `Capped`. Under c = 0, α = 2 and 1 become 0
+/// `Capped` while an undefined R(n) would stay 0 `Assumed`: R(n) is shown
+/// defined by [`rn_is_defined`] at O(N/m), with `max_abs` the largest |x|
+/// of `phase`. Under c ≥ 1, or with no ACF at a shorter τ, the split
+/// matters and R(n) is computed. For rate noise that is white FM or redder
+/// at the longest τ the ACF reads, the case of IMU data, R(n) is then never
+/// needed, and noise identification stays O(N/m) per τ on every grid.
+pub(crate) fn capped_without_rn(
+    ceiling: Option<i32>,
+    phase: &[f64],
+    m: usize,
+    b1: f64,
+    max_abs: impl FnOnce() -> f64,
+) -> Option<NoiseId> {
+    let c = ceiling?;
+    let known = c <= -1 || (c == 0 && rn_is_defined(phase, m, max_abs()));
+    known.then_some(NoiseId {
+        alpha: c,
+        method: NoiseIdMethod::Capped,
+        b1: Some(b1),
+        ..NoiseId::assumed(c)
+    })
+}
+
+/// A sufficient condition, checked in O(N/m), for
+/// [`modified_to_allan_ratio`] to be `Some` on finite `x` of largest
+/// magnitude `max_abs`: with |x| ≤ 1e50 every sum stays below 1e140, so
+/// nothing overflows; and a decimated second difference whose square is at
+/// least 1e-100 is one of the AVAR's terms (computed by the same expression),
+/// so AVAR > 0 and R(n) ≤ 1e140/1e-112 is finite.
+fn rn_is_defined(x: &[f64], m: usize, max_abs: f64) -> bool {
+    let n = x.len();
+    // A NaN bound (never from finite data) fails the range check too.
+    if m == 0 || n < 3 * m || n > 1 << 40 || !(0.0..=1e50).contains(&max_abs) {
+        return false;
+    }
+    (0..n - 2 * m)
+        .step_by(m)
+        .any(|i| (x[i + 2 * m] - 2.0 * x[i + m] + x[i]).powi(2) >= 1e-100)
 }
 
 /// (smallest α, dmax) of the statistic's family: the Hadamard statistics
@@ -339,10 +444,11 @@ fn mu_to_alpha(mu: i32) -> i32 {
     -1 - mu
 }
 
-/// The B1-ratio identification of Stable32 and AllanTools: `Some((alpha, b1,
-/// rn))`, or `None` when fewer than [`MIN_B1_AVERAGES`] averages exist or the
-/// data are degenerate.
-fn b1_id(phase: &[f64], m: usize, alpha_min: i32) -> Option<(i32, f64, Option<f64>)> {
+/// The B1-ratio identification of Stable32 and AllanTools: `Some((mu, b1))`
+/// with Barnes' μ (−2: white or flicker PM, for [`split_phase_noise`]), or
+/// `None` when fewer than [`MIN_B1_AVERAGES`] averages exist or the data are
+/// degenerate.
+fn b1_mu(phase: &[f64], m: usize, alpha_min: i32) -> Option<(i32, f64)> {
     let n_avg = phase.len().saturating_sub(1) / m;
     if n_avg < MIN_B1_AVERAGES {
         return None;
@@ -370,21 +476,7 @@ fn b1_id(phase: &[f64], m: usize, alpha_min: i32) -> Option<(i32, f64, Option<f6
         }
         mu += 1;
     }
-    if mu != -2 {
-        return Some((mu_to_alpha(mu), b1, None));
-    }
-    // White vs flicker PM by R(n) = MVAR/AVAR at m.
-    let rn = modified_to_allan_ratio(phase, m)?;
-    let mf = m as f64;
-    let rn_white = 1.0 / mf;
-    // SP 1065 / IEEE 1139: flicker PM AVAR ∝ (1.038 + 3 ln(2π f_h τ))/(4π²),
-    // MVAR ∝ 3 ln(256/27)/(8π²), with f_h = 1/(2τ0).
-    let avar_flicker = (1.038 + 3.0 * (2.0 * PI * 0.5 * mf).ln()) / (4.0 * PI * PI);
-    let mvar_flicker = 3.0 * (256.0f64 / 27.0).ln() / (8.0 * PI * PI);
-    let rn_flicker = mvar_flicker / avar_flicker;
-    let boundary = (rn_white * rn_flicker).sqrt();
-    let alpha = if rn < boundary { 2 } else { 1 };
-    Some((alpha, b1, Some(rn)))
+    Some((mu, b1))
 }
 
 /// R(n) = MVAR/AVAR at averaging factor m, both overlapped estimators on the
@@ -744,6 +836,73 @@ mod tests {
                 prop_assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "m={}", m);
             }
         }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(48))]
+
+        /// Wherever the staged identification settles a phase-noise reading
+        /// without R(n), it is what capping the full identification gives,
+        /// for every ceiling, on white PM, white FM and random-walk FM at
+        /// ordinary and extreme magnitudes (where R(n) may be undefined).
+        #[test]
+        fn settling_without_rn_equals_capping_the_full_identification(
+            seed in any::<u64>(),
+            len in 5usize..400,
+            kind in 0usize..3,
+            scale in prop_oneof![Just(1.0), Just(1e60), Just(1e150), Just(1e154), Just(1e-160), Just(0.0)],
+        ) {
+            let white = SplitMix(seed).white(len);
+            let base = match kind {
+                0 => white,
+                1 => cumsum(&white),
+                _ => cumsum(&cumsum(&white)),
+            };
+            let data: Vec<f64> = base.iter().map(|v| v * scale).collect();
+            let max_abs = data.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            for m in 1..=data.len() / 2 {
+                for stat in [Stat::Oadev, Stat::Hdev] {
+                    let full = identify_finite(&data, m, stat);
+                    let b1 = match identify_finite_staged(&data, m, stat) {
+                        Staged::Final(id) => {
+                            prop_assert_eq!(id, full, "m={} {}", m, stat);
+                            continue;
+                        }
+                        Staged::PhaseNoise { b1 } => b1,
+                    };
+                    prop_assert_eq!(split_phase_noise(&data, m, b1), full);
+                    for ceiling in [None, Some(-4), Some(-2), Some(-1), Some(0), Some(1), Some(2)] {
+                        let Some(quick) = capped_without_rn(ceiling, &data, m, b1, || max_abs) else {
+                            continue;
+                        };
+                        let mut ids = vec![full];
+                        if let Some(c) = ceiling {
+                            let acf = NoiseId { method: NoiseIdMethod::Lag1Acf, ..NoiseId::assumed(c) };
+                            ids.insert(0, acf);
+                        }
+                        cap_by_shorter_tau(&mut ids);
+                        let capped = ids[ids.len() - 1];
+                        prop_assert_eq!((quick.alpha, quick.method), (capped.alpha, capped.method),
+                            "m={} {} ceiling {:?}", m, stat, ceiling);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn rn_is_shown_defined_only_where_it_is() {
+        let x = cumsum(&SplitMix(3).white(300));
+        let max_abs = x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        for m in [1, 5, 20, 70] {
+            assert!(rn_is_defined(&x, m, max_abs), "m={m}");
+            assert!(modified_to_allan_ratio(&x, m).is_some());
+        }
+        // Too large to vouch for; constant (R(n) undefined); too short.
+        assert!(!rn_is_defined(&x, 5, 1e60));
+        assert!(!rn_is_defined(&[2.0; 100], 5, 2.0));
+        assert!(modified_to_allan_ratio(&[2.0; 100], 5).is_none());
+        assert!(!rn_is_defined(&x[..20], 7, max_abs));
     }
 
     #[test]
