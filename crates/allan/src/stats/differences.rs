@@ -168,6 +168,10 @@ fn block_sum_portable(order: Order, x: &[f64], j0: usize, len: usize, m: usize) 
 /// every offset together stay within a core's L2 cache.
 const BLOCK: usize = 2048;
 
+/// Terms below which [`sum_squared_overlapped_many`] stays on the calling
+/// thread (about 0.1 ms of work).
+const SMALL_SWEEP: usize = 1 << 18;
+
 /// The overlapped sums of [`sum_squared`] (stride 1, no gaps) for many
 /// averaging factors at once, in one blocked sweep over the data.
 ///
@@ -194,23 +198,28 @@ pub(crate) fn sum_squared_overlapped_many(x: &[f64], ms: &[usize], order: Order)
     // 2^22 partial sums held at once.
     let runs = blocks.clamp(1, 32).min((1 << 22) / ms.len().max(1)).max(1);
     let per_run = blocks.div_ceil(runs).max(1);
-    let partial: Vec<Vec<f64>> = (0..blocks.div_ceil(per_run))
-        .into_par_iter()
-        .map(|r| {
-            let mut acc = vec![0.0; ms.len()];
-            for b in r * per_run..((r + 1) * per_run).min(blocks) {
-                let j0 = b * BLOCK;
-                for ((slot, &m), &t) in acc.iter_mut().zip(ms).zip(&terms) {
-                    let j1 = (j0 + BLOCK).min(t);
-                    if j0 >= j1 {
-                        continue;
-                    }
-                    *slot += block_sum(order, x, j0, j1 - j0, m);
+    let run = |r: usize| {
+        let mut acc = vec![0.0; ms.len()];
+        for b in r * per_run..((r + 1) * per_run).min(blocks) {
+            let j0 = b * BLOCK;
+            for ((slot, &m), &t) in acc.iter_mut().zip(ms).zip(&terms) {
+                let j1 = (j0 + BLOCK).min(t);
+                if j0 >= j1 {
+                    continue;
                 }
+                *slot += block_sum(order, x, j0, j1 - j0, m);
             }
-            acc
-        })
-        .collect();
+        }
+        acc
+    };
+    let runs = blocks.div_ceil(per_run);
+    // A small sweep costs less than waking the thread pool; it runs here,
+    // with the same runs in the same order.
+    let partial: Vec<Vec<f64>> = if terms.iter().sum::<usize>() < SMALL_SWEEP {
+        (0..runs).map(run).collect()
+    } else {
+        (0..runs).into_par_iter().map(run).collect()
+    };
     let mut sums = vec![0.0; ms.len()];
     for run in partial {
         sums.iter_mut().zip(run).for_each(|(s, p)| *s += p);
