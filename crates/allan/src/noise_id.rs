@@ -326,7 +326,7 @@ pub(crate) fn capped_without_rn(
 fn rn_is_defined(x: &[f64], m: usize, max_abs: f64) -> bool {
     let n = x.len();
     // A NaN bound (never from finite data) fails the range check too.
-    if m == 0 || n < 3 * m || n > 1 << 40 || !(0.0..=1e50).contains(&max_abs) {
+    if m == 0 || n < 3 * m || n as u64 > 1 << 40 || !(0.0..=1e50).contains(&max_abs) {
         return false;
     }
     (0..n - 2 * m)
