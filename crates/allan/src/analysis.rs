@@ -311,6 +311,38 @@ fn analyze_series_grids_with_progress(
 mod tests {
     use super::*;
 
+    /// A reproducible series of `len` samples with `gaps` NaN among them:
+    /// white noise (kind 0), its running sum (1), or white noise on a slow
+    /// walk (2).
+    fn noisy_series(seed: u64, len: usize, kind: usize, gaps: usize) -> Vec<f64> {
+        let mut state = seed | 1;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut acc = 0.0;
+        let mut y: Vec<f64> = (0..len)
+            .map(|_| match kind {
+                0 => next(),
+                1 => {
+                    acc += next();
+                    acc
+                }
+                _ => {
+                    acc += 0.01 * next();
+                    acc + next()
+                }
+            })
+            .collect();
+        for _ in 0..gaps {
+            let at = ((next() + 0.5) * len as f64) as usize % len;
+            y[at] = f64::NAN;
+        }
+        y
+    }
+
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig::with_cases(32))]
         /// Several grids at once give each grid's curve exactly as it alone
@@ -322,31 +354,7 @@ mod tests {
             gaps in 0usize..20,
             kind in 0usize..3,
         ) {
-            let mut state = seed | 1;
-            let mut next = || {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-            };
-            let mut acc = 0.0;
-            let mut y: Vec<f64> = (0..len)
-                .map(|_| match kind {
-                    0 => next(),
-                    1 => {
-                        acc += next();
-                        acc
-                    }
-                    _ => {
-                        acc += 0.01 * next();
-                        acc + next()
-                    }
-                })
-                .collect();
-            for _ in 0..gaps {
-                let at = ((next() + 0.5) * len as f64) as usize % len;
-                y[at] = f64::NAN;
-            }
+            let y = noisy_series(seed, len, kind, gaps);
             let grids = [TauSpec::Octave, TauSpec::Many, TauSpec::Decade];
             for stat in [Stat::Oadev, Stat::Mdev, Stat::Hdev] {
                 let series = PhaseSeries::new(&y, DataType::Freq, 10.0).unwrap();
@@ -404,27 +412,8 @@ mod tests {
             gaps in 0usize..6,
             kind in 0usize..3,
         ) {
-            let mut state = seed | 1;
-            let mut next = || {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-            };
-            let mut acc = 0.0;
-            let mut y: Vec<f64> = (0..len)
-                .map(|_| match kind {
-                    2 => {
-                        acc += next();
-                        acc
-                    }
-                    _ => next(),
-                })
-                .collect();
-            for _ in 0..gaps {
-                let at = ((next() + 0.5) * len as f64) as usize % len;
-                y[at] = f64::NAN;
-            }
+            // White (as phase, white PM; as rates, white FM) or random-walk FM.
+            let y = noisy_series(seed, len, [0, 0, 1][kind], gaps);
             let data_type = if kind == 0 { DataType::Phase } else { DataType::Freq };
             let series = PhaseSeries::new(&y, data_type, 10.0).unwrap();
             for stat in [Stat::Oadev, Stat::Mdev, Stat::Hdev, Stat::Adev] {

@@ -195,6 +195,18 @@ impl DynamicAdev {
     }
 }
 
+/// What every slice of a run is analysed with, a time window here or a
+/// temperature bin in [`crate::surface`]: OADEV of rate data on octave τ.
+pub(crate) fn slice_options(rate_hz: f64, confidence: f64) -> Options {
+    Options {
+        stat: Stat::Oadev,
+        data_type: allan::DataType::Freq,
+        rate_hz,
+        taus: TauSpec::Octave,
+        confidence,
+    }
+}
+
 /// The dynamic ADEV of `data` (rate samples at `rate_hz`, NaN for gaps)
 /// against `temp` (°C, same length).
 pub fn dynamic_adev(
@@ -248,13 +260,7 @@ pub fn dynamic_adev(
             windows: count,
         });
     }
-    let opts = Options {
-        stat: Stat::Oadev,
-        data_type: allan::DataType::Freq,
-        rate_hz,
-        taus: TauSpec::Octave,
-        confidence,
-    };
+    let opts = slice_options(rate_hz, confidence);
     let results: Vec<Result<Window, SkippedWindow>> = (0..count)
         .into_par_iter()
         .map(|k| {

@@ -12,8 +12,8 @@
 
 use rayon::prelude::*;
 
+use allan::Point;
 use allan::noise_terms::{NoiseTerms, identify};
-use allan::{Options, Point, Stat, TauSpec};
 
 use crate::ThermalError;
 use crate::dynamic_adev::{DynamicOptions, Label, Skip, dynamic_adev};
@@ -208,13 +208,7 @@ fn bins(
             "bins of {bin_width_c} °C are finer than the temperature's resolution, {q:.3e} °C"
         )));
     }
-    let opts = Options {
-        stat: Stat::Oadev,
-        data_type: allan::DataType::Freq,
-        rate_hz,
-        taus: TauSpec::Octave,
-        confidence,
-    };
+    let opts = crate::dynamic_adev::slice_options(rate_hz, confidence);
     let first = (lo / bin_width_c).floor() as i64;
     let last = (hi / bin_width_c).floor() as i64;
     let results: Vec<Result<SurfaceRow, SkippedSlice>> = (first..=last)
@@ -270,6 +264,7 @@ fn bins(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use allan::{Options, TauSpec};
 
     /// A ramp from 20 to 80 °C quantized to the MPU-9250's 1/333.87 °C,
     /// with white data.
