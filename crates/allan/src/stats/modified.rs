@@ -47,9 +47,8 @@ pub fn mdev(series: &PhaseSeries, m: usize) -> Option<Estimate> {
 /// max(RESYNC, m) windows; the windows are taken a resync interval at a
 /// time, so no step pays for a division to find the interval's start (the
 /// sums and their order are those of one loop with `j % interval == 0`).
-/// `clean` maps a NaN difference to what the running sum takes; on data
-/// without gaps it is the identity and `usable` always true, so that loop
-/// carries no test at all.
+/// `clean` maps a NaN difference to what the running sum takes. Data
+/// without gaps takes [`super::mdev_scan`] instead, at about one memory pass.
 #[inline(always)]
 fn window_squares(
     x: &[f64],
