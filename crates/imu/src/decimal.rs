@@ -134,6 +134,16 @@ fn parse_quotient(s: &[u8]) -> Option<(Quotient, usize)> {
     ))
 }
 
+/// The two little-endian 64-bit words of a 16-byte load, its first eight
+/// bytes first: the form both the SWAR and the SSE readers of a short line
+/// start from.
+#[inline(always)]
+pub(crate) fn le_words(bytes: &[u8; 16]) -> (u64, u64) {
+    let (lo, hi) = bytes.split_at(8);
+    let word = |half: &[u8]| u64::from_le_bytes(half.try_into().expect("eight bytes"));
+    (word(lo), word(hi))
+}
+
 /// A whole line of at most 15 bytes (`len`, its newline at `s[len]`, and
 /// `s` holding at least 16 bytes) that is `[-]digits[.digits]`, read from
 /// one 16-byte load: the point is found as the first non-digit and taken
@@ -149,19 +159,7 @@ pub(crate) fn short_quotient(s: &[u8], len: usize) -> Option<Quotient> {
     if len > 15 {
         return None;
     }
-    let word = |i: usize| {
-        u64::from_le_bytes([
-            bytes[i],
-            bytes[i + 1],
-            bytes[i + 2],
-            bytes[i + 3],
-            bytes[i + 4],
-            bytes[i + 5],
-            bytes[i + 6],
-            bytes[i + 7],
-        ])
-    };
-    let (mut a, mut b) = (word(0), word(8));
+    let (mut a, mut b) = le_words(bytes);
     let negative = bytes[0] == b'-';
     if negative {
         a = (a >> 8) | (b << 56);

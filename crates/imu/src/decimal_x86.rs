@@ -19,7 +19,7 @@ use std::arch::x86_64::{
     _mm_set_epi64x, _mm_set1_epi8, _mm_set1_epi16, _mm_set1_epi32, _mm_shuffle_epi8, _mm_sub_epi8,
 };
 
-use crate::decimal::{POW10, Quotient};
+use crate::decimal::{POW10, Quotient, le_words};
 
 /// Whether this CPU runs [`short_line`].
 pub(crate) fn available() -> bool {
@@ -161,19 +161,9 @@ fn fold16(digits: __m128i) -> u64 {
 #[target_feature(enable = "sse2")]
 #[inline]
 fn load(bytes: &[u8; 16]) -> __m128i {
-    let word = |i: usize| {
-        i64::from_le_bytes([
-            bytes[i],
-            bytes[i + 1],
-            bytes[i + 2],
-            bytes[i + 3],
-            bytes[i + 4],
-            bytes[i + 5],
-            bytes[i + 6],
-            bytes[i + 7],
-        ])
-    };
-    _mm_set_epi64x(word(8), word(0))
+    let (lo, hi) = le_words(bytes);
+    // The same bits, as the signed lanes the intrinsic takes.
+    _mm_set_epi64x(hi as i64, lo as i64)
 }
 
 /// The point's index in [`ALIGN`] when a line has none.
