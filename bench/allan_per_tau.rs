@@ -143,6 +143,10 @@ fn per_tau_overhead(rate: &[f64]) {
             let s = PhaseSeries::new(&data, DataType::Freq, 1.0).expect("finite samples");
             for stat in [Stat::Oadev, Stat::Mdev, Stat::Hdev] {
                 for (grid_name, grid) in &grids {
+                    if *grid_name == "all" && rate.len() > 200_000 {
+                        // O(N²) in all: minutes per statistic at 10^6.
+                        continue;
+                    }
                     let ms = taus::averaging_factors(grid, stat, s.len(), s.tau0());
                     // Short runs repeat more: their minimum needs more draws.
                     let reps = if *grid_name == "all" { 3 } else { 9 };

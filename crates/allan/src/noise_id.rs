@@ -24,6 +24,8 @@ use std::fmt;
 
 use crate::Stat;
 
+mod lag1;
+
 /// Most decimated points the lag-1 method looks at. Its statistic r1 has a
 /// standard error of about 1/√n: at 2^17 points ±0.003, against decision
 /// boundaries 0.25 apart, so more points change nothing but the time (on a
@@ -355,14 +357,13 @@ struct AcfId {
 /// Riley & Greenhall's lag-1 ACF identification on phase decimated by `m`,
 /// unclamped; `None` below [`MIN_ACF_POINTS`] points or on degenerate data.
 fn lag1_acf_id(phase: &[f64], m: usize, d_max: u32) -> Option<AcfId> {
-    let mut x: Vec<f64> = phase.iter().copied().step_by(m).take(MAX_ACF_POINTS).collect();
-    if x.len() < MIN_ACF_POINTS || x.iter().any(|v| !v.is_finite()) {
+    if phase.len().div_ceil(m.max(1)).min(MAX_ACF_POINTS) < MIN_ACF_POINTS {
         return None;
     }
-    detrend_quadratic(&mut x);
+    let (mut x, fit) = lag1::gather_fit(phase, m, MAX_ACF_POINTS)?;
+    let mut r1 = lag1::residual_lag1(&mut x, &fit)?;
     let mut d = 0u32;
     loop {
-        let r1 = lag1_autocorrelation(&x)?;
         let delta = r1 / (1.0 + r1);
         if delta < 0.25 || d >= d_max {
             let p = -2.0 * (delta + f64::from(d));
@@ -379,53 +380,9 @@ fn lag1_acf_id(phase: &[f64], m: usize, d_max: u32) -> Option<AcfId> {
                 r1,
             });
         }
-        // Difference in place: the series is the largest allocation here.
-        for i in 0..x.len() - 1 {
-            x[i] = x[i + 1] - x[i];
-        }
-        x.pop();
+        r1 = lag1::difference_lag1(&mut x)?;
         d += 1;
     }
-}
-
-/// Least-squares residual of `x` after removing a quadratic in the sample
-/// index, computed with the discrete orthogonal polynomials 1, t, t² − c on
-/// the centred index t (exact for an evenly spaced grid, and well
-/// conditioned for any length).
-fn detrend_quadratic(x: &mut [f64]) {
-    let n = x.len() as f64;
-    let centre = 0.5 * (n - 1.0);
-    let c = (n * n - 1.0) / 12.0; // mean of t² over the centred grid
-    let (mut s0, mut s1, mut s2, mut q1, mut q2) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for (i, &v) in x.iter().enumerate() {
-        let t = i as f64 - centre;
-        let p2 = t * t - c;
-        s0 += v;
-        s1 += v * t;
-        s2 += v * p2;
-        q1 += t * t;
-        q2 += p2 * p2;
-    }
-    let b0 = s0 / n;
-    let b1 = if q1 > 0.0 { s1 / q1 } else { 0.0 };
-    let b2 = if q2 > 0.0 { s2 / q2 } else { 0.0 };
-    for (i, v) in x.iter_mut().enumerate() {
-        let t = i as f64 - centre;
-        *v -= b0 + b1 * t + b2 * (t * t - c);
-    }
-}
-
-/// Lag-1 autocorrelation, Riley & Greenhall eq. (2):
-/// Σ (x_i − x̄)(x_{i+1} − x̄) / Σ (x_i − x̄)². `None` for a constant series.
-fn lag1_autocorrelation(x: &[f64]) -> Option<f64> {
-    if x.len() < 2 {
-        return None;
-    }
-    let mean = x.iter().sum::<f64>() / x.len() as f64;
-    let num: f64 = x.windows(2).map(|w| (w[0] - mean) * (w[1] - mean)).sum();
-    let den: f64 = x.iter().map(|v| (v - mean).powi(2)).sum();
-    let r1 = num / den;
-    (den > 0.0 && r1.is_finite()).then_some(r1)
 }
 
 /// Barnes' B1(N, μ): expected ratio of the N-sample to the two-sample
@@ -912,15 +869,6 @@ mod tests {
         assert!((r1 - 1.0).abs() < 1e-12);
         let r10 = modified_to_allan_ratio(&x, 10).expect("rn");
         assert!((r10 - 0.1).abs() < 0.02, "{r10}");
-    }
-
-    #[test]
-    fn detrend_removes_a_quadratic_exactly() {
-        let mut x: Vec<f64> = (0..50)
-            .map(|i| 3.0 - 0.5 * i as f64 + 0.01 * (i * i) as f64)
-            .collect();
-        detrend_quadratic(&mut x);
-        assert!(x.iter().all(|r| r.abs() < 1e-12));
     }
 
     #[test]

@@ -1,0 +1,350 @@
+//! The passes of the lag-1 ACF method, in lanes.
+//!
+//! Riley & Greenhall's method reads up to [`super::MAX_ACF_POINTS`] points
+//! per τ: a quadratic fit, its residual, then for each difference order the
+//! mean, the lag-1 and the zero-lag sums. Written as one serial sum per
+//! pass, every addition waited on the one before (four cycles), white FM
+//! took seven passes, and on an octave grid these sums weighed more than
+//! the deviations they serve. Here each sum runs in [`LANES`] independent
+//! accumulators joined in a fixed order, and no pass is spent on a mean:
+//! the residual's is zero (the fit holds a constant) and a difference's
+//! telescopes. White FM now takes five passes that the compiler turns into
+//! whole vectors: the read with the fit's sums, the residual, its lag-1
+//! sums, the difference and its lag-1 sums.
+//!
+//! The result is not bit for bit the serial one (the additions are grouped
+//! otherwise, and the means are exact rather than summed), but the same to
+//! rounding: r1 moves by about 1e-16 and the α read from it changes only
+//! where 2δ lies within that of a rounding boundary. The property test
+//! `lanes_agree_with_the_serial_sums` holds the two together on random
+//! walks of random lengths and decimations; the published AllanTools
+//! values of the parent module's tests hold to 1e-10 as before. The order
+//! is the same on every target and never uses a fused multiply-add, so
+//! every machine gets the same bits.
+
+/// Accumulators per sum: four, two SSE2 registers each. The fit's pass
+/// keeps three sums with their operands; with eight lanes they no longer
+/// fit the sixteen SSE2 registers and went through the stack.
+const LANES: usize = 4;
+
+/// Joins lane sums in a fixed tree, then adds the serial tail.
+fn join(lanes: [f64; LANES], tail: f64) -> f64 {
+    let [a, b, c, d] = lanes;
+    ((a + b) + (c + d)) + tail
+}
+
+/// The least-squares quadratic of a decimated series in its centred sample
+/// index t, on the discrete orthogonal polynomials 1, t, t² − c (exact for
+/// an evenly spaced grid, well conditioned for any length).
+pub(super) struct Fit {
+    b0: f64,
+    b1: f64,
+    b2: f64,
+    centre: f64,
+    c: f64,
+}
+
+impl Fit {
+    fn at(&self, t: f64) -> f64 {
+        self.b0 + self.b1 * t + self.b2 * (t * t - self.c)
+    }
+}
+
+/// Reads `phase[0], phase[m], …`, at most `max` points, and fits them.
+/// `None` when a point is not finite: a NaN or an infinity makes the plain
+/// sum non-finite for good.
+pub(super) fn gather_fit(phase: &[f64], m: usize, max: usize) -> Option<(Vec<f64>, Fit)> {
+    let len = phase.len().div_ceil(m.max(1)).min(max);
+    // Reading and summing in one loop was slower: the strided loads and
+    // three sums' operands spilled the registers. The copy is a memcpy at
+    // m = 1, and the sums run on it from the cache.
+    let x: Vec<f64> = if m == 1 {
+        phase[..len].to_vec()
+    } else {
+        phase.iter().copied().step_by(m.max(1)).take(len).collect()
+    };
+    let n = len as f64;
+    let centre = 0.5 * (n - 1.0);
+    let c = (n * n - 1.0) / 12.0; // mean of t² over the centred grid
+    let (mut s0, mut s1, mut s2) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
+    let (chunks, tail) = x.as_chunks::<LANES>();
+    // The centred index of each lane, stepped by LANES: half-integers
+    // far below 2^52, so every step is exact.
+    let mut t: [f64; LANES] = std::array::from_fn(|l| l as f64 - centre);
+    for block in chunks {
+        for l in 0..LANES {
+            let v = block[l];
+            s0[l] += v;
+            s1[l] += v * t[l];
+            s2[l] += v * (t[l] * t[l] - c);
+            t[l] += LANES as f64;
+        }
+    }
+    let (mut r0, mut r1, mut r2) = (0.0, 0.0, 0.0);
+    let start = chunks.len() * LANES;
+    for (i, &v) in tail.iter().enumerate() {
+        let t = (start + i) as f64 - centre;
+        r0 += v;
+        r1 += v * t;
+        r2 += v * (t * t - c);
+    }
+    let s0 = join(s0, r0);
+    if !s0.is_finite() {
+        return None;
+    }
+    // Σt² and Σ(t² − c)² over the centred grid, in closed form.
+    let q1 = n * (n * n - 1.0) / 12.0;
+    let q2 = n * (n * n - 1.0) * (n * n - 4.0) / 180.0;
+    let fit = Fit {
+        b0: s0 / n,
+        b1: if q1 > 0.0 { join(s1, r1) / q1 } else { 0.0 },
+        b2: if q2 > 0.0 { join(s2, r2) / q2 } else { 0.0 },
+        centre,
+        c,
+    };
+    Some((x, fit))
+}
+
+/// Subtracts `fit` from `x` (the residual of the quadratic) and returns
+/// the residual's lag-1 autocorrelation, from the same pass. The residual's
+/// mean is zero, as the fit holds a constant, so it is centred already
+/// (the mean the serial form took was a few ulps of the data).
+pub(super) fn residual_lag1(x: &mut [f64], fit: &Fit) -> Option<f64> {
+    if x.len() < 2 {
+        return None;
+    }
+    let (chunks, tail) = x.as_chunks_mut::<LANES>();
+    // As in the fit: exact steps of the centred index.
+    let mut t: [f64; LANES] = std::array::from_fn(|l| l as f64 - fit.centre);
+    for chunk in chunks.iter_mut() {
+        for l in 0..LANES {
+            chunk[l] -= fit.at(t[l]);
+            t[l] += LANES as f64;
+        }
+    }
+    let start = chunks.len() * LANES;
+    for (i, v) in tail.iter_mut().enumerate() {
+        *v -= fit.at((start + i) as f64 - fit.centre);
+    }
+    lag1_about(x, 0.0)
+}
+
+/// Lag-1 autocorrelation, Riley & Greenhall eq. (2), of `u` about its
+/// mean `mean`: Σ (u_i − ū)(u_{i+1} − ū) / Σ (u_i − ū)², from two offset
+/// reads (a loop the compiler turns into whole vectors, where pairing
+/// each value with the one before across lanes took shuffles and was
+/// slower than the second pass). `None` for a constant series.
+fn lag1_about(u: &[f64], mean: f64) -> Option<f64> {
+    let len = u.len();
+    let (head, next) = (&u[..len - 1], &u[1..]);
+    let (chunks, tail) = head.as_chunks::<LANES>();
+    let (next_chunks, next_tail) = next.as_chunks::<LANES>();
+    let (mut num, mut den) = ([0.0; LANES], [0.0; LANES]);
+    for (a, b) in chunks.iter().zip(next_chunks) {
+        for l in 0..LANES {
+            let (a, b) = (a[l] - mean, b[l] - mean);
+            num[l] += a * b;
+            den[l] += a * a;
+        }
+    }
+    let (mut num_rest, mut den_rest) = (0.0, 0.0);
+    for (a, b) in tail.iter().zip(next_tail) {
+        let (a, b) = (a - mean, b - mean);
+        num_rest += a * b;
+        den_rest += a * a;
+    }
+    let last = u[len - 1] - mean;
+    let num = join(num, num_rest);
+    let den = join(den, den_rest) + last * last;
+    let r1 = num / den;
+    (den > 0.0 && r1.is_finite()).then_some(r1)
+}
+
+/// Replaces `x` by its first differences (one shorter), in place (the
+/// series is the largest allocation of the method), and returns their
+/// lag-1 autocorrelation. Their mean telescopes to
+/// (x_last − x_first)/(len − 1), known without a sum.
+pub(super) fn difference_lag1(x: &mut Vec<f64>) -> Option<f64> {
+    let len = x.len();
+    if len < 3 {
+        return None;
+    }
+    let mean = (x[len - 1] - x[0]) / (len - 1) as f64;
+    let blocks = (len - 1) / LANES;
+    for k in 0..blocks {
+        let at = k * LANES;
+        // The block and the value after it are read before any is written.
+        let mut window = [0.0; LANES + 1];
+        window.copy_from_slice(&x[at..at + LANES + 1]);
+        for l in 0..LANES {
+            x[at + l] = window[l + 1] - window[l];
+        }
+    }
+    for i in blocks * LANES..len - 1 {
+        x[i] = x[i + 1] - x[i];
+    }
+    x.pop();
+    lag1_about(x, mean)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// The method's sums as first written, one serial sum each: the
+    /// reference for the lanes.
+    fn detrend_serial(x: &mut [f64]) {
+        let n = x.len() as f64;
+        let centre = 0.5 * (n - 1.0);
+        let c = (n * n - 1.0) / 12.0;
+        let (mut s0, mut s1, mut s2, mut q1, mut q2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for (i, &v) in x.iter().enumerate() {
+            let t = i as f64 - centre;
+            let p2 = t * t - c;
+            s0 += v;
+            s1 += v * t;
+            s2 += v * p2;
+            q1 += t * t;
+            q2 += p2 * p2;
+        }
+        let b0 = s0 / n;
+        let b1 = if q1 > 0.0 { s1 / q1 } else { 0.0 };
+        let b2 = if q2 > 0.0 { s2 / q2 } else { 0.0 };
+        for (i, v) in x.iter_mut().enumerate() {
+            let t = i as f64 - centre;
+            *v -= b0 + b1 * t + b2 * (t * t - c);
+        }
+    }
+
+    fn lag1_serial(x: &[f64]) -> Option<f64> {
+        if x.len() < 2 {
+            return None;
+        }
+        let mean = x.iter().sum::<f64>() / x.len() as f64;
+        let num: f64 = x.windows(2).map(|w| (w[0] - mean) * (w[1] - mean)).sum();
+        let den: f64 = x.iter().map(|v| (v - mean).powi(2)).sum();
+        let r1 = num / den;
+        (den > 0.0 && r1.is_finite()).then_some(r1)
+    }
+
+    /// A random walk of `len` steps of [−½, ½) plus a quadratic, from a seed.
+    fn walk(seed: u64, len: usize, curve: f64) -> Vec<f64> {
+        let mut s = seed | 1;
+        let mut acc = 0.0;
+        (0..len)
+            .map(|i| {
+                s ^= s << 13;
+                s ^= s >> 7;
+                s ^= s << 17;
+                acc += (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+                let t = i as f64;
+                acc + curve * (t * t - 3.0 * t)
+            })
+            .collect()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// Every stage of the method, fused in lanes and serially, on
+        /// random walks of random lengths (every tail length of the lanes)
+        /// and decimations, with and without a quadratic trend: the
+        /// residuals, r1 at each difference order and the differences agree
+        /// to rounding.
+        #[test]
+        fn lanes_agree_with_the_serial_sums(
+            seed in any::<u64>(),
+            len in 3usize..300,
+            m in 1usize..5,
+            curve in prop_oneof![Just(0.0), Just(1e-3), Just(50.0)],
+        ) {
+            let phase = walk(seed, len, curve);
+            let (mut fast, fit) = gather_fit(&phase, m, usize::MAX).expect("finite");
+            let mut slow: Vec<f64> = phase.iter().copied().step_by(m).collect();
+            prop_assert_eq!(&fast, &slow);
+            let raw = slow.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            detrend_serial(&mut slow);
+            // Each residual carries a rounding error of the raw values'
+            // size, so r1 agrees to that error relative to the residual's:
+            // a strong trend under a small noise costs digits in both forms.
+            let rms = (slow.iter().map(|v| v * v).sum::<f64>() / slow.len() as f64).sqrt();
+            let tol = 1e-12 * (1.0 + raw / rms.max(1e-300));
+            let r1 = residual_lag1(&mut fast, &fit);
+            for (a, b) in fast.iter().zip(&slow) {
+                // The fits differ by rounding of the raw values' size.
+                prop_assert!((a - b).abs() <= 1e-12 * raw.max(1e-300), "{} vs {}", a, b);
+            }
+            let want = lag1_serial(&slow);
+            prop_assert_eq!(r1.is_some(), want.is_some());
+            if let (Some(a), Some(b)) = (r1, want) {
+                prop_assert!((a - b).abs() <= tol, "d=0: r1 {} vs {}", a, b);
+            }
+            for d in 1..4 {
+                if fast.len() < 3 {
+                    break;
+                }
+                let mut want = fast.clone();
+                for i in 0..want.len() - 1 {
+                    want[i] = want[i + 1] - want[i];
+                }
+                want.pop();
+                let r1 = difference_lag1(&mut fast);
+                prop_assert_eq!(&fast, &want);
+                let serial = lag1_serial(&want);
+                prop_assert_eq!(r1.is_some(), serial.is_some());
+                if let (Some(a), Some(b)) = (r1, serial) {
+                    prop_assert!((a - b).abs() <= tol, "d={}: r1 {} vs {}", d, a, b);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_point_that_is_not_finite_is_refused() {
+        let mut x = walk(9, 100, 0.0);
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            for at in [0, 37, 99] {
+                let keep = x[at];
+                x[at] = bad;
+                assert!(gather_fit(&x, 1, usize::MAX).is_none(), "{bad} at {at}");
+                x[at] = keep;
+            }
+        }
+        // Not read at m = 2: point 37 is odd.
+        x[37] = f64::NAN;
+        assert!(gather_fit(&x, 2, usize::MAX).is_some());
+        assert_eq!(gather_fit(&x, 2, 10).map(|(v, _)| v.len()), Some(10));
+    }
+
+    #[test]
+    fn closed_form_norms_are_the_sums() {
+        for len in [1usize, 2, 3, 4, 7, 30, 1000, 1 << 17] {
+            let n = len as f64;
+            let centre = 0.5 * (n - 1.0);
+            let c = (n * n - 1.0) / 12.0;
+            let (mut q1, mut q2) = (0.0f64, 0.0f64);
+            for i in 0..len {
+                let t = i as f64 - centre;
+                q1 += t * t;
+                q2 += (t * t - c) * (t * t - c);
+            }
+            let (f1, f2) = (
+                n * (n * n - 1.0) / 12.0,
+                n * (n * n - 1.0) * (n * n - 4.0) / 180.0,
+            );
+            assert!((f1 - q1).abs() <= 1e-12 * q1.max(1.0), "{len}: {f1} vs {q1}");
+            assert!((f2 - q2).abs() <= 1e-12 * q2.max(1.0), "{len}: {f2} vs {q2}");
+        }
+    }
+
+    #[test]
+    fn a_quadratic_leaves_no_residual() {
+        let x: Vec<f64> = (0..50)
+            .map(|i| 3.0 - 0.5 * i as f64 + 0.01 * (i * i) as f64)
+            .collect();
+        let (mut r, fit) = gather_fit(&x, 1, usize::MAX).expect("finite");
+        let _ = residual_lag1(&mut r, &fit);
+        assert!(r.iter().all(|v| v.abs() < 1e-12), "{r:?}");
+    }
+}
