@@ -92,7 +92,7 @@ pub struct Curve {
 /// Errors when the options are invalid, when the series is too short for any
 /// requested tau, or when it has gaps and the statistic cannot skip them.
 pub fn analyze(data: &[f64], opts: &Options) -> Result<Curve, AllanError> {
-    analyze_vec(data.to_vec(), opts)
+    analyze_vec(crate::phase::copy_with_room(data), opts)
 }
 
 /// [`analyze`], taking the samples by value so that they are turned into

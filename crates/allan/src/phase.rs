@@ -116,6 +116,15 @@ impl GapIndex {
     }
 }
 
+/// A copy of `data` with room for the last phase point of rate data:
+/// pushed onto a full vector, that point would reallocate, and copy, the
+/// whole series (at 10^6 samples it took the conversion from 2.8 to 6.8 ms).
+pub(crate) fn copy_with_room(data: &[f64]) -> Vec<f64> {
+    let mut copy = Vec::with_capacity(data.len() + 1);
+    copy.extend_from_slice(data);
+    copy
+}
+
 /// Phase points at a fixed interval τ0, with the record of any gaps.
 #[derive(Debug, Clone)]
 pub struct PhaseSeries {
@@ -135,11 +144,12 @@ impl PhaseSeries {
     /// not gaps; AllanTools trims them too) but still counted in
     /// [`PhaseSeries::nan_samples`]. Infinite samples are an error.
     pub fn new(data: &[f64], data_type: DataType, rate_hz: f64) -> Result<Self, AllanError> {
-        Self::from_vec(data.to_vec(), data_type, rate_hz)
+        Self::from_vec(copy_with_room(data), data_type, rate_hz)
     }
 
     /// [`PhaseSeries::new`], converting the samples in place: no second copy
-    /// of a long recording is made.
+    /// of a long recording is made. Rate data gain one point: a vector with
+    /// no spare capacity is reallocated for it.
     pub fn from_vec(mut data: Vec<f64>, data_type: DataType, rate_hz: f64) -> Result<Self, AllanError> {
         if !(rate_hz.is_finite() && rate_hz > 0.0) {
             return Err(AllanError::InvalidRate(rate_hz));
