@@ -8,9 +8,9 @@
 //! the deviations they serve. Here each sum runs in [`LANES`] independent
 //! accumulators joined in a fixed order, and no pass is spent on a mean:
 //! the residual's is zero (the fit holds a constant) and a difference's
-//! telescopes. White FM now takes five passes that the compiler turns into
-//! whole vectors: the read with the fit's sums, the residual, its lag-1
-//! sums, the difference and its lag-1 sums.
+//! telescopes. White FM now takes the strided read, then five loops that
+//! the compiler turns into whole vectors over data in the cache: the fit's
+//! sums, the residual, its lag-1 sums, the difference and its lag-1 sums.
 //!
 //! The result is not bit for bit the serial one (the additions are grouped
 //! otherwise, and the means are exact rather than summed), but the same to
@@ -106,9 +106,9 @@ pub(super) fn gather_fit(phase: &[f64], m: usize, max: usize) -> Option<(Vec<f64
 }
 
 /// Subtracts `fit` from `x` (the residual of the quadratic) and returns
-/// the residual's lag-1 autocorrelation, from the same pass. The residual's
-/// mean is zero, as the fit holds a constant, so it is centred already
-/// (the mean the serial form took was a few ulps of the data).
+/// the residual's lag-1 autocorrelation. The residual's mean is zero, as
+/// the fit holds a constant, so it is centred already (the mean the serial
+/// form took was a few ulps of the data).
 pub(super) fn residual_lag1(x: &mut [f64], fit: &Fit) -> Option<f64> {
     if x.len() < 2 {
         return None;
