@@ -626,36 +626,6 @@ fn read_line_bounded(input: &mut dyn BufRead, raw: &mut Vec<u8>) -> std::io::Res
     }
 }
 
-mod huge_pages {
-    /// Asks Linux to back a column's buffer with transparent huge pages
-    /// where the system allows them only on request (`madvise` mode, the
-    /// usual default): an 8-hour 1 kHz column (230 MB) filled in 4 KiB
-    /// pages takes 56 000 page faults, each a trip into the kernel; in
-    /// 2 MiB pages, 110. Only a hint: nothing changes where huge pages are
-    /// off.
-    #[cfg(target_os = "linux")]
-    pub(super) fn advise(column: &mut Vec<f64>) {
-        const HUGE: usize = 2 << 20;
-        let start = column.as_mut_ptr() as usize;
-        let end = start + column.capacity() * std::mem::size_of::<f64>();
-        // madvise takes page-aligned ranges: the whole 2 MiB pages inside
-        // the buffer.
-        let first = start.div_ceil(HUGE) * HUGE;
-        let last = end / HUGE * HUGE;
-        if last > first {
-            // SAFETY: the range lies inside the vector's own allocation,
-            // and MADV_HUGEPAGE changes how its pages are backed, never
-            // their contents or whether they are mapped.
-            unsafe {
-                libc::madvise(first as *mut libc::c_void, last - first, libc::MADV_HUGEPAGE);
-            }
-        }
-    }
-
-    #[cfg(not(target_os = "linux"))]
-    pub(super) fn advise(_column: &mut Vec<f64>) {}
-}
-
 /// Passes a stream through, keeping its last [`TAIL_BYTES`]: the trailer
 /// is found there without reading the input a second time (which a pipe
 /// cannot give, and a live stream would lose bytes to).
@@ -870,7 +840,7 @@ impl Merger<'_> {
                 let estimate = (rows as f64 * total as f64 / self.bytes_seen as f64 * 1.01) as usize;
                 for c in &mut self.got.columns {
                     c.reserve_exact(estimate.saturating_sub(c.len()));
-                    huge_pages::advise(c);
+                    hugepages::advise(c);
                 }
             }
         }
