@@ -230,18 +230,12 @@ mod tests {
 
     /// A random walk of `len` steps of [−½, ½) plus a quadratic, from a seed.
     fn walk(seed: u64, len: usize, curve: f64) -> Vec<f64> {
-        let mut s = seed | 1;
-        let mut acc = 0.0;
-        (0..len)
-            .map(|i| {
-                s ^= s << 13;
-                s ^= s >> 7;
-                s ^= s << 17;
-                acc += (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-                let t = i as f64;
-                acc + curve * (t * t - 3.0 * t)
-            })
-            .collect()
+        let mut x = crate::work::random_walk(len, seed);
+        for (i, v) in x.iter_mut().enumerate() {
+            let t = i as f64;
+            *v += curve * (t * t - 3.0 * t);
+        }
+        x
     }
 
     proptest! {

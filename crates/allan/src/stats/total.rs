@@ -117,17 +117,7 @@ mod tests {
         /// tail of the lanes): the same sum to rounding.
         #[test]
         fn lanes_equal_the_term_by_term_sum(seed in any::<u64>(), len in 3usize..200) {
-            let mut s = seed | 1;
-            let mut acc = 0.0;
-            let x: Vec<f64> = (0..len)
-                .map(|_| {
-                    s ^= s << 13;
-                    s ^= s >> 7;
-                    s ^= s << 17;
-                    acc += (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-                    acc
-                })
-                .collect();
+            let x = crate::work::random_walk(len, seed);
             let series = PhaseSeries::new(&x, DataType::Phase, 1.0).expect("finite");
             for m in 1..len {
                 let got = totdev(&series, m).expect("a valid factor");
