@@ -96,7 +96,9 @@ pub fn analyze(data: &[f64], opts: &Options) -> Result<Curve, AllanError> {
 }
 
 /// [`analyze`], taking the samples by value so that they are turned into
-/// phase in place: memory stays at the size of the data.
+/// phase in place: memory stays at the size of the data. Rate data gain one
+/// phase point, so a vector built in a [`crate::buffer_for`] its length is
+/// not reallocated.
 pub fn analyze_vec(data: Vec<f64>, opts: &Options) -> Result<Curve, AllanError> {
     analyze_vec_with_progress(data, opts, &|_| {})
 }

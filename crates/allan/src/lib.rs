@@ -32,6 +32,7 @@
 
 mod analysis;
 mod error;
+mod lanes;
 mod phase;
 mod stat;
 
@@ -49,6 +50,6 @@ pub use analysis::{
 };
 pub use error::AllanError;
 pub use noise_id::NoiseIdMethod;
-pub use phase::PhaseSeries;
+pub use phase::{PhaseSeries, buffer_for};
 pub use stat::{DataType, Stat};
 pub use taus::TauSpec;

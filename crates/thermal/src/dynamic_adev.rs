@@ -307,11 +307,12 @@ fn window(
     }
     let unlabelled = temp.iter().any(|t| !t.is_finite());
     let points = if unlabelled {
-        let masked: Vec<f64> = data
-            .iter()
-            .zip(temp)
-            .map(|(&v, t)| if t.is_finite() { v } else { f64::NAN })
-            .collect();
+        let mut masked = allan::buffer_for(data.len());
+        masked.extend(
+            data.iter()
+                .zip(temp)
+                .map(|(&v, t)| if t.is_finite() { v } else { f64::NAN }),
+        );
         allan::analyze_vec(masked, opts)
     } else {
         allan::analyze(data, opts)

@@ -223,11 +223,13 @@ fn bins(
             // temperature never visits is no slice at all.
             let first = temp.iter().position(|&t| inside(t))?;
             let last = temp.iter().rposition(|&t| inside(t))?;
-            let series: Vec<f64> = data[first..=last]
-                .iter()
-                .zip(&temp[first..=last])
-                .map(|(&v, &t)| if inside(t) { v } else { f64::NAN })
-                .collect();
+            let mut series = allan::buffer_for(last + 1 - first);
+            series.extend(
+                data[first..=last]
+                    .iter()
+                    .zip(&temp[first..=last])
+                    .map(|(&v, &t)| if inside(t) { v } else { f64::NAN }),
+            );
             let skip = |reason: Skip| SkippedSlice {
                 start: a,
                 end: b,
@@ -462,7 +464,8 @@ mod tests {
         (0..=data.len() - w)
             .step_by(s)
             .filter_map(|i| {
-                let window = data[i..i + w].to_vec();
+                let mut window = allan::buffer_for(w);
+                window.extend_from_slice(&data[i..i + w]);
                 let used: Vec<f64> = window
                     .iter()
                     .zip(&temp[i..i + w])

@@ -305,7 +305,7 @@ pub fn analyze_terms(
     rate_hz: f64,
     confidence: f64,
 ) -> Result<(Vec<Point>, NoiseTerms), AllanError> {
-    analyze_terms_vec(y.to_vec(), rate_hz, confidence)
+    analyze_terms_vec(crate::phase::copy_with_room(y), rate_hz, confidence)
 }
 
 /// [`analyze_terms`], taking the samples by value so that they become the
