@@ -62,7 +62,7 @@ pub(crate) fn sum_squared(series: &PhaseSeries, m: usize, stride: usize, order: 
                     v * v
                 })
                 .sum();
-            ((acc[0] + acc[1]) + (acc[2] + acc[3]) + tail, n)
+            (crate::lanes::join(acc, tail), n)
         }
         Some(gaps) => {
             let mut sum = 0.0;

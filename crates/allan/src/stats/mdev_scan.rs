@@ -79,7 +79,7 @@ fn intervals(
         }
         start = end;
     }
-    (acc[0] + acc[1]) + (acc[2] + acc[3]) + rest
+    crate::lanes::join(acc, rest)
 }
 
 /// The scan with the third differences formed a chunk at a time into a
@@ -185,7 +185,7 @@ fn exact_window(x: &[f64], m: usize, j: usize) -> f64 {
         }
     }
     let tail: f64 = (whole..m).map(|i| c[i] - 2.0 * b[i] + a[i]).sum();
-    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+    crate::lanes::join(acc, tail)
 }
 
 /// e_j = W_{j+1} − W_j.

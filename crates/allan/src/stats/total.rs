@@ -8,6 +8,7 @@
 //! extension is indexed, never materialised.
 
 use super::Estimate;
+use crate::lanes::{LANES, join};
 use crate::phase::PhaseSeries;
 
 /// Total deviation at averaging factor m (1 ≤ m ≤ N − 1).
@@ -50,9 +51,6 @@ pub fn totdev(series: &PhaseSeries, m: usize) -> Option<Estimate> {
     })
 }
 
-/// Accumulators of [`direct_sum`]: one sum would wait on every addition.
-const LANES: usize = 4;
-
 /// Σ (x[i − m] − 2x[i] + x[i + m])² over i in `from..to` (all within the
 /// series), term k of the run in accumulator k mod [`LANES`], joined in a
 /// fixed order: the same bits on every machine.
@@ -80,7 +78,7 @@ fn direct_sum(x: &[f64], m: usize, from: usize, to: usize) -> f64 {
             v * v
         })
         .sum();
-    ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3])) + tail
+    join(lanes, tail)
 }
 
 #[cfg(test)]
