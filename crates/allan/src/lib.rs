@@ -34,6 +34,7 @@ mod analysis;
 mod error;
 mod lanes;
 mod phase;
+mod prefetch;
 mod stat;
 
 pub mod confidence;

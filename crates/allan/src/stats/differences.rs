@@ -131,11 +131,13 @@ fn block_sum_portable(order: Order, x: &[f64], j0: usize, len: usize, m: usize) 
                 let v = c - 2.0 * b + a;
                 v * v
             };
-            for ((a, b), c) in a[..whole]
+            for (i, ((a, b), c)) in a[..whole]
                 .chunks_exact(LANES)
                 .zip(b[..whole].chunks_exact(LANES))
                 .zip(c[..whole].chunks_exact(LANES))
+                .enumerate()
             {
+                crate::prefetch::ahead(x, j0 + 2 * m + i * LANES);
                 for k in 0..LANES {
                     acc[k] += term(a[k], b[k], c[k]);
                 }
@@ -148,12 +150,14 @@ fn block_sum_portable(order: Order, x: &[f64], j0: usize, len: usize, m: usize) 
                 let v = d - 3.0 * c + 3.0 * b - a;
                 v * v
             };
-            for (((a, b), c), d) in a[..whole]
+            for (i, (((a, b), c), d)) in a[..whole]
                 .chunks_exact(LANES)
                 .zip(b[..whole].chunks_exact(LANES))
                 .zip(c[..whole].chunks_exact(LANES))
                 .zip(d[..whole].chunks_exact(LANES))
+                .enumerate()
             {
+                crate::prefetch::ahead(x, j0 + 3 * m + i * LANES);
                 for k in 0..LANES {
                     acc[k] += term(a[k], b[k], c[k], d[k]);
                 }

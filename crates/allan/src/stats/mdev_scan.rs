@@ -153,7 +153,9 @@ fn fused_moves(x: &[f64], m: usize, j0: usize, moves: usize, w: &mut [f64; 4], a
     };
     let (mut wv, mut av) = (load(w), load(acc));
     let mut cur = quad(&a[0], &b[0], &c[0], &d[0]);
-    for (((a, b), c), d) in a[1..].iter().zip(&b[1..]).zip(&c[1..]).zip(&d[1..]) {
+    let lead = j0 + 3 * m;
+    for (k, (((a, b), c), d)) in a[1..].iter().zip(&b[1..]).zip(&c[1..]).zip(&d[1..]).enumerate() {
+        crate::prefetch::ahead(x, lead + 4 * k);
         let next = quad(a, b, c, d);
         // [e1 e2 e3 e4], [e2 e3 e4 e5], [e3 e4 e5 e6] from [e0 e1 e2 e3] and
         // [e4 e5 e6 e7].

@@ -1,0 +1,33 @@
+//! Software prefetch of the one stream that comes from memory.
+//!
+//! The O(N) statistics read the series at three or four offsets, j, j + m,
+//! j + 2m (and j + 3m). Only the leading stream is new data; the others
+//! were read m points earlier and come from the cache. With those streams
+//! m points apart, the hardware prefetcher no longer runs far enough ahead
+//! of the leading one: at 10^7 points, MDEV at m = 4096 took 1.02 ns a
+//! point where it takes 0.30 in the cache, and OADEV 0.32 where it takes
+//! 0.14. Asking for the leading stream's lines [`DISTANCE`] bytes ahead
+//! restores the cache's speed.
+
+/// How far ahead of the leading stream, in bytes. 8 KiB and more reached
+/// the in-cache speed on a Zen 5 EPYC; 2 KiB recovered only half of it.
+pub(crate) const DISTANCE: usize = 16 << 10;
+
+/// Asks for the cache line `DISTANCE` bytes past `x[at]`. A hint only: it
+/// changes no value, and off x86-64 it does nothing.
+#[inline(always)]
+pub(crate) fn ahead(x: &[f64], at: usize) {
+    // The address is formed with wrapping arithmetic and never read: past
+    // the end of `x` the hint is for memory the program does not use,
+    // which costs a wasted fetch at most. A bounds check here cost more
+    // than the prefetch itself in the kernels' inner loops.
+    let line = x.as_ptr().wrapping_add(at.wrapping_add(DISTANCE / 8));
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: PREFETCHT0 loads nothing into a register and cannot fault,
+    // whatever the address.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(line.cast::<i8>())
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = line;
+}
