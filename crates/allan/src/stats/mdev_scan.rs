@@ -37,6 +37,7 @@ const LANES: usize = 8;
 /// one across two cache lines, cost more than the narrower registers save.
 /// On a Zen 5 EPYC at 10^7 points: 0.30 against 0.35 ns a point at m =
 /// 1000, 0.41 against 0.36 at m = 2048. Both give the same bits.
+#[cfg(target_arch = "x86_64")]
 const AVX512_BELOW: usize = 1536;
 
 /// Windows whose third differences the portable scan forms at a time, in L1.
