@@ -23,8 +23,9 @@ pub(crate) fn ahead(x: &[f64], at: usize) {
     // than the prefetch itself in the kernels' inner loops.
     let line = x.as_ptr().wrapping_add(at.wrapping_add(DISTANCE / 8));
     #[cfg(target_arch = "x86_64")]
-    // SAFETY: PREFETCHT0 loads nothing into a register and cannot fault,
-    // whatever the address.
+    // SAFETY: the intrinsic is compiled for SSE, part of the x86-64
+    // baseline; the pointer need not be valid (PREFETCHT0 does not trap on
+    // any address, as the intrinsic's documentation says).
     unsafe {
         std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(line.cast::<i8>())
     };

@@ -5,7 +5,7 @@
 //! a trip into the kernel, every 4 KiB: 56 000 for an 8-hour 1 kHz column
 //! (230 MB), 2 000 for the phase of 10^6 samples. Only the whole 2 MiB pages
 //! inside the buffer are advised, so the 2 MiB at either end that are not
-//! fault as before: the column takes 110 huge pages and up to 1 000 small
+//! fault as before: the column takes 108 or 109 huge pages and up to 1 000 small
 //! faults, the phase of 10^6 samples 2 or 3 huge pages and 400 to 900 small
 //! ones. The readers of `imu` advise their columns, `allan` the copy it
 //! converts to phase.
