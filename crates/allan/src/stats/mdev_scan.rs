@@ -168,25 +168,36 @@ fn scan_portable(x: &[f64], m: usize, j0: usize, moves: usize, w: &mut Lanes, ac
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
 fn scan_avx512(x: &[f64], m: usize, j0: usize, moves: usize, w: &mut Lanes, acc: &mut Lanes) {
-    let fused = fusable(x, m, j0, moves);
+    register_scan(x, m, j0, moves, w, acc, |fused, w, acc| {
+        fused_moves(x, m, j0, fused, w, acc)
+    });
+}
+
+/// A register scan, `fused` as many moves as it can take from `j0`, then
+/// [`scan_portable`] for the rest. Moving group k on reads the third
+/// differences of groups up to k + 3 (the tree's three levels each reach
+/// one group further), the last of them up to e_{j0+8k+31}; near the end of
+/// the series those may not exist.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn register_scan(
+    x: &[f64],
+    m: usize,
+    j0: usize,
+    moves: usize,
+    w: &mut Lanes,
+    acc: &mut Lanes,
+    fused_moves: impl FnOnce(usize, &mut Lanes, &mut Lanes),
+) {
+    let fused = match (x.len() - 3 * m).checked_sub(j0 + 4 * LANES) {
+        Some(room) => moves.min(room / LANES + 1),
+        None => 0,
+    };
     if fused > 0 {
-        fused_moves(x, m, j0, fused, w, acc);
+        fused_moves(fused, w, acc);
     }
     if fused < moves {
         scan_portable(x, m, j0 + LANES * fused, moves - fused, w, acc);
-    }
-}
-
-/// How many of `moves` the register scans can take from `j0`: moving group
-/// k on reads the third differences of groups up to k + 3 (the tree's three
-/// levels each reach one group further), the last of them up to
-/// e_{j0+8k+31}. Near the end of the series those may not exist, and the
-/// moves that would read them are left to [`scan_portable`].
-#[cfg(target_arch = "x86_64")]
-fn fusable(x: &[f64], m: usize, j0: usize, moves: usize) -> usize {
-    match (x.len() - 3 * m).checked_sub(j0 + 4 * LANES) {
-        Some(room) => moves.min(room / LANES + 1),
-        None => 0,
     }
 }
 
@@ -196,13 +207,9 @@ fn fusable(x: &[f64], m: usize, j0: usize, moves: usize) -> usize {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn scan_avx2(x: &[f64], m: usize, j0: usize, moves: usize, w: &mut Lanes, acc: &mut Lanes) {
-    let fused = fusable(x, m, j0, moves);
-    if fused > 0 {
-        fused_moves_avx2(x, m, j0, fused, w, acc);
-    }
-    if fused < moves {
-        scan_portable(x, m, j0 + LANES * fused, moves - fused, w, acc);
-    }
+    register_scan(x, m, j0, moves, w, acc, |fused, w, acc| {
+        fused_moves_avx2(x, m, j0, fused, w, acc)
+    });
 }
 
 #[cfg(target_arch = "x86_64")]
