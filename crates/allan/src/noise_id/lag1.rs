@@ -5,8 +5,8 @@
 //! mean, the lag-1 and the zero-lag sums. Written as one serial sum per
 //! pass, every addition waited on the one before (four cycles), white FM
 //! took nine passes after the strided read (two for the fit, three sums
-//! for each of two lag-1 ACFs, one for the difference), and on an octave grid these sums weighed more than
-//! the deviations they serve. Here each sum runs in [`LANES`] independent
+//! for each of two lag-1 ACFs, one for the difference), and on an octave
+//! grid these sums weighed more than the deviations they serve. Here each sum runs in [`LANES`] independent
 //! accumulators joined in a fixed order, and no pass is spent on a mean:
 //! the residual's is zero (the fit holds a constant) and a difference's
 //! telescopes. White FM now takes the strided read, then five loops that

@@ -123,6 +123,8 @@ fn block_sum_portable(order: Order, x: &[f64], j0: usize, len: usize, m: usize) 
     let a = &x[j0..j0 + len];
     let b = &x[j0 + m..j0 + m + len];
     let c = &x[j0 + 2 * m..j0 + 2 * m + len];
+    // The stream at the difference's far end is the one from memory.
+    let lead = j0 + order.span() * m;
     let mut acc = [0.0f64; LANES];
     let whole = len - len % LANES;
     let tail = match order {
@@ -137,7 +139,7 @@ fn block_sum_portable(order: Order, x: &[f64], j0: usize, len: usize, m: usize) 
                 .zip(c[..whole].chunks_exact(LANES))
                 .enumerate()
             {
-                crate::prefetch::ahead(x, j0 + 2 * m + i * LANES);
+                crate::prefetch::ahead(x, lead + i * LANES);
                 for k in 0..LANES {
                     acc[k] += term(a[k], b[k], c[k]);
                 }
@@ -157,7 +159,7 @@ fn block_sum_portable(order: Order, x: &[f64], j0: usize, len: usize, m: usize) 
                 .zip(d[..whole].chunks_exact(LANES))
                 .enumerate()
             {
-                crate::prefetch::ahead(x, j0 + 3 * m + i * LANES);
+                crate::prefetch::ahead(x, lead + i * LANES);
                 for k in 0..LANES {
                     acc[k] += term(a[k], b[k], c[k], d[k]);
                 }
