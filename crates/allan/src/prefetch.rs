@@ -7,21 +7,31 @@
 //! of the leading one: at 10^7 points on one thread of a Zen 5 EPYC, MDEV
 //! at m = 4096 took 10.5 ms (1.05 ns a point, against 0.30 in the cache)
 //! and OADEV 6.3 ms. Asking for the leading stream's lines [`DISTANCE`]
-//! bytes ahead brought them to 3.5 and 3.3 ms.
+//! bytes ahead brought them to 3.5 and 3.3 ms. The overlapped sums that
+//! take a far factor's series in pieces by residue ask for the piece two
+//! ahead in their own order instead ([`line`]).
 
 /// How far ahead of the leading stream, in bytes. 8 KiB and more reached
 /// the in-cache speed on a Zen 5 EPYC; 2 KiB recovered only half of it.
 pub(crate) const DISTANCE: usize = 16 << 10;
 
 /// Asks for the cache line `DISTANCE` bytes past `x[at]`. A hint only: it
-/// changes no value, and off x86-64 it does nothing.
+/// changes no value. Only the x86-64 MDEV scans ask for it.
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 pub(crate) fn ahead(x: &[f64], at: usize) {
+    line(x, at.wrapping_add(DISTANCE / 8));
+}
+
+/// Asks for the cache line of `x[at]`, for a stream whose next lines are
+/// not the ones past its current ones. A hint only, as [`ahead`].
+#[inline(always)]
+pub(crate) fn line(x: &[f64], at: usize) {
     // The address is formed with wrapping arithmetic and never read: past
     // the end of `x` the hint is for memory the program does not use,
     // which costs a wasted fetch at most. A bounds check here cost more
     // than the prefetch itself in the kernels' inner loops.
-    let line = x.as_ptr().wrapping_add(at.wrapping_add(DISTANCE / 8));
+    let line = x.as_ptr().wrapping_add(at);
     #[cfg(target_arch = "x86_64")]
     // SAFETY: the intrinsic is compiled for SSE, part of the x86-64
     // baseline; the pointer need not be valid (PREFETCHT0 does not trap on
