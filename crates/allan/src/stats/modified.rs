@@ -22,6 +22,12 @@ pub fn mdev(series: &PhaseSeries, m: usize) -> Option<Estimate> {
         return None;
     }
     let (sum, n) = match series.gap_index() {
+        // A window of one second difference: the sum is OADEV's at m = 1,
+        // the same N − 2 terms, and its blocked sum reads the series at
+        // about a memory pass where the window scan took two.
+        None if m == 1 => {
+            super::differences::sum_squared_overlapped_many(x, &[1], super::differences::Order::Second)[0]
+        }
         None => (super::mdev_scan::gap_free_squares(x, m), x.len() - 3 * m + 1),
         // A second difference with a missing phase point counts as zero in
         // the running sum; every window that holds it is skipped anyway.
@@ -147,6 +153,31 @@ mod tests {
         }
         let tau = m as f64 * tau0;
         (n > 0).then(|| ((sum / (2.0 * (m * m) as f64 * tau * tau * n as f64)).sqrt(), n))
+    }
+
+    /// At m = 1 MVAR is AVAR (SP 1065): the same terms and the same sum,
+    /// normalised in another order (so within an ulp or two); and the
+    /// window scan, which m = 1 no longer takes, agrees to rounding.
+    #[test]
+    fn at_one_the_modified_deviation_is_the_overlapped_one() {
+        for len in [3usize, 4, 17, 2048, 2051, 100_003] {
+            let x = crate::work::random_walk(len, len as u64);
+            let series = PhaseSeries::new(&x, DataType::Phase, 10.0).unwrap();
+            let (modified, overlapped) = (
+                mdev(&series, 1).unwrap(),
+                super::super::oadev(&series, 1).unwrap(),
+            );
+            assert!(
+                (modified.dev / overlapped.dev - 1.0).abs() <= 4.0 * f64::EPSILON,
+                "len {len}"
+            );
+            assert_eq!((modified.n, overlapped.n), (len - 2, len - 2));
+            let scanned = super::super::mdev_scan::gap_free_squares(&x, 1);
+            let (direct, _) = mdev_direct(&x, 1, 0.1).unwrap();
+            let from_scan = (scanned / (2.0 * 0.01 * (len - 2) as f64)).sqrt();
+            assert!((from_scan / modified.dev - 1.0).abs() < 1e-12, "len {len}");
+            assert!((direct / modified.dev - 1.0).abs() < 1e-12, "len {len}");
+        }
     }
 
     #[test]
