@@ -214,26 +214,28 @@ const _: () = assert!(BLOCK.is_multiple_of(PIECE) && PIECE.is_multiple_of(LANES)
 const PIECES_AHEAD: usize = 2;
 
 /// Whether [`sum_squared_overlapped_many`] takes factor m's whole blocks
-/// from [`far_block_sums`]: a multiple of [`BLOCK`], so that each block's
-/// pieces come in order, whose streams no other factor of the sweep reads.
+/// from [`far_block_sums`]: when m is the one factor of the sweep (a
+/// single τ), and a multiple of [`BLOCK`], so that each block's pieces
+/// come in order.
 ///
-/// In block order a factor that shares a stream with another (m and 2m in
-/// the Allan family: the one's stream at 2m is the other's at m) reads it
-/// from the cache, and an octave sweep takes about one memory pass per
-/// factor (at 10^7 points, 22 factors in 1.6 ms each, against 1.5 ms for
-/// a pass). Taken by residue, each factor would read the series on its
-/// own: that sweep went 15 % slower. A factor alone (one τ, or a sparse
-/// list) gains, as [`far_block_sums`] says.
-fn is_far(m: usize, ms: &[usize], order: Order) -> bool {
-    let span = order.span();
-    let shares =
-        |other: usize| other != m && (1..=span).any(|k| (1..=span).any(|l| k != l && k * other == l * m));
-    m >= BLOCK && m.is_multiple_of(BLOCK) && !ms.iter().any(|&other| shares(other))
+/// With other factors beside it, block order is faster: they read the
+/// stream at j for it, and an octave sweep's neighbours m and 2m share the
+/// one at 2m, so such a sweep takes about one memory pass a factor (at
+/// 10^7 points, 22 factors in 1.6 ms each, against 1.5 ms for a pass).
+/// Taken by residue, a factor reads the series on its own: an octave sweep
+/// went 15 % slower, and lists such as 1, 16, 256, 4096 or a factor given
+/// twice slower too.
+fn is_far(m: usize, ms: &[usize]) -> bool {
+    ms.len() == 1 && m >= BLOCK && m.is_multiple_of(BLOCK)
 }
 
-/// [`block_sum`] of every whole block of factor m (`is_far(m)`), in block
-/// order, the same bits, taken in another order; the residues of blocks
-/// run in parallel when `parallel`.
+/// Blocks a run of [`far_block_sums`] takes at least: each run reads its
+/// first two pieces of every residue without the reuse.
+const MIN_FAR_RUN: usize = 16;
+
+/// [`block_sum`] of every whole block of factor m (`is_far`), in block
+/// order, the same bits, taken in another order; runs of blocks go in
+/// parallel when `parallel`.
 ///
 /// In block order the streams at j and j + m come back to data read as the
 /// leading stream m and 2m points before: at m ≥ 2048 those are 16 KiB and
@@ -244,42 +246,51 @@ fn is_far(m: usize, ms: &[usize], order: Order) -> bool {
 /// stream comes from memory, asked for [`PIECES_AHEAD`] pieces ahead. A
 /// block's lanes take its pieces in order (a block holds BLOCK/PIECE
 /// consecutive residues, and m/PIECE is a multiple of that), so each block
-/// sums as [`block_sum`] sums it. On a Zen 5 EPYC at 10^7 points on one
-/// thread, OADEV at m = 4096 went from 1.8–1.9 memory passes to 1.3–1.45
-/// (`allan_per_tau 10000000 passes`); 512-point pieces, or three or four
-/// pieces ahead, did no better, and whole blocks were slower (1.7).
+/// sums as [`block_sum`] sums it; the blocks of a residue class of blocks
+/// (g, g + m/BLOCK, …) are cut into runs of consecutive ones, for the
+/// threads. On a Zen 5 EPYC at 10^7 points on one thread, OADEV at m =
+/// 4096 went from 1.8–1.9 memory passes to 1.3–1.45 (`allan_per_tau
+/// 10000000 passes`); 512-point pieces, or three or four pieces ahead, did
+/// no better, and whole blocks were slower (1.7).
 fn far_block_sums(order: Order, x: &[f64], m: usize, blocks: usize, parallel: bool) -> Vec<f64> {
     let per_block = BLOCK / PIECE;
     let stride = m / PIECE; // pieces between one and the next in the order
-    let groups = m / BLOCK; // residues of blocks, each its own set of blocks
+    let groups = m / BLOCK; // residue classes of blocks
     let lead = order.span() * m;
-    let group = |g: usize| {
-        // Blocks g, g + groups, g + 2·groups, …
-        let mut acc = vec![[0.0f64; LANES]; (blocks + groups - 1 - g) / groups];
+    // Blocks in class g, and runs of about 32 in all.
+    let class = |g: usize| (blocks - g).div_ceil(groups);
+    let span = class(0).div_ceil(32usize.div_ceil(groups)).max(MIN_FAR_RUN);
+    let runs: Vec<(usize, usize)> = (0..groups.min(blocks))
+        .flat_map(|g| (0..class(g)).step_by(span).map(move |t0| (g, t0)))
+        .collect();
+    // Blocks g + t·groups for t in t0 .. t0 + span.
+    let run = |&(g, t0): &(usize, usize)| {
+        let t1 = (t0 + span).min(class(g));
+        let mut acc = vec![[0.0f64; LANES]; t1 - t0];
         for r in g * per_block..(g + 1) * per_block {
-            let mut piece = r;
-            while piece < blocks * per_block {
-                let j0 = piece * PIECE;
-                let k = piece / per_block / groups;
+            for t in t0..t1 {
+                let piece = r + t * stride;
                 let next = (piece + PIECES_AHEAD * stride) * PIECE + lead;
                 // Whole pieces leave no terms past the lanes.
-                let rest = block_lanes(order, x, j0, PIECE, m, &mut acc[k], next);
+                let rest = block_lanes(order, x, piece * PIECE, PIECE, m, &mut acc[t - t0], next);
                 debug_assert_eq!(rest, 0.0);
-                piece += stride;
             }
         }
-        // As block_sum adds its (here empty) rest: +0.0 changes no sum of
-        // squares.
-        acc.iter()
-            .map(|a| a.iter().sum::<f64>() + 0.0)
-            .collect::<Vec<f64>>()
+        // block_sum then adds its empty rest, −0.0, which changes no sum.
+        acc.iter().map(|a| a.iter().sum::<f64>()).collect::<Vec<f64>>()
     };
-    let by_group: Vec<Vec<f64>> = if parallel {
-        (0..groups.min(blocks)).into_par_iter().map(group).collect()
+    let sums: Vec<Vec<f64>> = if parallel {
+        runs.par_iter().map(run).collect()
     } else {
-        (0..groups.min(blocks)).map(group).collect()
+        runs.iter().map(run).collect()
     };
-    (0..blocks).map(|b| by_group[b % groups][b / groups]).collect()
+    let mut out = vec![0.0; blocks];
+    for (&(g, t0), sums) in runs.iter().zip(sums) {
+        for (t, sum) in (t0..).zip(sums) {
+            out[g + t * groups] = sum;
+        }
+    }
+    out
 }
 
 /// Points per block of [`sum_squared_overlapped_many`]: a block's windows at
@@ -298,7 +309,9 @@ const SMALL_SWEEP: usize = 1 << 18;
 /// factors in increasing order, the window at 2m of one octave factor is the
 /// window at m of the next, still in cache: for an octave grid the memory
 /// traffic falls from three series per tau to about one. Runs of blocks go
-/// in parallel, with the same result whatever the threads. Returns (sum,
+/// in parallel, with the same result whatever the threads. A single factor
+/// of 2048 or a multiple of it takes its whole blocks in another order,
+/// with the same bits ([`is_far`], [`far_block_sums`]). Returns (sum,
 /// terms) per factor, in the order of `ms`.
 pub(crate) fn sum_squared_overlapped_many(x: &[f64], ms: &[usize], order: Order) -> Vec<(f64, usize)> {
     sweep(x, ms, order, is_far)
@@ -306,13 +319,8 @@ pub(crate) fn sum_squared_overlapped_many(x: &[f64], ms: &[usize], order: Order)
 
 /// [`sum_squared_overlapped_many`], taking the whole blocks of the factors
 /// `far` picks from [`far_block_sums`] (the tests pick none, for the
-/// reference, or all that can be).
-fn sweep(
-    x: &[f64],
-    ms: &[usize],
-    order: Order,
-    far: fn(usize, &[usize], Order) -> bool,
-) -> Vec<(f64, usize)> {
+/// reference, or every one that can be).
+fn sweep(x: &[f64], ms: &[usize], order: Order, far: fn(usize, &[usize]) -> bool) -> Vec<(f64, usize)> {
     let n = x.len();
     let reach = order.span();
     let terms: Vec<usize> = ms
@@ -333,7 +341,7 @@ fn sweep(
     let small = terms.iter().sum::<usize>() < SMALL_SWEEP;
     // The far factors' whole blocks, each summed as block_sum sums it.
     let far_sums = |(&m, &t): (&usize, &usize)| {
-        (m > 0 && far(m, ms, order) && t >= BLOCK).then(|| far_block_sums(order, x, m, t / BLOCK, !small))
+        (m > 0 && far(m, ms) && t >= BLOCK).then(|| far_block_sums(order, x, m, t / BLOCK, !small))
     };
     let far_sums: Vec<Option<Vec<f64>>> = if small {
         ms.iter().zip(&terms).map(far_sums).collect()
@@ -384,32 +392,28 @@ mod tests {
         v * v
     }
 
-    /// Whatever the threads, the same bits: the sweep and the phase
-    /// conversion on one thread and on three, on a series long enough for
-    /// many blocks and several scan chunks.
     #[test]
-    fn only_a_factor_without_neighbours_is_taken_by_residue() {
+    fn only_a_single_far_factor_is_taken_by_residue() {
+        assert!(is_far(2048, &[2048]));
+        assert!(is_far(3 * 2048, &[3 * 2048]));
+        assert!(
+            !is_far(4096, &[1, 16, 256, 4096]),
+            "other factors read its streams"
+        );
+        assert!(!is_far(4096, &[4096, 4096]), "given twice");
+        assert!(!is_far(3000, &[3000]), "not a multiple of BLOCK");
+        assert!(!is_far(1024, &[1024]));
         let octave: Vec<usize> = (0..16).map(|k| 1 << k).collect();
-        for order in [Order::Second, Order::Third] {
-            assert!(octave.iter().all(|&m| !is_far(m, &octave, order)), "{order:?}");
-            assert!(is_far(4096, &[4096], order));
-            assert!(is_far(4096, &[1, 16, 256, 4096], order));
-            assert!(!is_far(4096, &[2048, 4096], order));
-            assert!(!is_far(4096, &[4096, 8192], order));
-            assert!(!is_far(3000, &[3000], order), "not a multiple of BLOCK");
-            assert!(!is_far(1024, &[1024], order));
-        }
-        // The Hadamard family's streams at m, 2m and 3m.
-        assert!(is_far(4096, &[6144, 4096], Order::Second));
-        assert!(!is_far(4096, &[6144, 4096], Order::Third));
-        assert!(!is_far(6144, &[4096, 6144], Order::Third));
+        assert!(octave.iter().all(|&m| !is_far(m, &octave)));
     }
 
+    /// Whatever the threads, the same bits: the sweep and the phase
+    /// conversion on one thread and on three, on a series long enough for
+    /// many blocks and several scan chunks, single far factors included.
     #[test]
     fn the_same_bits_on_any_number_of_threads() {
         let rate = crate::work::random_walk(300_000, 5);
-        // With far factors, whose block residues run in parallel too.
-        let ms: Vec<usize> = (1..2000).step_by(7).chain([2048, 4096, 8192, 3 * 8192]).collect();
+        let ms: Vec<usize> = (1..2000).step_by(7).chain([2048, 4096, 8192]).collect();
         let on = |threads: usize| {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
@@ -477,8 +481,9 @@ mod tests {
         }
 
         /// Far factors' blocks taken by residue give the bits of block
-        /// order, in both orders, with near factors beside them, on series
-        /// that end anywhere in a block and hold one to many residues.
+        /// order, in both orders, alone and with other factors beside
+        /// them, on series that end anywhere in a block and hold one to
+        /// many residues and runs.
         #[test]
         fn far_factors_give_the_bits_of_block_order(
             len in 3 * BLOCK + 1..40 * BLOCK,
@@ -492,17 +497,20 @@ mod tests {
                 .collect();
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             for order in [Order::Second, Order::Third] {
-                let bits = |far: fn(usize, &[usize], Order) -> bool| -> Vec<(u64, usize)> {
-                    pool.install(|| sweep(&x, &ms, order, far))
+                let bits = |ms: &[usize], far: fn(usize, &[usize]) -> bool| -> Vec<(u64, usize)> {
+                    pool.install(|| sweep(&x, ms, order, far))
                         .into_iter()
                         .map(|(s, n)| (s.to_bits(), n))
                         .collect()
                 };
-                // Every multiple of BLOCK, neighbours or not.
-                let every = |m: usize, _: &[usize], _: Order| m >= BLOCK && m.is_multiple_of(BLOCK);
-                let want = bits(|_, _, _| false);
-                prop_assert_eq!(bits(every), want.clone(), "{:?} len {}", order, len);
-                prop_assert_eq!(bits(is_far), want, "{:?} len {}", order, len);
+                // Every multiple of BLOCK, with other factors beside it.
+                let every = |m: usize, _: &[usize]| m >= BLOCK && m.is_multiple_of(BLOCK);
+                let want = bits(&ms, |_, _| false);
+                prop_assert_eq!(bits(&ms, every), want, "{:?} len {}", order, len);
+                // Each factor alone, as is_far takes it.
+                for &m in &ms {
+                    prop_assert_eq!(bits(&[m], is_far), bits(&[m], |_, _| false), "{:?} m {} len {}", order, m, len);
+                }
             }
         }
 

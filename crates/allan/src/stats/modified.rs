@@ -54,7 +54,8 @@ pub fn mdev(series: &PhaseSeries, m: usize) -> Option<Estimate> {
 /// time, so no step pays for a division to find the interval's start (the
 /// sums and their order are those of one loop with `j % interval == 0`).
 /// `clean` maps a NaN difference to what the running sum takes. Data
-/// without gaps takes [`super::mdev_scan`] instead, at about one memory pass.
+/// without gaps takes [`super::mdev_scan`] instead, at about one memory pass
+/// (and at m = 1 OADEV's blocked sum).
 #[inline(always)]
 fn window_squares(
     x: &[f64],
@@ -155,26 +156,28 @@ mod tests {
         (n > 0).then(|| ((sum / (2.0 * (m * m) as f64 * tau * tau * n as f64)).sqrt(), n))
     }
 
-    /// At m = 1 MVAR is AVAR (SP 1065): the same terms and the same sum,
-    /// normalised in another order (so within an ulp or two); and the
-    /// window scan, which m = 1 no longer takes, agrees to rounding.
+    /// At m = 1 MVAR is AVAR (SP 1065): MDEV takes OADEV's blocked sum of
+    /// the same N − 2 terms, bit for bit, and agrees with the window scan,
+    /// which m = 1 no longer takes, and the definition to rounding.
     #[test]
     fn at_one_the_modified_deviation_is_the_overlapped_one() {
+        use super::super::differences::{Order, sum_squared_overlapped_many};
         for len in [3usize, 4, 17, 2048, 2051, 100_003] {
             let x = crate::work::random_walk(len, len as u64);
             let series = PhaseSeries::new(&x, DataType::Phase, 10.0).unwrap();
-            let (modified, overlapped) = (
-                mdev(&series, 1).unwrap(),
-                super::super::oadev(&series, 1).unwrap(),
-            );
+            let modified = mdev(&series, 1).unwrap();
+            let (blocked, n) = sum_squared_overlapped_many(&x, &[1], Order::Second)[0];
+            assert_eq!((modified.n, n), (len - 2, len - 2));
+            let from_blocked = (blocked / (2.0 * 0.1 * 0.1 * n as f64)).sqrt();
+            assert_eq!(modified.dev.to_bits(), from_blocked.to_bits(), "len {len}");
+            let overlapped = super::super::oadev(&series, 1).unwrap();
             assert!(
                 (modified.dev / overlapped.dev - 1.0).abs() <= 4.0 * f64::EPSILON,
                 "len {len}"
             );
-            assert_eq!((modified.n, overlapped.n), (len - 2, len - 2));
             let scanned = super::super::mdev_scan::gap_free_squares(&x, 1);
+            let from_scan = (scanned / (2.0 * 0.01 * n as f64)).sqrt();
             let (direct, _) = mdev_direct(&x, 1, 0.1).unwrap();
-            let from_scan = (scanned / (2.0 * 0.01 * (len - 2) as f64)).sqrt();
             assert!((from_scan / modified.dev - 1.0).abs() < 1e-12, "len {len}");
             assert!((direct / modified.dev - 1.0).abs() < 1e-12, "len {len}");
         }
