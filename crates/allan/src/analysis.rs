@@ -3,7 +3,9 @@
 
 use rayon::prelude::*;
 
-use crate::confidence::chi2_interval;
+use std::collections::HashMap;
+
+use crate::confidence::{chi2_interval_from, interval_quantiles};
 use crate::edf::edf_for;
 use crate::noise_id::{self, NoiseId, NoiseIdMethod, Staged};
 use crate::phase::PhaseSeries;
@@ -271,6 +273,9 @@ fn analyze_series_grids_with_progress(
                 .collect();
             let mut ids: Vec<NoiseId> = own.iter().map(|f| f.2).collect();
             noise_id::cap_by_shorter_tau(&mut ids);
+            // The interval's two quantiles by EDF, computed once for the
+            // points that share it (the same bits as computed afresh).
+            let mut quantiles: HashMap<u64, (f64, f64)> = HashMap::new();
             let points: Vec<Point> = own
                 .iter()
                 .zip(ids)
@@ -282,7 +287,11 @@ fn analyze_series_grids_with_progress(
                         // terms, which is the white-noise, non-overlapped bound.
                         _ => est.n as f64,
                     };
-                    let (dev_lo, dev_hi) = chi2_interval(est.dev, edf, opts.confidence);
+                    let (dev_lo, dev_hi) = chi2_interval_from(est.dev, edf, opts.confidence, |edf, c| {
+                        *quantiles
+                            .entry(edf.to_bits())
+                            .or_insert_with(|| interval_quantiles(edf, c))
+                    });
                     Point {
                         tau: taus::tau_of(stat, m, tau0),
                         m,
@@ -426,6 +435,42 @@ mod tests {
                         points.iter().map(|p| (p.m, p.alpha, p.noise_id)).collect();
                     proptest::prop_assert_eq!(got, noise_types_in_full(&series, stat, &grid), "{:?} {:?}", stat, grid);
                 }
+            }
+        }
+    }
+
+    /// Quantiles shared by points of equal EDF give each point the interval
+    /// computed afresh, bit for bit; with every τ of HDEV most points share.
+    #[test]
+    fn shared_quantiles_give_each_point_its_own_interval() {
+        let y = noisy_series(11, 3000, 0, 0);
+        for stat in [Stat::Hdev, Stat::Oadev] {
+            let opts = Options {
+                stat,
+                taus: TauSpec::All,
+                confidence: 0.9,
+                ..Options::default()
+            };
+            let points = analyze(&y, &opts).unwrap().points;
+            let mut edfs: Vec<u64> = points.iter().map(|p| p.edf.to_bits()).collect();
+            edfs.sort_unstable();
+            edfs.dedup();
+            if stat == Stat::Hdev {
+                assert!(
+                    edfs.len() * 4 < points.len(),
+                    "{} EDFs for {} points",
+                    edfs.len(),
+                    points.len()
+                );
+            }
+            for p in &points {
+                let (lo, hi) = crate::confidence::chi2_interval(p.dev, p.edf, 0.9);
+                assert_eq!(
+                    (p.dev_lo.to_bits(), p.dev_hi.to_bits()),
+                    (lo.to_bits(), hi.to_bits()),
+                    "{stat:?} m={}",
+                    p.m
+                );
             }
         }
     }

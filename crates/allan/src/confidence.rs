@@ -44,16 +44,35 @@ pub const ONE_SIGMA: f64 = 0.682_689_492_137_085_9;
 /// * `edf` NaN or ≤ 0, `confidence` outside (0, 1), or `dev` NaN → `(NaN, NaN)`;
 /// * `edf = +∞` (a noiseless estimate) → `(dev, dev)`.
 pub fn chi2_interval(dev: f64, edf: f64, confidence: f64) -> (f64, f64) {
+    chi2_interval_from(dev, edf, confidence, interval_quantiles)
+}
+
+/// The chi-squared quantiles [`chi2_interval`] scales by, upper then lower,
+/// for `edf` at `confidence`.
+pub(crate) fn interval_quantiles(edf: f64, confidence: f64) -> (f64, f64) {
+    let p_hi = 0.5 * (1.0 + confidence);
+    let p_lo = 0.5 * (1.0 - confidence);
+    (chi2_quantile(p_hi, edf), chi2_quantile(p_lo, edf))
+}
+
+/// [`chi2_interval`] with its quantiles from `quantiles` (called as
+/// [`interval_quantiles`] is), so that a curve can reuse them where its
+/// points share an EDF: the non-overlapping statistics' EDF depends on the
+/// number of terms, and with every τ on the grid thousands of points share
+/// a few hundred values.
+pub(crate) fn chi2_interval_from(
+    dev: f64,
+    edf: f64,
+    confidence: f64,
+    quantiles: impl FnOnce(f64, f64) -> (f64, f64),
+) -> (f64, f64) {
     if dev.is_nan() || edf.is_nan() || edf <= 0.0 || !(confidence > 0.0 && confidence < 1.0) {
         return (f64::NAN, f64::NAN);
     }
     if edf.is_infinite() {
         return (dev, dev);
     }
-    let p_hi = 0.5 * (1.0 + confidence);
-    let p_lo = 0.5 * (1.0 - confidence);
-    let chi2_hi = chi2_quantile(p_hi, edf);
-    let chi2_lo = chi2_quantile(p_lo, edf);
+    let (chi2_hi, chi2_lo) = quantiles(edf, confidence);
     (dev * (edf / chi2_hi).sqrt(), dev * (edf / chi2_lo).sqrt())
 }
 
