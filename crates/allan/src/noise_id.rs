@@ -440,20 +440,33 @@ fn b1_mu(phase: &[f64], m: usize, alpha_min: i32) -> Option<(i32, f64)> {
 /// full phase series (SP 1065 eqs. 11 and 15; τ cancels).
 ///
 /// O(N): the only part of the identification that reads the whole series,
-/// run where B1 cannot tell white from flicker PM. Its two sums are those
-/// of OADEV and MDEV, taken by their kernels at about a memory pass each.
-/// One running window in a serial loop, as before, took about three cycles
-/// a point, and with every τ on the grid R(n) was four fifths of an HDEV
-/// curve's time at 2·10^4 points; the sums are the same to rounding (a
-/// property test holds them to the loop's to 1e-12).
+/// run where B1 cannot tell white from flicker PM. The AVAR sum, the
+/// running MVAR window and the MVAR sum are three dependency chains; one
+/// pass advances them together so they overlap in the pipeline, each
+/// summing in index order as before (the result is bit for bit the same).
 fn modified_to_allan_ratio(x: &[f64], m: usize) -> Option<f64> {
     let n = x.len();
     let terms_mod = n.checked_sub(3 * m)?.checked_add(1)?;
-    if m == 0 || terms_mod == 0 {
+    if terms_mod == 0 {
         return None;
     }
+    let second = |i: usize| x[i + 2 * m] - 2.0 * x[i + m] + x[i];
     let terms_avar = n - 2 * m;
-    let (avar, mvar) = crate::stats::allan_and_modified_sums(x, m);
+    // Running sum of m consecutive second differences.
+    let mut window: f64 = (0..m).map(second).sum();
+    let mut mvar = window * window;
+    let mut avar = 0.0;
+    // MVAR window j = i + 1 drops second(i) and takes second(i + m).
+    for i in 0..terms_mod - 1 {
+        let s = second(i);
+        avar += s * s;
+        window += second(i + m) - s;
+        mvar += window * window;
+    }
+    for i in terms_mod - 1..terms_avar {
+        let s = second(i);
+        avar += s * s;
+    }
     let avar = avar / terms_avar as f64;
     let mf = m as f64;
     let mvar = mvar / (terms_mod as f64 * mf * mf);
@@ -769,26 +782,15 @@ mod tests {
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(64))]
 
-        /// R(n) from OADEV's and MDEV's kernels equals the sums in turn to
-        /// rounding, at every factor, on white and random-walk phase, and is
-        /// defined exactly where they are.
+        /// The fused pass gives R(n) bit for bit, at every factor.
         #[test]
-        fn rn_from_the_kernels_equals_rn_in_turn(seed in any::<u64>(), len in 1usize..3000, kind in 0usize..3) {
+        fn fused_rn_equals_rn_in_turn(seed in any::<u64>(), len in 1usize..300, kind in 0usize..2) {
             let white = SplitMix(seed).white(len);
-            let x = match kind {
-                0 => white,
-                1 => cumsum(&white),
-                _ => cumsum(&cumsum(&white)),
-            };
-            // Every factor of short series; a spread of them beyond.
-            let step = (len / 300).max(1);
-            for m in (1..=len).step_by(step) {
+            let x = if kind == 0 { white } else { cumsum(&white) };
+            for m in 1..=len {
                 let a = modified_to_allan_ratio(&x, m);
                 let b = modified_to_allan_ratio_in_turn(&x, m);
-                prop_assert_eq!(a.is_some(), b.is_some(), "m={}", m);
-                if let (Some(a), Some(b)) = (a, b) {
-                    prop_assert!((a - b).abs() <= 1e-12 * b.abs(), "m={}: {} vs {}", m, a, b);
-                }
+                prop_assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "m={}", m);
             }
         }
     }

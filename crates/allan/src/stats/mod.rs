@@ -83,21 +83,6 @@ pub fn compute_many_with_progress(
     }
 }
 
-/// The sums under AVAR and MVAR at factor m on gap-free phase `x`, for
-/// 3m ≤ x.len(): of the squares of the N − 2m overlapped second
-/// differences, and of the squares of the N − 3m + 1 sums of m of them
-/// (one, the same sum, at m = 1). Each at about a memory pass, by the
-/// kernels of OADEV and MDEV.
-pub(crate) fn allan_and_modified_sums(x: &[f64], m: usize) -> (f64, f64) {
-    let (allan, _) = differences::sum_squared_overlapped_many(x, &[m], differences::Order::Second)[0];
-    let modified = if m == 1 {
-        allan
-    } else {
-        mdev_scan::gap_free_squares(x, m)
-    };
-    (allan, modified)
-}
-
 /// Computes `stat` at averaging factor m.
 pub fn compute(stat: Stat, series: &PhaseSeries, m: usize) -> Option<Estimate> {
     compute_with_progress(stat, series, m, &|_| {})
