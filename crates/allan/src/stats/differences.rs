@@ -115,60 +115,64 @@ fn block_sum(order: Order, x: &[f64], j0: usize, len: usize, m: usize) -> f64 {
     let mut acc = [0.0f64; LANES];
     // The stream at the difference's far end is the one from memory.
     let lead = j0 + order.span() * m + crate::prefetch::DISTANCE / 8;
-    let tail = block_lanes(order, x, j0, len, m, &mut acc, lead);
+    let run = Run {
+        order,
+        x,
+        j0,
+        len,
+        m,
+        prefetch: lead,
+    };
+    let tail = block_lanes(run, &mut acc);
     acc.iter().sum::<f64>() + tail
 }
 
-/// Adds the terms of [`block_sum`] at j0 + i, i < `len`, to the lanes
-/// `acc` (a block's lanes may be filled in several calls, in order), and
-/// returns the sum of the terms past the last whole [`LANES`]. Each group
-/// of lanes asks for the line at `prefetch` (stepped by a line a group).
-#[inline]
-fn block_lanes(
+/// Where [`block_lanes`] sums: the terms at j0 + i for i < `len`, of
+/// `order` at step m, asking for the line at `prefetch` (stepped by a line
+/// a group of lanes).
+#[derive(Clone, Copy)]
+struct Run<'a> {
     order: Order,
-    x: &[f64],
+    x: &'a [f64],
     j0: usize,
     len: usize,
     m: usize,
-    acc: &mut [f64; LANES],
     prefetch: usize,
-) -> f64 {
+}
+
+/// Adds the terms of `run` to the lanes `acc` (a block's lanes may be
+/// filled in several calls, in order), and returns the sum of the terms
+/// past the last whole [`LANES`].
+#[inline]
+fn block_lanes(run: Run, acc: &mut [f64; LANES]) -> f64 {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the one requirement for calling a function compiled with
         // `target_feature(enable = "avx2")` is a CPU that has AVX2, which
         // was just detected.
-        return unsafe { block_lanes_avx2(order, x, j0, len, m, acc, prefetch) };
+        return unsafe { block_lanes_avx2(run, acc) };
     }
-    block_lanes_portable(order, x, j0, len, m, acc, prefetch)
+    block_lanes_portable(run, acc)
 }
 
 /// [`block_lanes_portable`] compiled for AVX2: four lanes to an instruction
 /// instead of two, with the same operations in the same order.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn block_lanes_avx2(
-    order: Order,
-    x: &[f64],
-    j0: usize,
-    len: usize,
-    m: usize,
-    acc: &mut [f64; LANES],
-    prefetch: usize,
-) -> f64 {
-    block_lanes_portable(order, x, j0, len, m, acc, prefetch)
+fn block_lanes_avx2(run: Run, acc: &mut [f64; LANES]) -> f64 {
+    block_lanes_portable(run, acc)
 }
 
 #[inline(always)]
-fn block_lanes_portable(
-    order: Order,
-    x: &[f64],
-    j0: usize,
-    len: usize,
-    m: usize,
-    acc: &mut [f64; LANES],
-    prefetch: usize,
-) -> f64 {
+fn block_lanes_portable(run: Run, acc: &mut [f64; LANES]) -> f64 {
+    let Run {
+        order,
+        x,
+        j0,
+        len,
+        m,
+        prefetch,
+    } = run;
     let a = &x[j0..j0 + len];
     let b = &x[j0 + m..j0 + m + len];
     let c = &x[j0 + 2 * m..j0 + 2 * m + len];
@@ -284,7 +288,15 @@ fn far_block_sums(order: Order, x: &[f64], m: usize, blocks: usize, parallel: bo
                 let piece = r + t * stride;
                 let next = (piece + PIECES_AHEAD * stride) * PIECE + lead;
                 // Whole pieces leave no terms past the lanes.
-                let rest = block_lanes(order, x, piece * PIECE, PIECE, m, &mut acc[t - t0], next);
+                let this = Run {
+                    order,
+                    x,
+                    j0: piece * PIECE,
+                    len: PIECE,
+                    m,
+                    prefetch: next,
+                };
+                let rest = block_lanes(this, &mut acc[t - t0]);
                 debug_assert_eq!(rest, 0.0);
             }
         }
@@ -493,7 +505,8 @@ mod tests {
                 }
                 let terms = len - order.span() * m;
                 let mut acc = [0.0; LANES];
-                let rest = block_lanes_portable(order, &x, 0, terms, m, &mut acc, 0);
+                let run = Run { order, x: &x, j0: 0, len: terms, m, prefetch: 0 };
+                let rest = block_lanes_portable(run, &mut acc);
                 prop_assert_eq!(
                     block_sum(order, &x, 0, terms, m).to_bits(),
                     (acc.iter().sum::<f64>() + rest).to_bits()
