@@ -32,7 +32,7 @@ impl Order {
 /// second difference x₂ − 2x₁ + x₀ is exact there as written: 2x is exact,
 /// and both subtractions fall within Sterbenz's range.)
 #[inline(always)]
-fn third(a: f64, b: f64, c: f64, d: f64) -> f64 {
+pub(super) fn third(a: f64, b: f64, c: f64, d: f64) -> f64 {
     ((d - c) - (c - b)) - ((c - b) - (b - a))
 }
 
