@@ -301,7 +301,11 @@ mod tests {
         ) {
             let x: Vec<f64> = walk(len, seed).iter().map(|v| v + offset).collect();
             let m = 2 + (((len - 1) / 3 - 2) as f64 * pick) as usize;
-            let want = htotvar_direct(&x, m, tau0).sqrt();
+            // The definition as written rounds at the scale of the data:
+            // it reads the same points less the first, which the statistic
+            // ignores (as MTOTDEV's test explains).
+            let shifted: Vec<f64> = x.iter().map(|v| v - x[0]).collect();
+            let want = htotvar_direct(&shifted, m, tau0).sqrt();
             let got = htotdev(&x, m, tau0).unwrap();
             proptest::prop_assert!(rel(got.dev, want) < 1e-11, "len={} m={}: {} vs {}", len, m, got.dev, want);
             proptest::prop_assert_eq!(got.n, len - 3 * m);

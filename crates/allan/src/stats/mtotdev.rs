@@ -636,7 +636,14 @@ pub(crate) mod tests {
         ) {
             let x: Vec<f64> = walk(len, seed).iter().map(|v| v + offset).collect();
             let m = 1 + ((len / 3 - 1) as f64 * pick) as usize;
-            let want = mtotvar_direct(&x, m, tau0).sqrt();
+            // The definition as written rounds at the scale of the data, so
+            // on a large offset it is the less exact of the two: one window
+            // of three points whose curvature is 5.5e-4 under an offset of
+            // -849 left it 1.5e-10 from the folded sum. It reads the same
+            // points less the first (MTOT ignores an offset, and the
+            // difference is exact where the offset dominates, by Sterbenz).
+            let shifted: Vec<f64> = x.iter().map(|v| v - x[0]).collect();
+            let want = mtotvar_direct(&shifted, m, tau0).sqrt();
             let got = mtotdev(&x, m, tau0).unwrap();
             proptest::prop_assert!(rel(got.dev, want) < 1e-11, "len={} m={}: {} vs {}", len, m, got.dev, want);
             proptest::prop_assert_eq!(got.n, len - 3 * m + 1);

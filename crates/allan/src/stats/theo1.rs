@@ -304,7 +304,11 @@ mod tests {
         ) {
             let x: Vec<f64> = walk(len, seed).iter().map(|v| v + offset).collect();
             let m = 2 * (1 + (((len - 1) / 2 - 1) as f64 * pick) as usize);
-            let want = theo1_direct(&x, m, tau0);
+            // The definition as written rounds at the scale of the data:
+            // it reads the same points less the first, which the statistic
+            // ignores (as MTOTDEV's test explains).
+            let shifted: Vec<f64> = x.iter().map(|v| v - x[0]).collect();
+            let want = theo1_direct(&shifted, m, tau0);
             let got = theo1(&x, m, tau0).unwrap();
             proptest::prop_assert!(rel(got.dev, want) < 1e-11, "len={} m={}: {} vs {}", len, m, got.dev, want);
             proptest::prop_assert_eq!(got.n, (len - m) * (m / 2));
