@@ -12,7 +12,8 @@
 //! cargo run --release -p allan --example allan_per_tau [N] [grids|passes]
 //!
 //! N defaults to 10^5 (the grids part runs only up to 2·10^5); `grids`
-//! runs that part alone, `passes` the memory-pass part alone. The rate
+//! runs that part alone, `passes` the memory-pass part alone, at the
+//! factors listed in `ALLAN_PER_TAU_M` (say `1024,4096,65536`) if set. The rate
 //! series is reproducible white noise (white FM) and its running sum
 //! (random-walk FM), so the lag-1 ACF, B1 and R(n) paths all run.
 
@@ -221,6 +222,7 @@ fn prefetch(p: *const f64) {
 /// same phase points, measured in the same run on one thread: the ratio
 /// is how many passes' worth of time a τ costs (goal ≤ 1.5).
 fn bandwidth_ratios() {
+    let factors = pass_factors();
     let rate = white(PASS_POINTS - 1, 11);
     let series = PhaseSeries::new(&rate, DataType::Freq, 1.0).expect("finite samples");
     let phase = series.points();
@@ -238,7 +240,7 @@ fn bandwidth_ratios() {
         );
         println!("{:<8} {:>8} {:>10} {:>14}", "stat", "m", "time s", "passes");
         for stat in [Stat::Oadev, Stat::Mdev, Stat::Hdev] {
-            for m in [1usize, 16, 256, 4096] {
+            for &m in &factors {
                 // The pass and the statistic in turn, five times, best of
                 // each: on a shared machine the bandwidth moves with the
                 // load, and taken far apart the two would not see the same.
@@ -251,6 +253,21 @@ fn bandwidth_ratios() {
             }
         }
     });
+}
+
+/// The averaging factors of the memory-pass part: 1, 16, 256 and 4096, or
+/// the comma-separated list in `ALLAN_PER_TAU_M`.
+fn pass_factors() -> Vec<usize> {
+    match std::env::var("ALLAN_PER_TAU_M") {
+        Ok(list) => list
+            .split(',')
+            .map(|t| match t.trim().parse::<usize>() {
+                Ok(m) if m > 0 => m,
+                _ => panic!("ALLAN_PER_TAU_M: {t:?} is not a positive averaging factor"),
+            })
+            .collect(),
+        Err(_) => vec![1, 16, 256, 4096],
+    }
 }
 
 /// Running sum, a random-walk FM rate from a white FM one.

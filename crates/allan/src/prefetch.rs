@@ -9,7 +9,10 @@
 //! and OADEV 6.3 ms. Asking for the leading stream's lines [`DISTANCE`]
 //! bytes ahead brought them to 3.5 and 3.3 ms. The overlapped sums that
 //! take a far factor's series in pieces by residue ask for the piece two
-//! ahead in their own order instead ([`line`]).
+//! ahead in their own order instead ([`line`]). MDEV's scans also ask for
+//! the two oldest streams a few lines ahead ([`line`]): with the leading
+//! stream's lines in L1 as well, those streams come from L2 from m of
+//! about 1024 on.
 
 /// How far ahead of the leading stream, in bytes. 8 KiB and more reached
 /// the in-cache speed on a Zen 5 EPYC; 2 KiB recovered only half of it.

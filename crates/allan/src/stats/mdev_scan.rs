@@ -24,15 +24,23 @@
 //! rounding drift while the exact sums cost at most an eighth of a pass more;
 //! a window's square goes to accumulator j mod 8 of its interval.
 //!
-//! On x86-64 with AVX-512, and m below [`AVX512_BELOW`], the eight windows
-//! sit in one register and the tree's levels are formed from neighbouring
-//! registers by lane rotations as they are needed; with AVX2 (or from that
-//! m) the same in two registers; elsewhere, and for the last moves before
-//! the end of the series, the third differences and Q are formed a chunk at
-//! a time into buffers, in loops the compiler vectorises. All do the same
-//! operations
-//! in the same order lane by lane and use no fused multiply-add, so they give
-//! the same result bit for bit (a test holds them to it).
+//! On x86-64 with AVX-512 the eight windows sit in one register and the
+//! tree's levels are formed from neighbouring registers by lane rotations
+//! as they are needed; with AVX2 the same in two registers; elsewhere, and
+//! for the last moves before the end of the series, the third differences
+//! and Q are formed a chunk at a time into buffers, in loops the compiler
+//! vectorises. All do the same operations in the same order lane by lane
+//! and use no fused multiply-add, so they give the same result bit for bit
+//! (a test holds them to it). The register scans ask for the leading
+//! stream's lines 16 KiB ahead and for the two trailing streams' a little
+//! ahead ([`TRAILING`]).
+//!
+//! Up to m = 1536, AVX2 was taken from there on even where the CPU has
+//! AVX-512: the streams x[j] and x[j + m] came from L2, and the 64-byte
+//! loads, every one across two cache lines, cost more than the narrower
+//! registers saved. Since the trailing streams are asked for ahead, AVX-512
+//! is ahead at every m measured (16 to 2^20; at m = 4096, 1.90 passes of
+//! memory against AVX2's 2.30, medians of 7 runs at 10^7 points).
 //!
 //! Before, four windows moved by four differences summed in a row: seven
 //! additions where the tree takes five, and a dependent chain every four
@@ -44,18 +52,18 @@ use super::modified::RESYNC;
 /// Windows that ride together, and the points each moves on by at once.
 const LANES: usize = 8;
 
-/// The averaging factor from which the AVX2 scan is taken even where the
-/// CPU has AVX-512: from there the streams x[j] and x[j + m] have left the
-/// L1 cache (3m points span 36 KiB), and the 64-byte loads from L2, every
-/// one across two cache lines, cost more than the narrower registers save.
-/// On a Zen 5 EPYC at 10^7 points: 0.30 against 0.35 ns a point at m =
-/// 1000, 0.41 against 0.36 at m = 2048, with the third differences formed
-/// from the phase. Formed from first differences, as now, the two are
-/// within 15 % of each other from m = 1536 to 2^20 (AVX-512 ahead at 2048
-/// to 8192 and at 2^20, AVX2 at 1536 and 65536), and the limit is kept.
-/// Both give the same bits.
+/// How far ahead of x[j] and x[j + m] the register scans ask for their
+/// lines, in points. Those streams were read 3m and 2m points earlier, and
+/// with the leading stream asked for 16 KiB ahead they no longer stay in
+/// the 48 KiB L1 cache of a Zen 5 EPYC even at m = 1024 (3m points span
+/// 24 KiB). At 10^7 points on one thread, median memory passes of 7
+/// interleaved runs, AVX-512, without → with: m = 16 1.54 → 1.25, m = 1024
+/// 2.77 → 1.61, m = 1536 2.91 → 1.87, m = 4096 2.26 → 1.90. 32 points did
+/// as well at m = 16 but worse at 1024; 96 and more were slower than none.
+/// The stream x[j + 2m], asked for too, gained at m = 1024 and lost at 16
+/// and 4096.
 #[cfg(target_arch = "x86_64")]
-const AVX512_BELOW: usize = 1536;
+const TRAILING: usize = 64;
 
 /// Windows whose third differences the portable scan forms at a time, in L1.
 const CHUNK: usize = 256;
@@ -64,7 +72,7 @@ const CHUNK: usize = 256;
 pub(super) fn gap_free_squares(x: &[f64], m: usize) -> f64 {
     #[cfg(target_arch = "x86_64")]
     {
-        if m < AVX512_BELOW && std::arch::is_x86_feature_detected!("avx512f") {
+        if std::arch::is_x86_feature_detected!("avx512f") {
             // SAFETY: the one requirement for calling a function compiled
             // with `target_feature(enable = "avx512f")` is a CPU that has
             // AVX-512F, which was just detected.
@@ -272,7 +280,7 @@ fn fused_moves_avx2(x: &[f64], m: usize, j0: usize, moves: usize, w: &mut Lanes,
     let (mut wv, mut av) = (load(w), load(acc));
     let lead = j0 + 3 * m + 3 * LANES;
     for k in 0..moves {
-        crate::prefetch::ahead(x, lead + LANES * k);
+        ask(x, m, j0 + LANES * k, lead + LANES * k);
         let e3 = group(k + 3);
         let p2 = add(e2, on1(e2, e3));
         let q1 = add(p1, on2(p1, p2));
@@ -327,7 +335,7 @@ fn fused_moves(x: &[f64], m: usize, j0: usize, moves: usize, w: &mut Lanes, acc:
     let (mut wv, mut av) = (load(w), load(acc));
     let lead = j0 + 3 * m + 3 * LANES;
     for k in 0..moves {
-        crate::prefetch::ahead(x, lead + LANES * k);
+        ask(x, m, j0 + LANES * k, lead + LANES * k);
         let e3 = group(k + 3);
         let p2 = _mm512_add_pd(e2, on!(e2, e3, 1));
         let q1 = _mm512_add_pd(p1, on!(p1, p2, 2));
@@ -341,6 +349,17 @@ fn fused_moves(x: &[f64], m: usize, j0: usize, moves: usize, w: &mut Lanes, acc:
         _mm512_storeu_pd(w.as_mut_ptr(), wv);
         _mm512_storeu_pd(acc.as_mut_ptr(), av);
     }
+}
+
+/// The cache lines a register scan's move at window j asks for: the
+/// leading stream's [`crate::prefetch::DISTANCE`] bytes past `lead`, and
+/// the two trailing streams' [`TRAILING`] points ahead.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn ask(x: &[f64], m: usize, j: usize, lead: usize) {
+    crate::prefetch::ahead(x, lead);
+    crate::prefetch::line(x, j + TRAILING);
+    crate::prefetch::line(x, j + m + TRAILING);
 }
 
 /// W_j summed afresh, in four interleaved sums, each second difference
