@@ -56,6 +56,10 @@ pub(crate) fn sum_squared(series: &PhaseSeries, m: usize, stride: usize, order: 
         // blocked sweep, so a curve computed factor by factor equals the
         // one swept at once.
         None if stride == 1 => sum_squared_overlapped_many(x, &[m], order)[0],
+        None if stride == m => {
+            let n = last / m + 1;
+            (decimated_sum(x, m, n, order), n)
+        }
         None => {
             // Four interleaved sums: with one, each term would wait on the
             // previous addition while the strided reads could run ahead.
@@ -97,6 +101,114 @@ pub(crate) fn sum_squared(series: &PhaseSeries, m: usize, stride: usize, order: 
             (sum, n)
         }
     }
+}
+
+/// Terms of [`decimated_sum`] formed from one copy of the decimated points.
+/// At 10^7 points, HDEV at m = 2, medians of 7 runs: 1.51 passes of memory
+/// with 64, 1.72 with 128, 1.81 with 256, 1.96 with 2048.
+const DECIMATED_CHUNK: usize = 64;
+
+/// Σ over the first n of k of the squared `order`-th difference of the
+/// decimated points y_k = x[k·m]: the non-overlapped sums without gaps.
+///
+/// Read term by term, with a run-time stride and the hardware prefetcher
+/// alone, HDEV took 2.46 passes of memory at m = 2 and 1.47 at m = 4 on
+/// 10^7 points. Here the points are copied a chunk at a time into a buffer
+/// in L1, each line asked for 16 KiB ahead (or 64 points ahead, for large
+/// m), with the stride known to the compiler for m ≤ 4; the terms are then
+/// formed from the copy in a loop of whole vectors. Term k goes to
+/// accumulator k mod 4, in order of k, and the tail is summed as before, so
+/// the bits are those of one strided loop with four accumulators (a test
+/// holds them to it).
+fn decimated_sum(x: &[f64], m: usize, n: usize, order: Order) -> f64 {
+    const SUMS: usize = crate::lanes::LANES;
+    const _: () = assert!(DECIMATED_CHUNK.is_multiple_of(SUMS));
+    let span = order.span();
+    let whole = n - n % SUMS;
+    let mut y = [0.0f64; DECIMATED_CHUNK + 3];
+    let mut acc = [0.0f64; SUMS];
+    let ahead = (crate::prefetch::DISTANCE / 8).max(64 * m);
+    for k0 in (0..whole).step_by(DECIMATED_CHUNK) {
+        let len = DECIMATED_CHUNK.min(whole - k0);
+        // The last point read is y at whole − 1 + span, within the series
+        // as n ≤ last/m + 1. Each group of eight points spans m lines up to
+        // m = 8, and eight from there.
+        let lines = m.min(8);
+        let step = m.max(8);
+        for (q, group) in y[..len + span].chunks_mut(8).enumerate() {
+            let base = (k0 + 8 * q) * m + ahead;
+            for l in 0..lines {
+                crate::prefetch::line(x, base + l * step);
+            }
+            let from = &x[(k0 + 8 * q) * m..];
+            match m {
+                2 => every::<2>(from, group),
+                3 => every::<3>(from, group),
+                4 => every::<4>(from, group),
+                _ => {
+                    for (slot, &v) in group.iter_mut().zip(from.iter().step_by(m)) {
+                        *slot = v;
+                    }
+                }
+            }
+        }
+        let (y0, y1, y2) = (&y[..len], &y[1..len + 1], &y[2..len + 2]);
+        let y3 = &y[3..len + 3];
+        match order {
+            Order::Second => {
+                for ((a, b), c) in chunks(y0).iter().zip(chunks(y1)).zip(chunks(y2)) {
+                    for l in 0..SUMS {
+                        let v = c[l] - 2.0 * b[l] + a[l];
+                        acc[l] += v * v;
+                    }
+                }
+            }
+            Order::Third => {
+                let quads = chunks(y0).iter().zip(chunks(y1)).zip(chunks(y2)).zip(chunks(y3));
+                for (((a, b), c), d) in quads {
+                    for l in 0..SUMS {
+                        let v = third(a[l], b[l], c[l], d[l]);
+                        acc[l] += v * v;
+                    }
+                }
+            }
+        }
+    }
+    let term = |k: usize| -> f64 {
+        let j = k * m;
+        match order {
+            Order::Second => x[j + 2 * m] - 2.0 * x[j + m] + x[j],
+            Order::Third => third(x[j], x[j + m], x[j + 2 * m], x[j + 3 * m]),
+        }
+    };
+    let tail: f64 = (whole..n)
+        .map(|k| {
+            let v = term(k);
+            v * v
+        })
+        .sum();
+    crate::lanes::join(acc, tail)
+}
+
+/// `to[i] = from[i·M]` for as many points as both hold: with M known, a
+/// loop of whole vectors and shuffles where a run-time stride reads one
+/// point at a time.
+#[inline(always)]
+fn every<const M: usize>(from: &[f64], to: &mut [f64]) {
+    let (whole, rest) = from.as_chunks::<M>();
+    let n = to.len().min(whole.len());
+    for (slot, chunk) in to[..n].iter_mut().zip(whole) {
+        *slot = chunk[0];
+    }
+    if n < to.len() && !rest.is_empty() {
+        to[n] = rest[0];
+    }
+}
+
+/// A slice's whole groups of four.
+#[inline(always)]
+fn chunks(s: &[f64]) -> &[[f64; crate::lanes::LANES]] {
+    s.as_chunks::<{ crate::lanes::LANES }>().0
 }
 
 /// Accumulators of [`block_sum`]: one running sum would wait on every
@@ -565,6 +677,38 @@ mod tests {
                 for &m in &ms {
                     prop_assert_eq!(bits(&[m], is_far), bits(&[m], |_, _| false), "{:?} m {} len {}", order, m, len);
                 }
+            }
+        }
+
+        /// The decimated copy gives the bits of the strided loop with four
+        /// accumulators it replaced.
+        #[test]
+        fn decimated_sums_give_the_strided_loops_bits(len in 4usize..6000, m_seed in 1usize..500, seed in 0u64..1000) {
+            let x = crate::work::random_walk(len, seed);
+            let m = 1 + m_seed % (len / 4).max(1);
+            for order in [Order::Second, Order::Third] {
+                if order.span() * m >= len {
+                    continue;
+                }
+                let n = (len - 1 - order.span() * m) / m + 1;
+                // The strided loop's term, as sum_squared forms it.
+                let term = |j: usize| -> f64 {
+                    let v = match order {
+                        Order::Second => x[j + 2 * m] - 2.0 * x[j + m] + x[j],
+                        Order::Third => third(x[j], x[j + m], x[j + 2 * m], x[j + 3 * m]),
+                    };
+                    v * v
+                };
+                let mut acc = [0.0f64; 4];
+                let whole = n - n % 4;
+                for k in (0..whole).step_by(4) {
+                    for (l, slot) in acc.iter_mut().enumerate() {
+                        *slot += term((k + l) * m);
+                    }
+                }
+                let tail: f64 = (whole..n).map(|k| term(k * m)).sum();
+                let strided = crate::lanes::join(acc, tail);
+                prop_assert_eq!(decimated_sum(&x, m, n, order).to_bits(), strided.to_bits(), "{:?} m {} len {}", order, m, len);
             }
         }
 
