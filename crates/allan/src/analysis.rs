@@ -214,7 +214,7 @@ fn analyze_series_grids_with_progress(
     // is known without R(n) under the grid's cap: the cap reads the shorter
     // taus of the grid only.
     let max_abs = std::sync::OnceLock::new();
-    let max_abs = || *max_abs.get_or_init(|| clean.iter().fold(0.0f64, |a, v| a.max(v.abs())));
+    let max_abs = || *max_abs.get_or_init(|| largest_magnitude(clean));
     let settled: Vec<Vec<(usize, usize, Option<NoiseId>)>> = grid_ms
         .iter()
         .map(|g| {
@@ -316,6 +316,25 @@ fn analyze_series_grids_with_progress(
             Ok(points)
         })
         .collect()
+}
+
+/// The largest |x| of `x`, NaNs ignored (0 for none), as
+/// `fold(0.0, |a, v| a.max(v.abs()))` gives it, in eight lanes: that fold is
+/// one chain of dependent maxima, and at 10^6 points it took a quarter of
+/// the time noise identification spends on an octave grid. The largest of
+/// the lanes' largest is the same whatever their order.
+fn largest_magnitude(x: &[f64]) -> f64 {
+    // `v > a` is false for a NaN v, which is skipped, as `f64::max` does.
+    let larger = |a: f64, v: f64| if v > a { v } else { a };
+    let (chunks, tail) = x.as_chunks::<8>();
+    let mut lanes = [0.0f64; 8];
+    for chunk in chunks {
+        for l in 0..8 {
+            lanes[l] = larger(lanes[l], chunk[l].abs());
+        }
+    }
+    let tail = tail.iter().fold(0.0f64, |a, v| larger(a, v.abs()));
+    lanes.iter().fold(tail, |a, &v| larger(a, v))
 }
 
 #[cfg(test)]
@@ -493,6 +512,25 @@ mod tests {
                 }
                 other => panic!("{data_type:?}: {other:?}"),
             }
+        }
+    }
+
+    proptest::proptest! {
+        /// The lanes' largest |x| is the serial fold's, NaNs, infinities
+        /// and negative zeros included.
+        #[test]
+        fn largest_magnitude_is_the_folds(
+            x in proptest::collection::vec(
+                proptest::prop_oneof![
+                    proptest::num::f64::ANY,
+                    proptest::strategy::Just(f64::NAN),
+                    proptest::strategy::Just(-0.0),
+                ],
+                0..100,
+            )
+        ) {
+            let fold = x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            proptest::prop_assert_eq!(super::largest_magnitude(&x).to_bits(), fold.to_bits());
         }
     }
 }

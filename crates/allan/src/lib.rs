@@ -31,6 +31,7 @@
 //! ```
 
 mod analysis;
+mod decimate;
 mod error;
 mod lanes;
 mod phase;

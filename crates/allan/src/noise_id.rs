@@ -357,6 +357,30 @@ struct AcfId {
 /// Riley & Greenhall's lag-1 ACF identification on phase decimated by `m`,
 /// unclamped; `None` below [`MIN_ACF_POINTS`] points or on degenerate data.
 fn lag1_acf_id(phase: &[f64], m: usize, d_max: u32) -> Option<AcfId> {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the one requirement for calling a function compiled with
+        // `target_feature(enable = "avx2")` is a CPU that has AVX2, which
+        // was just detected.
+        return unsafe { lag1_acf_id_avx2(phase, m, d_max) };
+    }
+    lag1_acf_id_portable(phase, m, d_max)
+}
+
+/// [`lag1_acf_id`] compiled for AVX2: its sums run in four lanes, one
+/// 256-bit register where SSE2 takes two, with the same operations in the
+/// same order and no fused multiply-add, so the same bits (a test holds the
+/// two to it). At 10^6 points, 300 OADEV curves on an octave grid on one
+/// thread, the method's sums took 0.30 s with SSE2 and 0.27 s so (their
+/// share of the samples of `perf record` times the user time).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn lag1_acf_id_avx2(phase: &[f64], m: usize, d_max: u32) -> Option<AcfId> {
+    lag1_acf_id_portable(phase, m, d_max)
+}
+
+#[inline(always)]
+fn lag1_acf_id_portable(phase: &[f64], m: usize, d_max: u32) -> Option<AcfId> {
     if phase.len().div_ceil(m.max(1)).min(MAX_ACF_POINTS) < MIN_ACF_POINTS {
         return None;
     }
@@ -479,6 +503,31 @@ mod tests {
     use super::*;
     use crate::stats::mtotdev::tests::{integrate, nbs14_1000_freq};
     use proptest::prelude::*;
+
+    /// The AVX2 build of the lag-1 method gives the portable build's bits,
+    /// on white and integrated noise, at every difference order it reaches.
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn the_avx2_build_gives_the_same_bits() {
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            eprintln!("this CPU has no AVX2: nothing to compare");
+            return;
+        }
+        let white = crate::work::random_walk(70_001, 9);
+        let mut orders = std::collections::HashSet::new();
+        for phase in [white.clone(), integrate(&white), integrate(&integrate(&white))] {
+            for m in [1, 2, 3, 5, 8, 13, 100, 1000] {
+                let bits =
+                    |a: Option<AcfId>| a.map(|a| (a.alpha, a.alpha_estimate.to_bits(), a.d, a.r1.to_bits()));
+                let portable = lag1_acf_id_portable(&phase, m, 3);
+                // SAFETY: AVX2 was just detected.
+                let avx2 = unsafe { lag1_acf_id_avx2(&phase, m, 3) };
+                assert_eq!(bits(avx2), bits(portable), "m = {m}");
+                orders.extend(portable.map(|a| a.d));
+            }
+        }
+        assert!(orders.len() >= 2, "difference orders reached: {orders:?}");
+    }
 
     #[test]
     fn few_point_readings_never_rise_above_the_acf_at_shorter_tau() {

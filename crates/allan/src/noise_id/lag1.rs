@@ -48,16 +48,14 @@ impl Fit {
 /// Reads `phase[0], phase[m], …`, at most `max` points, and fits them.
 /// `None` when a point is not finite: a NaN or an infinity makes the plain
 /// sum non-finite for good.
+#[inline(always)]
 pub(super) fn gather_fit(phase: &[f64], m: usize, max: usize) -> Option<(Vec<f64>, Fit)> {
     let len = phase.len().div_ceil(m.max(1)).min(max);
     // Reading and summing in one loop was slower: the strided loads and
     // three sums' operands spilled the registers. The copy is a memcpy at
     // m = 1, and the sums run on it from the cache.
-    let x: Vec<f64> = if m == 1 {
-        phase[..len].to_vec()
-    } else {
-        phase.iter().copied().step_by(m.max(1)).take(len).collect()
-    };
+    let mut x = vec![0.0; len];
+    crate::decimate::every(phase, m.max(1), &mut x);
     let n = len as f64;
     let centre = 0.5 * (n - 1.0);
     let c = (n * n - 1.0) / 12.0; // mean of t² over the centred grid
@@ -111,6 +109,7 @@ fn norms(n: f64) -> (f64, f64) {
 /// the residual's lag-1 autocorrelation. The residual's mean is zero, as
 /// the fit holds a constant, so it is centred already (the mean the serial
 /// form took was a few ulps of the data).
+#[inline(always)]
 pub(super) fn residual_lag1(x: &mut [f64], fit: &Fit) -> Option<f64> {
     if x.len() < 2 {
         return None;
@@ -136,6 +135,7 @@ pub(super) fn residual_lag1(x: &mut [f64], fit: &Fit) -> Option<f64> {
 /// reads (a loop the compiler turns into whole vectors, where pairing
 /// each value with the one before across lanes took shuffles and was
 /// slower than the second pass). `None` for a constant series.
+#[inline(always)]
 fn lag1_about(u: &[f64], mean: f64) -> Option<f64> {
     let len = u.len();
     let (head, next) = (&u[..len - 1], &u[1..]);
@@ -166,6 +166,7 @@ fn lag1_about(u: &[f64], mean: f64) -> Option<f64> {
 /// series is the largest allocation of the method), and returns their
 /// lag-1 autocorrelation. Their mean telescopes to
 /// (x_last − x_first)/(len − 1), known without a sum.
+#[inline(always)]
 pub(super) fn difference_lag1(x: &mut Vec<f64>) -> Option<f64> {
     let len = x.len();
     if len < 3 {

@@ -114,9 +114,8 @@ const DECIMATED_CHUNK: usize = 64;
 /// Read term by term, with a run-time stride and the hardware prefetcher
 /// alone, HDEV took 2.46 passes of memory at m = 2 and 1.47 at m = 4 on
 /// 10^7 points. Here the points are copied a chunk at a time into a buffer
-/// in L1, each line asked for 16 KiB ahead (or 64 points ahead, for large
-/// m), with the stride known to the compiler for m ≤ 4; the terms are then
-/// formed from the copy in a loop of whole vectors. Term k goes to
+/// in L1 ([`crate::decimate`]), and the terms formed from the copy in a
+/// loop of whole vectors. Term k goes to
 /// accumulator k mod 4, in order of k, and the tail is summed as before, so
 /// the bits are those of one strided loop with four accumulators (a test
 /// holds them to it).
@@ -127,31 +126,11 @@ fn decimated_sum(x: &[f64], m: usize, n: usize, order: Order) -> f64 {
     let whole = n - n % SUMS;
     let mut y = [0.0f64; DECIMATED_CHUNK + 3];
     let mut acc = [0.0f64; SUMS];
-    let ahead = (crate::prefetch::DISTANCE / 8).max(64 * m);
     for k0 in (0..whole).step_by(DECIMATED_CHUNK) {
         let len = DECIMATED_CHUNK.min(whole - k0);
         // The last point read is y at whole − 1 + span, within the series
-        // as n ≤ last/m + 1. Each group of eight points spans m lines up to
-        // m = 8, and eight from there.
-        let lines = m.min(8);
-        let step = m.max(8);
-        for (q, group) in y[..len + span].chunks_mut(8).enumerate() {
-            let base = (k0 + 8 * q) * m + ahead;
-            for l in 0..lines {
-                crate::prefetch::line(x, base + l * step);
-            }
-            let from = &x[(k0 + 8 * q) * m..];
-            match m {
-                2 => every::<2>(from, group),
-                3 => every::<3>(from, group),
-                4 => every::<4>(from, group),
-                _ => {
-                    for (slot, &v) in group.iter_mut().zip(from.iter().step_by(m)) {
-                        *slot = v;
-                    }
-                }
-            }
-        }
+        // as n ≤ last/m + 1.
+        crate::decimate::every(&x[k0 * m..], m, &mut y[..len + span]);
         let (y0, y1, y2) = (&y[..len], &y[1..len + 1], &y[2..len + 2]);
         let y3 = &y[3..len + 3];
         match order {
@@ -188,21 +167,6 @@ fn decimated_sum(x: &[f64], m: usize, n: usize, order: Order) -> f64 {
         })
         .sum();
     crate::lanes::join(acc, tail)
-}
-
-/// `to[i] = from[i·M]` for as many points as both hold: with M known, a
-/// loop of whole vectors and shuffles where a run-time stride reads one
-/// point at a time.
-#[inline(always)]
-fn every<const M: usize>(from: &[f64], to: &mut [f64]) {
-    let (whole, rest) = from.as_chunks::<M>();
-    let n = to.len().min(whole.len());
-    for (slot, chunk) in to[..n].iter_mut().zip(whole) {
-        *slot = chunk[0];
-    }
-    if n < to.len() && !rest.is_empty() {
-        to[n] = rest[0];
-    }
 }
 
 /// A slice's whole groups of four.
