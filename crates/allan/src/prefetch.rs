@@ -1,18 +1,20 @@
-//! Software prefetch of the one stream that comes from memory.
+//! Software prefetch: hints that ask for cache lines before the kernels
+//! read them.
 //!
 //! The O(N) statistics read the series at three or four offsets, j, j + m,
-//! j + 2m (and j + 3m). Only the leading stream is new data; the others
-//! were read m points earlier and come from the cache. With those streams
-//! m points apart, the hardware prefetcher no longer runs far enough ahead
-//! of the leading one: at 10^7 points on one thread of a Zen 5 EPYC, MDEV
-//! at m = 4096 took 10.5 ms (1.05 ns a point, against 0.30 in the cache)
-//! and OADEV 6.3 ms. Asking for the leading stream's lines [`DISTANCE`]
-//! bytes ahead brought them to 3.5 and 3.3 ms. The overlapped sums that
-//! take a far factor's series in pieces by residue ask for the piece two
-//! ahead in their own order instead ([`line`]). MDEV's scans also ask for
-//! the two oldest streams a few lines ahead ([`line`]): with the leading
-//! stream's lines in L1 as well, those streams come from L2 from m of
-//! about 1024 on.
+//! j + 2m (and j + 3m). The leading stream is new data; the others were
+//! read m points and more earlier. With those streams m points apart, the
+//! hardware prefetcher no longer runs far enough ahead of the leading one:
+//! at 10^7 points on one thread of a Zen 5 EPYC, MDEV at m = 4096 took
+//! 10.5 ms (1.05 ns a point, against 0.30 in the cache) and OADEV 6.3 ms.
+//! Asking for the leading stream's lines [`DISTANCE`] bytes ahead brought
+//! them to 3.5 and 3.3 ms. The overlapped sums that take a far factor's
+//! series in pieces by residue ask for the piece two ahead in their own
+//! order instead ([`line`]). MDEV's scans also ask for the two oldest
+//! streams a few lines ahead: with the leading stream's lines in the L1
+//! cache as well, those streams come from L2 from m of about 1024 on. The
+//! decimating copies ([`crate::decimate`]) ask for every line they will
+//! read, 16 KiB or 64 points ahead. Off x86-64 the hints are nothing.
 
 /// How far ahead of the leading stream, in bytes. 8 KiB and more reached
 /// the in-cache speed on a Zen 5 EPYC; 2 KiB recovered only half of it.
@@ -26,8 +28,9 @@ pub(crate) fn ahead(x: &[f64], at: usize) {
     line(x, at.wrapping_add(DISTANCE / 8));
 }
 
-/// Asks for the cache line of `x[at]`, for a stream whose next lines are
-/// not the ones past its current ones. A hint only, as [`ahead`].
+/// Asks for the cache line of `x[at]`: for a stream whose next lines are
+/// not the ones past its current ones, or a distance other than
+/// [`DISTANCE`]. A hint only, as [`ahead`].
 #[inline(always)]
 pub(crate) fn line(x: &[f64], at: usize) {
     // The address is formed with wrapping arithmetic and never read: past

@@ -5,21 +5,21 @@
 //! (ADEV, SP 1065 eq. 7) or by 1 (OADEV, eq. 11).
 
 use super::Estimate;
-use super::differences::{Order, sum_squared};
+use super::differences::{Order, Terms, sum_squared};
 use crate::phase::PhaseSeries;
 
 /// Non-overlapped Allan deviation at averaging factor m.
 pub fn adev(series: &PhaseSeries, m: usize) -> Option<Estimate> {
-    allan(series, m, m)
+    allan(series, m, Terms::NonOverlapped)
 }
 
 /// Overlapped Allan deviation at averaging factor m.
 pub fn oadev(series: &PhaseSeries, m: usize) -> Option<Estimate> {
-    allan(series, m, 1)
+    allan(series, m, Terms::Overlapped)
 }
 
-fn allan(series: &PhaseSeries, m: usize, stride: usize) -> Option<Estimate> {
-    let (sum, n) = sum_squared(series, m, stride, Order::Second);
+fn allan(series: &PhaseSeries, m: usize, terms: Terms) -> Option<Estimate> {
+    let (sum, n) = sum_squared(series, m, terms, Order::Second);
     (n > 0).then(|| {
         let tau = m as f64 * series.tau0();
         Estimate {

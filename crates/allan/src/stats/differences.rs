@@ -2,7 +2,8 @@
 //! HDEV in all their overlapped and non-overlapped forms.
 //!
 //! Each averaging factor costs one pass over the phase points that its terms
-//! touch (O(N/stride)), with no intermediate arrays.
+//! touch (O(N/stride)); only the non-overlapped sums copy those points, a
+//! chunk at a time, into a buffer in L1.
 
 use rayon::prelude::*;
 
@@ -36,14 +37,27 @@ pub(super) fn third(a: f64, b: f64, c: f64, d: f64) -> f64 {
     ((d - c) - (c - b)) - ((c - b) - (b - a))
 }
 
+/// Which differences a sum takes: every one (j = 0, 1, 2, …) or those that
+/// share no point but their ends (j = 0, m, 2m, …).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Terms {
+    Overlapped,
+    NonOverlapped,
+}
+
 /// Σ over j = 0, s, 2s, … of the squared `order`-th difference of phase at
-/// step m, and the number of terms. Terms that cross a gap are skipped.
-pub(crate) fn sum_squared(series: &PhaseSeries, m: usize, stride: usize, order: Order) -> (f64, usize) {
+/// step m, s being 1 or m as `terms` says, and the number of terms. Terms
+/// that cross a gap are skipped.
+pub(crate) fn sum_squared(series: &PhaseSeries, m: usize, terms: Terms, order: Order) -> (f64, usize) {
     let x = series.points();
     let reach = order.span() * m;
-    if m == 0 || stride == 0 || x.len() <= reach {
+    if m == 0 || x.len() <= reach {
         return (0.0, 0);
     }
+    let stride = match terms {
+        Terms::Overlapped => 1,
+        Terms::NonOverlapped => m,
+    };
     let last = x.len() - 1 - reach; // largest valid j
     let term = |j: usize| -> f64 {
         match order {
@@ -56,29 +70,9 @@ pub(crate) fn sum_squared(series: &PhaseSeries, m: usize, stride: usize, order: 
         // blocked sweep, so a curve computed factor by factor equals the
         // one swept at once.
         None if stride == 1 => sum_squared_overlapped_many(x, &[m], order)[0],
-        None if stride == m => {
+        None => {
             let n = last / m + 1;
             (decimated_sum(x, m, n, order), n)
-        }
-        None => {
-            // Four interleaved sums: with one, each term would wait on the
-            // previous addition while the strided reads could run ahead.
-            let n = last / stride + 1;
-            let mut acc = [0.0f64; 4];
-            let whole = n - n % 4;
-            for k in (0..whole).step_by(4) {
-                for (l, slot) in acc.iter_mut().enumerate() {
-                    let v = term((k + l) * stride);
-                    *slot += v * v;
-                }
-            }
-            let tail: f64 = (whole..n)
-                .map(|k| {
-                    let v = term(k * stride);
-                    v * v
-                })
-                .sum();
-            (crate::lanes::join(acc, tail), n)
         }
         Some(gaps) => {
             let mut sum = 0.0;
@@ -508,12 +502,12 @@ mod tests {
             );
             for order in [Order::Second, Order::Third] {
                 for m in [1, 2, 16, 2048] {
-                    for stride in [1, m] {
-                        let (got, _) = sum_squared(&on, m, stride, order);
-                        let (want, _) = sum_squared(&off, m, stride, order);
+                    for terms in [Terms::Overlapped, Terms::NonOverlapped] {
+                        let (got, _) = sum_squared(&on, m, terms, order);
+                        let (want, _) = sum_squared(&off, m, terms, order);
                         assert!(
                             (got / want - 1.0).abs() < 1e-12,
-                            "{order:?} offset {offset} m {m} stride {stride}: {got} vs {want}"
+                            "{order:?} offset {offset} m {m} {terms:?}: {got} vs {want}"
                         );
                     }
                 }
@@ -565,6 +559,50 @@ mod tests {
         }
     }
 
+    /// The decimated copy's bits at the strides with a copy of their own
+    /// and beyond, on term counts around the chunk's and the lanes' edges:
+    /// cases random draws reach only now and then.
+    #[test]
+    fn decimated_sums_at_chunk_edges() {
+        for m in [2, 3, 4, 5, 8, 9] {
+            for order in [Order::Second, Order::Third] {
+                let span = order.span();
+                for n in [1, 3, 4, 5, 63, 64, 65, 67, 127, 128, 129, 300] {
+                    for extra in [0, m - 1] {
+                        let len = (n - 1) * m + span * m + 1 + extra;
+                        let x = crate::work::random_walk(len, (n * m) as u64);
+                        let series = PhaseSeries::new(&x, crate::DataType::Phase, 1.0).unwrap();
+                        let (got, terms) = sum_squared(&series, m, Terms::NonOverlapped, order);
+                        assert_eq!(terms, n, "{order:?} m {m} len {len}");
+                        let want = strided_loop(&x, m, n, order);
+                        assert_eq!(got.to_bits(), want.to_bits(), "{order:?} m {m} n {n}");
+                    }
+                }
+            }
+        }
+    }
+
+    /// The non-overlapped sum as one strided loop with four accumulators,
+    /// the tail summed on its own: the form the decimated copy replaced.
+    fn strided_loop(x: &[f64], m: usize, n: usize, order: Order) -> f64 {
+        let term = |j: usize| -> f64 {
+            let v = match order {
+                Order::Second => x[j + 2 * m] - 2.0 * x[j + m] + x[j],
+                Order::Third => third(x[j], x[j + m], x[j + 2 * m], x[j + 3 * m]),
+            };
+            v * v
+        };
+        let mut acc = [0.0f64; 4];
+        let whole = n - n % 4;
+        for k in (0..whole).step_by(4) {
+            for (l, slot) in acc.iter_mut().enumerate() {
+                *slot += term((k + l) * m);
+            }
+        }
+        let tail: f64 = (whole..n).map(|k| term(k * m)).sum();
+        crate::lanes::join(acc, tail)
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(64))]
 
@@ -603,7 +641,7 @@ mod tests {
                     if order.span() * m >= len {
                         continue;
                     }
-                    prop_assert_eq!(sum_squared(&series, m, 1, order), (sum, n));
+                    prop_assert_eq!(sum_squared(&series, m, Terms::Overlapped, order), (sum, n));
                     let direct: f64 = (0..len - order.span() * m).map(|j| term(&x, j, m, order)).sum();
                     prop_assert!(((sum - direct) / direct).abs() < 1e-12, "m={} {} vs {}", m, sum, direct);
                 }
@@ -655,23 +693,7 @@ mod tests {
                     continue;
                 }
                 let n = (len - 1 - order.span() * m) / m + 1;
-                // The strided loop's term, as sum_squared forms it.
-                let term = |j: usize| -> f64 {
-                    let v = match order {
-                        Order::Second => x[j + 2 * m] - 2.0 * x[j + m] + x[j],
-                        Order::Third => third(x[j], x[j + m], x[j + 2 * m], x[j + 3 * m]),
-                    };
-                    v * v
-                };
-                let mut acc = [0.0f64; 4];
-                let whole = n - n % 4;
-                for k in (0..whole).step_by(4) {
-                    for (l, slot) in acc.iter_mut().enumerate() {
-                        *slot += term((k + l) * m);
-                    }
-                }
-                let tail: f64 = (whole..n).map(|k| term(k * m)).sum();
-                let strided = crate::lanes::join(acc, tail);
+                let strided = strided_loop(&x, m, n, order);
                 prop_assert_eq!(decimated_sum(&x, m, n, order).to_bits(), strided.to_bits(), "{:?} m {} len {}", order, m, len);
             }
         }
@@ -686,7 +708,7 @@ mod tests {
                 if order.span() * m >= len {
                     continue;
                 }
-                let (sum, n) = sum_squared(&series, m, m, order);
+                let (sum, n) = sum_squared(&series, m, Terms::NonOverlapped, order);
                 let starts = (0..len - order.span() * m).step_by(m);
                 let direct: f64 = starts.clone().map(|j| term(&x, j, m, order)).sum();
                 prop_assert_eq!(n, starts.count());

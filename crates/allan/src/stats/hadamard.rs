@@ -6,21 +6,21 @@
 //! a constant frequency drift, which the Allan deviation is not.
 
 use super::Estimate;
-use super::differences::{Order, sum_squared};
+use super::differences::{Order, Terms, sum_squared};
 use crate::phase::PhaseSeries;
 
 /// Non-overlapped Hadamard deviation at averaging factor m.
 pub fn hdev(series: &PhaseSeries, m: usize) -> Option<Estimate> {
-    hadamard(series, m, m)
+    hadamard(series, m, Terms::NonOverlapped)
 }
 
 /// Overlapped Hadamard deviation at averaging factor m.
 pub fn ohdev(series: &PhaseSeries, m: usize) -> Option<Estimate> {
-    hadamard(series, m, 1)
+    hadamard(series, m, Terms::Overlapped)
 }
 
-fn hadamard(series: &PhaseSeries, m: usize, stride: usize) -> Option<Estimate> {
-    let (sum, n) = sum_squared(series, m, stride, Order::Third);
+fn hadamard(series: &PhaseSeries, m: usize, terms: Terms) -> Option<Estimate> {
+    let (sum, n) = sum_squared(series, m, terms, Order::Third);
     (n > 0).then(|| {
         let tau = m as f64 * series.tau0();
         Estimate {

@@ -35,12 +35,14 @@
 //! stream's lines 16 KiB ahead and for the two trailing streams' a little
 //! ahead ([`TRAILING`]).
 //!
-//! Up to m = 1536, AVX2 was taken from there on even where the CPU has
-//! AVX-512: the streams x[j] and x[j + m] came from L2, and the 64-byte
-//! loads, every one across two cache lines, cost more than the narrower
-//! registers saved. Since the trailing streams are asked for ahead, AVX-512
-//! is ahead at every m measured (16 to 2^20; at m = 4096, 1.90 passes of
-//! memory against AVX2's 2.30, medians of 7 runs at 10^7 points).
+//! AVX-512 used to give way to AVX2 from m = 1536 on: the streams x[j] and
+//! x[j + m] came from L2 there, and the 64-byte loads, every one across two
+//! cache lines, cost more than the narrower registers saved. With the
+//! trailing streams asked for ahead, AVX-512 was ahead at every m measured
+//! on a Zen 5 EPYC, 16 to 2^20 (10^7 points, one thread, medians of 7
+//! interleaved runs: 1.87 against 2.26 passes of memory at m = 1536, 1.90
+//! against 2.30 at m = 4096). On CPUs that split or slow 512-bit
+//! operations the balance may differ; both give the same bits.
 //!
 //! Before, four windows moved by four differences summed in a row: seven
 //! additions where the tree takes five, and a dependent chain every four
@@ -52,13 +54,16 @@ use super::modified::RESYNC;
 /// Windows that ride together, and the points each moves on by at once.
 const LANES: usize = 8;
 
-/// How far ahead of x[j] and x[j + m] the register scans ask for their
-/// lines, in points. Those streams were read 3m and 2m points earlier, and
-/// with the leading stream asked for 16 KiB ahead they no longer stay in
-/// the 48 KiB L1 cache of a Zen 5 EPYC even at m = 1024 (3m points span
-/// 24 KiB). At 10^7 points on one thread, median memory passes of 7
-/// interleaved runs, AVX-512, without → with: m = 16 1.54 → 1.25, m = 1024
-/// 2.77 → 1.61, m = 1536 2.91 → 1.87, m = 4096 2.26 → 1.90. 32 points did
+/// How far past the move's window j the register scans ask for the lines
+/// of x[j] and x[j + m], in points. A move reads its group three groups on
+/// (the tree's reach), so the lines come 40 points ahead of their loads.
+/// Those streams were read 3m and 2m points earlier, and with the leading
+/// stream asked for 16 KiB ahead they no longer stay in the 48 KiB L1 cache
+/// of a Zen 5 EPYC even at m = 1024 (3m points span 24 KiB). At 10^7
+/// points on one thread, medians of 7 interleaved runs of the build
+/// before (AVX2 from m = 1536) and this one, in passes of memory: m = 16
+/// 1.30 → 1.25, m = 256 1.39 → 1.32, m = 1024 2.48 → 1.58, m = 1536
+/// 2.60 → 1.76, m = 4096 2.58 → 1.94, m = 8192 2.57 → 1.93. 32 points did
 /// as well at m = 16 but worse at 1024; 96 and more were slower than none.
 /// The stream x[j + 2m], asked for too, gained at m = 1024 and lost at 16
 /// and 4096.
@@ -438,8 +443,10 @@ mod tests {
         forms
     }
 
-    /// The factors where the dispatch changes form, and a series of many
-    /// resync intervals, which random draws reach only by chance.
+    /// Factors near the ends of the register scans' reach (m near len/3)
+    /// and where the dispatch once changed form (1536), large factors the
+    /// AVX-512 scan now takes, and a series of many resync intervals: cases
+    /// random draws reach only by chance.
     #[test]
     fn the_dispatch_boundaries_give_the_same_bits() {
         let x = crate::work::random_walk(20_011, 3);
