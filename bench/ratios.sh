@@ -154,8 +154,10 @@ row "adev all N=$all_n: imutherm ${imu_s} s, AllanTools+pandas ${at_s} s" "Allan
 echo "== O(N) statistics per tau against one memory pass (allan_per_tau, 10^7 points, one thread)"
 # The factors where each statistic's reads change character: m = 2 and 3
 # read the decimated points of the non-overlapped sums across shared
-# lines, and from m = 1024 MDEV's oldest streams come from L2.
-pass_m="1,2,3,16,256,1024,4096"
+# lines, from m = 1024 MDEV's oldest streams come from L2, and a large m
+# that is not a multiple of 2048 keeps OADEV's overlapped sums in block
+# order.
+pass_m="1,2,3,16,256,1024,3000,4096"
 per_tau="$(ALLAN_PER_TAU_M="$pass_m" "$target_dir/release/examples/allan_per_tau" 20000)"
 sed 's/^/  /' <<<"$per_tau"
 # The worst averaging factor of each statistic, in passes of the memory
