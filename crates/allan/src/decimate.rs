@@ -12,8 +12,11 @@
 
 /// Copies `x[0], x[m], …` into `out`, `out.len()` points; m ≥ 1, and
 /// `(out.len() − 1)·m` must be within `x` (the callers' bounds: a breach is
-/// a fault of this crate, refused before anything is read).
-#[inline]
+/// a fault of this crate, refused before anything is read). Inlined into
+/// its callers: called as a function once per 64-point chunk of the
+/// non-overlapped sums, HDEV at m = 2 took 2.07 passes of memory at 10^7
+/// points against 1.58 inlined (medians of 5 interleaved runs).
+#[inline(always)]
 pub(crate) fn every(x: &[f64], m: usize, out: &mut [f64]) {
     assert!(m >= 1, "a stride of zero");
     if let Some(last) = out.len().checked_sub(1) {
