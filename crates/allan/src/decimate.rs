@@ -4,8 +4,8 @@
 //! the averaging factor. Read point by point with a stride known only at
 //! run time, and with the hardware prefetcher alone, the copy was slower
 //! than the memory: at 10^7 points HDEV at m = 2 took 2.46 passes of
-//! memory, and the ACF's copy was a third of noise identification's time
-//! on an octave grid at 10^6. Here every line is asked for ahead
+//! memory, and the ACF's copy was a third of the lag-1 method's time on an
+//! octave grid at 10^6 (`perf record`). Here every line is asked for ahead
 //! ([`crate::prefetch`], on x86-64; elsewhere the hint is nothing), and for
 //! m ≤ 4 the stride is a constant the compiler turns into whole vectors
 //! and shuffles. Only copies: every form gives the same values.

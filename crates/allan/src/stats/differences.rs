@@ -37,6 +37,16 @@ pub(super) fn third(a: f64, b: f64, c: f64, d: f64) -> f64 {
     ((d - c) - (c - b)) - ((c - b) - (b - a))
 }
 
+/// The `order`-th difference of phase at step m from x[j], as every sum
+/// forms it.
+#[inline(always)]
+fn difference(x: &[f64], j: usize, m: usize, order: Order) -> f64 {
+    match order {
+        Order::Second => x[j + 2 * m] - 2.0 * x[j + m] + x[j],
+        Order::Third => third(x[j], x[j + m], x[j + 2 * m], x[j + 3 * m]),
+    }
+}
+
 /// Which differences a sum takes: every one (j = 0, 1, 2, …) or those that
 /// share no point but their ends (j = 0, m, 2m, …).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -59,12 +69,7 @@ pub(crate) fn sum_squared(series: &PhaseSeries, m: usize, terms: Terms, order: O
         Terms::NonOverlapped => m,
     };
     let last = x.len() - 1 - reach; // largest valid j
-    let term = |j: usize| -> f64 {
-        match order {
-            Order::Second => x[j + 2 * m] - 2.0 * x[j + m] + x[j],
-            Order::Third => third(x[j], x[j + m], x[j + 2 * m], x[j + 3 * m]),
-        }
-    };
+    let term = |j: usize| difference(x, j, m, order);
     match series.gap_index() {
         // Overlapped, no gaps: the hot path, the one-factor case of the
         // blocked sweep, so a curve computed factor by factor equals the
@@ -109,10 +114,9 @@ const DECIMATED_CHUNK: usize = 64;
 /// alone, HDEV took 2.46 passes of memory at m = 2 and 1.47 at m = 4 on
 /// 10^7 points. Here the points are copied a chunk at a time into a buffer
 /// in L1 ([`crate::decimate`]), and the terms formed from the copy in a
-/// loop of whole vectors. Term k goes to
-/// accumulator k mod 4, in order of k, and the tail is summed as before, so
-/// the bits are those of one strided loop with four accumulators (a test
-/// holds them to it).
+/// loop of whole vectors. Term k goes to accumulator k mod 4, in order of
+/// k, and the tail is summed as before, so the bits are those of one
+/// strided loop with four accumulators (a test holds them to it).
 fn decimated_sum(x: &[f64], m: usize, n: usize, order: Order) -> f64 {
     const SUMS: usize = crate::lanes::LANES;
     const _: () = assert!(DECIMATED_CHUNK.is_multiple_of(SUMS));
@@ -147,16 +151,9 @@ fn decimated_sum(x: &[f64], m: usize, n: usize, order: Order) -> f64 {
             }
         }
     }
-    let term = |k: usize| -> f64 {
-        let j = k * m;
-        match order {
-            Order::Second => x[j + 2 * m] - 2.0 * x[j + m] + x[j],
-            Order::Third => third(x[j], x[j + m], x[j + 2 * m], x[j + 3 * m]),
-        }
-    };
     let tail: f64 = (whole..n)
         .map(|k| {
-            let v = term(k);
+            let v = difference(x, k * m, m, order);
             v * v
         })
         .sum();
@@ -585,11 +582,8 @@ mod tests {
     /// The non-overlapped sum as one strided loop with four accumulators,
     /// the tail summed on its own: the form the decimated copy replaced.
     fn strided_loop(x: &[f64], m: usize, n: usize, order: Order) -> f64 {
-        let term = |j: usize| -> f64 {
-            let v = match order {
-                Order::Second => x[j + 2 * m] - 2.0 * x[j + m] + x[j],
-                Order::Third => third(x[j], x[j + m], x[j + 2 * m], x[j + 3 * m]),
-            };
+        let term = |j: usize| {
+            let v = difference(x, j, m, order);
             v * v
         };
         let mut acc = [0.0f64; 4];
