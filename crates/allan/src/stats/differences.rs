@@ -25,6 +25,13 @@ impl Order {
     }
 }
 
+/// The second difference x₂ − 2x₁ + x₀, as every sum forms it: exact where
+/// the phase is far from zero (see [`third`]).
+#[inline(always)]
+pub(super) fn second(a: f64, b: f64, c: f64) -> f64 {
+    c - 2.0 * b + a
+}
+
 /// The third difference x₃ − 3x₂ + 3x₁ − x₀, formed as a difference of
 /// second differences of first differences. Each first difference is exact
 /// where the phase is far from zero (Sterbenz), so it rounds at the scale
@@ -42,7 +49,7 @@ pub(super) fn third(a: f64, b: f64, c: f64, d: f64) -> f64 {
 #[inline(always)]
 fn difference(x: &[f64], j: usize, m: usize, order: Order) -> f64 {
     match order {
-        Order::Second => x[j + 2 * m] - 2.0 * x[j + m] + x[j],
+        Order::Second => second(x[j], x[j + m], x[j + 2 * m]),
         Order::Third => third(x[j], x[j + m], x[j + 2 * m], x[j + 3 * m]),
     }
 }
@@ -135,7 +142,7 @@ fn decimated_sum(x: &[f64], m: usize, n: usize, order: Order) -> f64 {
             Order::Second => {
                 for ((a, b), c) in chunks(y0).iter().zip(chunks(y1)).zip(chunks(y2)) {
                     for l in 0..SUMS {
-                        let v = c[l] - 2.0 * b[l] + a[l];
+                        let v = second(a[l], b[l], c[l]);
                         acc[l] += v * v;
                     }
                 }
@@ -247,7 +254,7 @@ fn block_lanes_portable(run: Run, acc: &mut [f64; LANES]) -> f64 {
     match order {
         Order::Second => {
             let term = |a: f64, b: f64, c: f64| {
-                let v = c - 2.0 * b + a;
+                let v = second(a, b, c);
                 v * v
             };
             for (i, ((a, b), c)) in a[..whole]
