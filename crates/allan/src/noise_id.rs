@@ -384,10 +384,11 @@ fn lag1_acf_id_portable(phase: &[f64], m: usize, d_max: u32) -> Option<AcfId> {
     if phase.len().div_ceil(m.max(1)).min(MAX_ACF_POINTS) < MIN_ACF_POINTS {
         return None;
     }
-    let (mut x, fit) = lag1::gather_fit(phase, m, MAX_ACF_POINTS)?;
-    let mut r1 = lag1::residual_lag1(&mut x, &fit)?;
+    let (x, fit) = lag1::gather_fit(phase, m, MAX_ACF_POINTS)?;
+    let r1s = lag1::lag1_by_order(&x, &fit, d_max as usize);
     let mut d = 0u32;
     loop {
+        let r1 = r1s.get(d as usize).copied().flatten()?;
         let delta = r1 / (1.0 + r1);
         if delta < 0.25 || d >= d_max {
             let p = -2.0 * (delta + f64::from(d));
@@ -404,7 +405,6 @@ fn lag1_acf_id_portable(phase: &[f64], m: usize, d_max: u32) -> Option<AcfId> {
                 r1,
             });
         }
-        r1 = lag1::difference_lag1(&mut x)?;
         d += 1;
     }
 }

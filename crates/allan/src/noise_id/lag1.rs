@@ -9,9 +9,11 @@
 //! grid these sums weighed more than the deviations they serve. Here each sum runs in [`LANES`] independent
 //! accumulators joined in a fixed order, and no pass is spent on a mean:
 //! the residual's is zero (the fit holds a constant) and a difference's
-//! telescopes. White FM now takes the strided read, then five loops that
-//! the compiler turns into whole vectors over data in the cache: the fit's
-//! sums, the residual, its lag-1 sums, the difference and its lag-1 sums.
+//! telescopes. The method now reads the decimated points twice: once for
+//! the fit's sums, once for everything else ([`lag1_by_order`]), where
+//! each block of residuals is formed, differenced and summed at every
+//! order in the L1 cache. At m = 1 it reads them where they lie, with no
+//! copy.
 //!
 //! The result is not bit for bit the serial one (the additions are grouped
 //! otherwise, and the means are exact rather than summed), but the same to
@@ -26,6 +28,8 @@
 // Four lanes, two SSE2 registers each: the fit's pass keeps three sums
 // with their operands, and with eight lanes they no longer fit the sixteen
 // SSE2 registers and went through the stack.
+use std::borrow::Cow;
+
 use crate::lanes::{LANES, join};
 
 /// The least-squares quadratic of a decimated series in its centred sample
@@ -47,16 +51,29 @@ impl Fit {
 
 /// Reads `phase[0], phase[m], …`, at most `max` points, and fits them.
 /// `None` when a point is not finite: a NaN or an infinity makes the plain
-/// sum non-finite for good.
+/// sum non-finite for good. At m = 1 the points are the series' own, read
+/// where they lie.
 #[inline(always)]
-pub(super) fn gather_fit(phase: &[f64], m: usize, max: usize) -> Option<(Vec<f64>, Fit)> {
+pub(super) fn gather_fit(phase: &[f64], m: usize, max: usize) -> Option<(Cow<'_, [f64]>, Fit)> {
     let len = phase.len().div_ceil(m.max(1)).min(max);
-    // Reading and summing in one loop was slower: the strided loads and
-    // three sums' operands spilled the registers. The copy is a memcpy at
-    // m = 1, and the sums run on it from the cache.
-    let mut x = vec![0.0; len];
-    crate::decimate::every(phase, m.max(1), &mut x);
-    let n = len as f64;
+    let x = if m <= 1 {
+        Cow::Borrowed(&phase[..len])
+    } else {
+        // Reading and summing in one loop was slower: the strided loads
+        // and three sums' operands spilled the registers. The sums run on
+        // the copy from the cache.
+        let mut x = vec![0.0; len];
+        crate::decimate::every(phase, m, &mut x);
+        Cow::Owned(x)
+    };
+    let fit = fit(&x)?;
+    Some((x, fit))
+}
+
+/// The quadratic fit of `x` in one pass; `None` when a point is not finite.
+#[inline(always)]
+fn fit(x: &[f64]) -> Option<Fit> {
+    let n = x.len() as f64;
     let centre = 0.5 * (n - 1.0);
     let c = (n * n - 1.0) / 12.0; // mean of t² over the centred grid
     let (mut s0, mut s1, mut s2) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
@@ -86,14 +103,13 @@ pub(super) fn gather_fit(phase: &[f64], m: usize, max: usize) -> Option<(Vec<f64
         return None;
     }
     let (q1, q2) = norms(n);
-    let fit = Fit {
+    Some(Fit {
         b0: s0 / n,
         b1: if q1 > 0.0 { join(s1, r1) / q1 } else { 0.0 },
         b2: if q2 > 0.0 { join(s2, r2) / q2 } else { 0.0 },
         centre,
         c,
-    };
-    Some((x, fit))
+    })
 }
 
 /// Σt² and Σ(t² − c)² over the centred grid of n points, in closed form:
@@ -105,95 +121,233 @@ fn norms(n: f64) -> (f64, f64) {
     )
 }
 
-/// Subtracts `fit` from `x` (the residual of the quadratic) and returns
-/// the residual's lag-1 autocorrelation. The residual's mean is zero, as
-/// the fit holds a constant, so it is centred already (the mean the serial
-/// form took was a few ulps of the data).
+/// Most differences the method takes (dmax of the Hadamard family).
+pub(super) const MAX_ORDER: usize = 3;
+
+/// Residuals formed and differenced per block of this many points, all
+/// orders in the L1 cache at once (a multiple of [`LANES`], so the blocks
+/// keep the lanes' assignment of points).
+const BLOCK: usize = 256;
+
+/// The lag-1 autocorrelation, Riley & Greenhall eq. (2), of the residual
+/// of `x` under `fit` (order 0) and of its first `d_max` differences, each
+/// about its mean: Σ (u_i − ū)(u_{i+1} − ū) / Σ (u_i − ū)². `None` for an
+/// order not formed (d_max below it, fewer than d + 2 points) or of a
+/// constant series.
+///
+/// One read of `x`: each block of residuals is formed and differenced in
+/// the L1 cache, and every order's sums are taken there. Formed order by
+/// order through the whole series instead (a pass for the residual, then
+/// a difference and two offset reads per order), white FM took six reads
+/// of up to [`super::MAX_ACF_POINTS`] points after the copy.
+///
+/// The means need no pass: the residual's is zero (the fit holds a
+/// constant) and a difference's telescopes to (u_last − u_first)/(len − 1).
+/// Every point, difference and sum is the same expression in the same
+/// lane and order as the stage-by-stage form kept in the tests, so the
+/// bits are the same (a property test holds the two to it).
 #[inline(always)]
-pub(super) fn residual_lag1(x: &mut [f64], fit: &Fit) -> Option<f64> {
-    if x.len() < 2 {
-        return None;
+pub(super) fn lag1_by_order(x: &[f64], fit: &Fit, d_max: usize) -> [Option<f64>; MAX_ORDER + 1] {
+    let n = x.len();
+    let mut out = [None; MAX_ORDER + 1];
+    // Order d is the (d)th difference of n points, n − d long; its lag-1
+    // ACF needs two points, and a difference needs three before it.
+    let orders = (0..=d_max.min(MAX_ORDER)).take_while(|&d| n >= d + 2).count();
+    if orders == 0 {
+        return out;
     }
-    let (chunks, tail) = x.as_chunks_mut::<LANES>();
-    // As in the fit: exact steps of the centred index.
-    let mut t: [f64; LANES] = std::array::from_fn(|l| l as f64 - fit.centre);
-    for chunk in chunks.iter_mut() {
+    let mean: [f64; MAX_ORDER + 1] = std::array::from_fn(|d| {
+        if d == 0 || d >= orders {
+            return 0.0;
+        }
+        let len = n - d + 1;
+        (point(x, fit, d - 1, len - 1) - point(x, fit, d - 1, 0)) / (len - 1) as f64
+    });
+    // The points summed in lanes: order d's first (n − d − 1) / LANES
+    // whole chunks of points that have a successor.
+    let lanes_end: [usize; MAX_ORDER + 1] =
+        std::array::from_fn(|d| (n.saturating_sub(d + 1) / LANES) * LANES);
+    let mut num = [[0.0; LANES]; MAX_ORDER + 1];
+    let mut den = [[0.0; LANES]; MAX_ORDER + 1];
+    let (mut a, mut b) = ([0.0; BLOCK + 1 + MAX_ORDER], [0.0; BLOCK + 1 + MAX_ORDER]);
+    let mut base = 0;
+    while base < lanes_end[0] {
+        // Residuals at base.., enough for every order's last successor.
+        let count = (BLOCK + 1 + MAX_ORDER).min(n - base);
+        let (mut cur, mut next) = (&mut a, &mut b);
+        residuals(x, fit, base, &mut cur[..count]);
+        for d in 0..orders {
+            if d > 0 {
+                let len = count - d;
+                for j in 0..len {
+                    next[j] = cur[j + 1] - cur[j];
+                }
+                std::mem::swap(&mut cur, &mut next);
+            }
+            let end = (base + BLOCK).min(lanes_end[d]);
+            if end > base {
+                let (num_d, den_d) = (&mut num[d], &mut den[d]);
+                lag1_lanes(&cur[..end - base + 1], mean[d], num_d, den_d);
+            }
+        }
+        base += BLOCK;
+    }
+    for d in 0..orders {
+        // The serial tail and the last point, as the stage-by-stage form.
+        let last_index = n - d - 1;
+        let (mut num_rest, mut den_rest) = (0.0, 0.0);
+        let mut a = point(x, fit, d, lanes_end[d]) - mean[d];
+        for i in lanes_end[d]..last_index {
+            let b = point(x, fit, d, i + 1) - mean[d];
+            num_rest += a * b;
+            den_rest += a * a;
+            a = b;
+        }
+        let num = join(num[d], num_rest);
+        let den = join(den[d], den_rest) + a * a;
+        let r1 = num / den;
+        out[d] = (den > 0.0 && r1.is_finite()).then_some(r1);
+    }
+    out
+}
+
+/// Residuals at `first..first + out.len()`: x_i − fit(i − centre).
+#[inline(always)]
+fn residuals(x: &[f64], fit: &Fit, first: usize, out: &mut [f64]) {
+    let x = &x[first..first + out.len()];
+    let (chunks, tail) = out.as_chunks_mut::<LANES>();
+    let (x_chunks, x_tail) = x.as_chunks::<LANES>();
+    // Centred indices, exact as in the fit; `first` is a multiple of LANES.
+    let mut t: [f64; LANES] = std::array::from_fn(|l| (first + l) as f64 - fit.centre);
+    for (chunk, x_chunk) in chunks.iter_mut().zip(x_chunks) {
         for l in 0..LANES {
-            chunk[l] -= fit.at(t[l]);
+            chunk[l] = x_chunk[l] - fit.at(t[l]);
             t[l] += LANES as f64;
         }
     }
-    let start = chunks.len() * LANES;
-    for (i, v) in tail.iter_mut().enumerate() {
-        *v -= fit.at((start + i) as f64 - fit.centre);
+    let start = first + chunks.len() * LANES;
+    for (i, (v, &xi)) in tail.iter_mut().zip(x_tail).enumerate() {
+        *v = xi - fit.at((start + i) as f64 - fit.centre);
     }
-    lag1_about(x, 0.0)
 }
 
-/// Lag-1 autocorrelation, Riley & Greenhall eq. (2), of `u` about its
-/// mean `mean`: Σ (u_i − ū)(u_{i+1} − ū) / Σ (u_i − ū)², from two offset
-/// reads (a loop the compiler turns into whole vectors, where pairing
-/// each value with the one before across lanes took shuffles and was
-/// slower than the second pass). `None` for a constant series.
+/// The residual's d-th difference at `i`, formed as the blocks form it.
+fn point(x: &[f64], fit: &Fit, d: usize, i: usize) -> f64 {
+    if d == 0 {
+        x[i] - fit.at(i as f64 - fit.centre)
+    } else {
+        point(x, fit, d - 1, i + 1) - point(x, fit, d - 1, i)
+    }
+}
+
+/// Adds to the lanes the lag-1 products and squares about `mean` of every
+/// point of `u` but the last (a whole number of chunks), each paired with
+/// its successor by a second, offset read.
 #[inline(always)]
-fn lag1_about(u: &[f64], mean: f64) -> Option<f64> {
-    let len = u.len();
-    let (head, next) = (&u[..len - 1], &u[1..]);
-    let (chunks, tail) = head.as_chunks::<LANES>();
-    let (next_chunks, next_tail) = next.as_chunks::<LANES>();
-    let (mut num, mut den) = ([0.0; LANES], [0.0; LANES]);
+fn lag1_lanes(u: &[f64], mean: f64, num: &mut [f64; LANES], den: &mut [f64; LANES]) {
+    let len = u.len() - 1;
+    let (chunks, _) = u[..len].as_chunks::<LANES>();
+    let (next_chunks, _) = u[1..].as_chunks::<LANES>();
+    let (mut n, mut s) = (*num, *den);
     for (a, b) in chunks.iter().zip(next_chunks) {
         for l in 0..LANES {
             let (a, b) = (a[l] - mean, b[l] - mean);
-            num[l] += a * b;
-            den[l] += a * a;
+            n[l] += a * b;
+            s[l] += a * a;
         }
     }
-    let (mut num_rest, mut den_rest) = (0.0, 0.0);
-    for (a, b) in tail.iter().zip(next_tail) {
-        let (a, b) = (a - mean, b - mean);
-        num_rest += a * b;
-        den_rest += a * a;
-    }
-    let last = u[len - 1] - mean;
-    let num = join(num, num_rest);
-    let den = join(den, den_rest) + last * last;
-    let r1 = num / den;
-    (den > 0.0 && r1.is_finite()).then_some(r1)
-}
-
-/// Replaces `x` by its first differences (one shorter), in place (the
-/// series is the largest allocation of the method), and returns their
-/// lag-1 autocorrelation. Their mean telescopes to
-/// (x_last − x_first)/(len − 1), known without a sum.
-#[inline(always)]
-pub(super) fn difference_lag1(x: &mut Vec<f64>) -> Option<f64> {
-    let len = x.len();
-    if len < 3 {
-        return None;
-    }
-    let mean = (x[len - 1] - x[0]) / (len - 1) as f64;
-    let blocks = (len - 1) / LANES;
-    for k in 0..blocks {
-        let at = k * LANES;
-        // The block and the value after it are read before any is written.
-        let mut window = [0.0; LANES + 1];
-        window.copy_from_slice(&x[at..at + LANES + 1]);
-        for l in 0..LANES {
-            x[at + l] = window[l + 1] - window[l];
-        }
-    }
-    for i in blocks * LANES..len - 1 {
-        x[i] = x[i + 1] - x[i];
-    }
-    x.pop();
-    lag1_about(x, mean)
+    (*num, *den) = (n, s);
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    // The method as it was first laned, stage by stage through the whole
+    // series: the reference that `lag1_by_order` keeps the bits of.
+
+    /// Subtracts `fit` from `x` (the residual of the quadratic) and returns
+    /// the residual's lag-1 autocorrelation. The residual's mean is zero, as
+    /// the fit holds a constant, so it is centred already (the mean the serial
+    /// form took was a few ulps of the data).
+    fn residual_lag1(x: &mut [f64], fit: &Fit) -> Option<f64> {
+        if x.len() < 2 {
+            return None;
+        }
+        let (chunks, tail) = x.as_chunks_mut::<LANES>();
+        // As in the fit: exact steps of the centred index.
+        let mut t: [f64; LANES] = std::array::from_fn(|l| l as f64 - fit.centre);
+        for chunk in chunks.iter_mut() {
+            for l in 0..LANES {
+                chunk[l] -= fit.at(t[l]);
+                t[l] += LANES as f64;
+            }
+        }
+        let start = chunks.len() * LANES;
+        for (i, v) in tail.iter_mut().enumerate() {
+            *v -= fit.at((start + i) as f64 - fit.centre);
+        }
+        lag1_about(x, 0.0)
+    }
+
+    /// Lag-1 autocorrelation, Riley & Greenhall eq. (2), of `u` about its
+    /// mean `mean`: Σ (u_i − ū)(u_{i+1} − ū) / Σ (u_i − ū)², from two offset
+    /// reads (a loop the compiler turns into whole vectors, where pairing
+    /// each value with the one before across lanes took shuffles and was
+    /// slower than the second pass). `None` for a constant series.
+    fn lag1_about(u: &[f64], mean: f64) -> Option<f64> {
+        let len = u.len();
+        let (head, next) = (&u[..len - 1], &u[1..]);
+        let (chunks, tail) = head.as_chunks::<LANES>();
+        let (next_chunks, next_tail) = next.as_chunks::<LANES>();
+        let (mut num, mut den) = ([0.0; LANES], [0.0; LANES]);
+        for (a, b) in chunks.iter().zip(next_chunks) {
+            for l in 0..LANES {
+                let (a, b) = (a[l] - mean, b[l] - mean);
+                num[l] += a * b;
+                den[l] += a * a;
+            }
+        }
+        let (mut num_rest, mut den_rest) = (0.0, 0.0);
+        for (a, b) in tail.iter().zip(next_tail) {
+            let (a, b) = (a - mean, b - mean);
+            num_rest += a * b;
+            den_rest += a * a;
+        }
+        let last = u[len - 1] - mean;
+        let num = join(num, num_rest);
+        let den = join(den, den_rest) + last * last;
+        let r1 = num / den;
+        (den > 0.0 && r1.is_finite()).then_some(r1)
+    }
+
+    /// Replaces `x` by its first differences (one shorter), in place (the
+    /// series is the largest allocation of the method), and returns their
+    /// lag-1 autocorrelation. Their mean telescopes to
+    /// (x_last − x_first)/(len − 1), known without a sum.
+    fn difference_lag1(x: &mut Vec<f64>) -> Option<f64> {
+        let len = x.len();
+        if len < 3 {
+            return None;
+        }
+        let mean = (x[len - 1] - x[0]) / (len - 1) as f64;
+        let blocks = (len - 1) / LANES;
+        for k in 0..blocks {
+            let at = k * LANES;
+            // The block and the value after it are read before any is written.
+            let mut window = [0.0; LANES + 1];
+            window.copy_from_slice(&x[at..at + LANES + 1]);
+            for l in 0..LANES {
+                x[at + l] = window[l + 1] - window[l];
+            }
+        }
+        for i in blocks * LANES..len - 1 {
+            x[i] = x[i + 1] - x[i];
+        }
+        x.pop();
+        lag1_about(x, mean)
+    }
 
     /// The method's sums as first written, one serial sum each: the
     /// reference for the lanes.
@@ -245,7 +399,8 @@ mod tests {
     /// read every `m` points: the residuals, r1 at each difference order
     /// and the differences agree to rounding.
     fn lanes_match_serial(phase: &[f64], m: usize) -> Result<(), TestCaseError> {
-        let (mut fast, fit) = gather_fit(phase, m, usize::MAX).expect("finite");
+        let (fast, fit) = gather_fit(phase, m, usize::MAX).expect("finite");
+        let mut fast = fast.into_owned();
         let mut slow: Vec<f64> = phase.iter().copied().step_by(m).collect();
         prop_assert_eq!(&fast, &slow);
         let raw = slow.iter().fold(0.0f64, |a, v| a.max(v.abs()));
@@ -331,6 +486,91 @@ mod tests {
         }
     }
 
+    /// The stage-by-stage form's r1 at every order it reaches, `None`
+    /// where it stops (as the method's loop would).
+    fn staged(x: &[f64], fit: &Fit, d_max: usize) -> [Option<f64>; MAX_ORDER + 1] {
+        let mut out = [None; MAX_ORDER + 1];
+        let mut u = x.to_vec();
+        out[0] = residual_lag1(&mut u, fit);
+        for slot in out.iter_mut().take(d_max.min(MAX_ORDER) + 1).skip(1) {
+            *slot = difference_lag1(&mut u);
+            if slot.is_none() {
+                break;
+            }
+        }
+        out
+    }
+
+    fn bits(r: [Option<f64>; MAX_ORDER + 1]) -> [Option<u64>; MAX_ORDER + 1] {
+        r.map(|v| v.map(f64::to_bits))
+    }
+
+    /// [`lag1_by_order`] against [`staged`] on `phase` read every `m`
+    /// points, at every dmax: the same bits, or `None` at the same orders
+    /// (where the staged form stops on a constant series, the orders past
+    /// it are not compared: the method never reads them).
+    fn one_pass_matches_staged(phase: &[f64], m: usize) -> Result<(), TestCaseError> {
+        let (x, fit) = gather_fit(phase, m, usize::MAX).expect("finite");
+        for d_max in 0..=MAX_ORDER {
+            let want = staged(&x, &fit, d_max);
+            let mut got = lag1_by_order(&x, &fit, d_max);
+            if let Some(stop) = want.iter().position(Option::is_none) {
+                got[stop + 1..].fill(None);
+            }
+            prop_assert_eq!(
+                bits(got),
+                bits(want),
+                "n = {}, m = {}, dmax = {}",
+                x.len(),
+                m,
+                d_max
+            );
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn one_pass_keeps_the_staged_bits_at_the_blocks_edges() {
+        let phase = walk(3, 3 * BLOCK + 40, 1e-3);
+        for len in (2..12)
+            .chain((BLOCK - 6)..(BLOCK + 10))
+            .chain((2 * BLOCK - 3)..(2 * BLOCK + 8))
+        {
+            one_pass_matches_staged(&phase[..len], 1).unwrap();
+        }
+        // Integrated twice, so that the fourth order is reached.
+        let mut twice = walk(4, 3 * BLOCK + 40, 0.0);
+        for _ in 0..2 {
+            let mut acc = 0.0;
+            for v in twice.iter_mut() {
+                acc += *v;
+                *v = acc;
+            }
+        }
+        one_pass_matches_staged(&twice, 1).unwrap();
+        one_pass_matches_staged(&twice, 3).unwrap();
+        // A constant, and a quadratic: the fit leaves nothing or rounding.
+        one_pass_matches_staged(&[2.5; 100], 1).unwrap();
+        let q: Vec<f64> = (0..300).map(|i| 1.0 + 0.5 * (i * i) as f64).collect();
+        one_pass_matches_staged(&q, 1).unwrap();
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// [`one_pass_matches_staged`] on random walks of random lengths,
+        /// across several blocks, with and without a trend.
+        #[test]
+        fn one_pass_keeps_the_staged_bits(
+            seed in any::<u64>(),
+            len in 2usize..1500,
+            m in 1usize..4,
+            curve in prop_oneof![Just(0.0), Just(1e-3), Just(50.0)],
+        ) {
+            one_pass_matches_staged(&walk(seed, len, curve), m)?;
+        }
+    }
+
     #[test]
     fn a_point_that_is_not_finite_is_refused() {
         let mut x = walk(9, 100, 0.0);
@@ -371,7 +611,8 @@ mod tests {
         let x: Vec<f64> = (0..50)
             .map(|i| 3.0 - 0.5 * i as f64 + 0.01 * (i * i) as f64)
             .collect();
-        let (mut r, fit) = gather_fit(&x, 1, usize::MAX).expect("finite");
+        let (r, fit) = gather_fit(&x, 1, usize::MAX).expect("finite");
+        let mut r = r.into_owned();
         let _ = residual_lag1(&mut r, &fit);
         assert!(r.iter().all(|v| v.abs() < 1e-12), "{r:?}");
     }
