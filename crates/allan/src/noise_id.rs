@@ -26,13 +26,39 @@ use crate::Stat;
 
 mod lag1;
 
-/// Most decimated points the lag-1 method looks at. Its statistic r1 has a
-/// standard error of about 1/√n: at 2^17 points ±0.003, against decision
-/// boundaries 0.25 apart, so more points change nothing but the time (on a
-/// 10^7-sample recording the full series would cost more than all the
-/// deviations together). Longer series are identified on their first 2^17
-/// decimated points.
-pub const MAX_ACF_POINTS: usize = 1 << 17;
+/// Most decimated points the lag-1 method looks at: longer series are
+/// identified on their first 2^14 decimated points.
+///
+/// Its statistic r1 has a standard error of about 1/√n, ±0.008 at 2^14
+/// points, against decision boundaries 0.25 apart in δ = r1/(1 + r1). The
+/// cap was 2^17 (±0.003); at 2^14 the calls are statistically the same,
+/// and identification costs an eighth as much at the factors that read the
+/// cap, which on an octave grid at 10^6 samples took a third of OADEV's
+/// time (`allan_per_tau 1000000 grids`, the rest over the statistic:
+/// 0.42–0.46 with 2^17 points, 0.10–0.13 with 2^14).
+///
+/// `bench/noise_id_points.py` compares the two caps with AllanTools' own
+/// method (`autocorr_noise_id`) on AllanTools' own power-law noise (Kasdin),
+/// 30 seeds at m = 1, 2, 4 and 8:
+/// - on pure white and flicker PM, white, flicker and random-walk FM
+///   (dmax = 2) and α = −3 and −4 (dmax = 3), the two caps made the same
+///   call in all 840 trials, and r1 moved between them by 0.004–0.012
+///   (standard deviation), the sampling spread 1/√2^14 = 0.008. The call
+///   was the true α in every trial but in two cases, alike for both caps:
+///   α = −3 read as −4 from m = 2, and α = −4 as −5 (clamped to −4) from
+///   m = 4, the method's own reading of that noise decimated.
+/// - on two-noise mixtures they differed only where the 2^17 call was
+///   itself split across seeds: white FM plus random-walk FM at its
+///   crossover, where either cap called white FM in 60–67 % of the seeds;
+/// - as the level q of random-walk FM under white FM sweeps the crossover
+///   through m = 1, both caps call white FM in every seed up to q = 0.25
+///   and in none from q = 0.40; between, 0.97 and 0.33 of the seeds with
+///   2^14 points against 1.00 and 0.30 with 2^17.
+///
+/// A test holds the two caps to the same call on exactly generated pure
+/// noises, and a Python test holds imutherm's calls to AllanTools' on all
+/// the points of Kasdin noise.
+pub const MAX_ACF_POINTS: usize = 1 << 14;
 
 /// Riley & Greenhall's minimum length of the decimated phase series for the
 /// lag-1 autocorrelation method.
@@ -362,9 +388,9 @@ fn lag1_acf_id(phase: &[f64], m: usize, d_max: u32) -> Option<AcfId> {
         // SAFETY: the one requirement for calling a function compiled with
         // `target_feature(enable = "avx2")` is a CPU that has AVX2, which
         // was just detected.
-        return unsafe { lag1_acf_id_avx2(phase, m, d_max) };
+        return unsafe { lag1_acf_id_avx2(phase, m, d_max, MAX_ACF_POINTS) };
     }
-    lag1_acf_id_portable(phase, m, d_max)
+    lag1_acf_id_portable(phase, m, d_max, MAX_ACF_POINTS)
 }
 
 /// [`lag1_acf_id`] compiled for AVX2: its sums run in four lanes, one
@@ -375,16 +401,16 @@ fn lag1_acf_id(phase: &[f64], m: usize, d_max: u32) -> Option<AcfId> {
 /// share of the samples of `perf record` times the user time).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn lag1_acf_id_avx2(phase: &[f64], m: usize, d_max: u32) -> Option<AcfId> {
-    lag1_acf_id_portable(phase, m, d_max)
+fn lag1_acf_id_avx2(phase: &[f64], m: usize, d_max: u32, max_points: usize) -> Option<AcfId> {
+    lag1_acf_id_portable(phase, m, d_max, max_points)
 }
 
 #[inline(always)]
-fn lag1_acf_id_portable(phase: &[f64], m: usize, d_max: u32) -> Option<AcfId> {
-    if phase.len().div_ceil(m.max(1)).min(MAX_ACF_POINTS) < MIN_ACF_POINTS {
+fn lag1_acf_id_portable(phase: &[f64], m: usize, d_max: u32, max_points: usize) -> Option<AcfId> {
+    if phase.len().div_ceil(m.max(1)).min(max_points) < MIN_ACF_POINTS {
         return None;
     }
-    let (x, fit) = lag1::gather_fit(phase, m, MAX_ACF_POINTS)?;
+    let (x, fit) = lag1::gather_fit(phase, m, max_points)?;
     let r1s = lag1::lag1_by_order(&x, &fit, d_max as usize);
     let mut d = 0u32;
     loop {
@@ -519,9 +545,9 @@ mod tests {
             for m in [1, 2, 3, 5, 8, 13, 100, 1000] {
                 let bits =
                     |a: Option<AcfId>| a.map(|a| (a.alpha, a.alpha_estimate.to_bits(), a.d, a.r1.to_bits()));
-                let portable = lag1_acf_id_portable(&phase, m, 3);
+                let portable = lag1_acf_id_portable(&phase, m, 3, MAX_ACF_POINTS);
                 // SAFETY: AVX2 was just detected.
-                let avx2 = unsafe { lag1_acf_id_avx2(&phase, m, 3) };
+                let avx2 = unsafe { lag1_acf_id_avx2(&phase, m, 3, MAX_ACF_POINTS) };
                 assert_eq!(bits(avx2), bits(portable), "m = {m}");
                 orders.extend(portable.map(|a| a.d));
             }
@@ -695,6 +721,39 @@ mod tests {
                 acc
             }))
             .collect()
+    }
+
+    /// The cap of [`MAX_ACF_POINTS`] makes the call the first 2^17 points
+    /// make, on every pure noise these generators give exactly (white PM,
+    /// white FM, random-walk FM, and for the Hadamard family the twice
+    /// integrated random walk), and r1 moves between the two by no more
+    /// than their sampling spread allows: the difference of the estimates
+    /// has a standard deviation of about √(1/2^14 − 1/2^17) ≈ 0.0073, and
+    /// the bound is six of it. (`bench/noise_id_points.py` shows the same
+    /// on AllanTools' Kasdin noise, flicker included, with AllanTools'
+    /// own method.)
+    #[test]
+    fn the_cap_makes_the_calls_of_eight_times_the_points() {
+        const LARGE: usize = 1 << 17;
+        let spread = (1.0 / MAX_ACF_POINTS as f64 - 1.0 / LARGE as f64).sqrt();
+        for seed in 0..4u64 {
+            let mut rng = SplitMix(seed);
+            let m = 1 + (seed as usize % 2) * 2; // 1 and 3
+            let wpm = rng.white(LARGE * m);
+            let wfm = cumsum(&rng.white(LARGE * m));
+            let rwfm = cumsum(&cumsum(&rng.white(LARGE * m)));
+            let rrfm = cumsum(&rwfm);
+            for (phase, d_max, truth) in [(wpm, 2, 2), (wfm, 2, 0), (rwfm, 2, -2), (rrfm, 3, -4)] {
+                let small = lag1_acf_id_portable(&phase, m, d_max, MAX_ACF_POINTS).expect("acf");
+                let large = lag1_acf_id_portable(&phase, m, d_max, LARGE).expect("acf");
+                let ctx = format!("seed {seed}, m = {m}, α = {truth}: {small:?} vs {large:?}");
+                assert_eq!((small.alpha, small.d), (large.alpha, large.d), "{ctx}");
+                // As `identify` reports it: the twice integrated walk reads
+                // as α = −5 before the Hadamard family's clamp.
+                assert_eq!(small.alpha.clamp(-4, 2), truth, "{ctx}");
+                assert!((small.r1 - large.r1).abs() < 6.0 * spread, "{ctx}");
+            }
+        }
     }
 
     const N_RATE: usize = 8192;
