@@ -173,7 +173,10 @@ pub(super) fn lag1_by_order(x: &[f64], fit: &Fit, d_max: usize) -> [Option<f64>;
     let mut base = 0;
     while base < lanes_end[0] {
         // Residuals at base.., enough for every order's last successor.
+        // base and lanes_end[0] are multiples of LANES and base is below
+        // it, so at least LANES + 1 points remain: every order has one.
         let count = (BLOCK + 1 + MAX_ORDER).min(n - base);
+        debug_assert!(count > MAX_ORDER + 1, "{count} points at {base} of {n}");
         let (mut cur, mut next) = (&mut a, &mut b);
         residuals(x, fit, base, &mut cur[..count]);
         for d in 0..orders {
