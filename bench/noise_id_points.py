@@ -17,13 +17,14 @@ is imutherm's code:
   the share of seeds where the caps agree at each m, beside how split the
   2^17 call itself is across seeds there (the noise at a crossover is
   neither type);
-- the spread of r1 between the caps, against 1/√n;
+- the spread of r1 between the caps, against that of the difference of
+  two estimates from nested samples, √(1/n_small − 1/n_large);
 - the share of each call as a mixture's level sweeps its crossover through
   m = 1: how much wider the smaller cap's transition is.
 
 python3 bench/noise_id_points.py [--seeds 30] [--small 14] [--large 17]
 
-Needs numpy and allantools (2024.6). Prints one table; exits 1 if the
+Needs numpy and allantools (2024.6). Prints three tables; exits 1 if the
 caps make different calls on a pure noise in any seed.
 """
 
@@ -76,7 +77,7 @@ def main():
     print(f"# noise_kasdin), {args.seeds} seeds, {n} phase points, m = {FACTORS}")
     print()
     print("## pure power-law noise")
-    print("alpha dmax    m  small=true  large=true  agree  calls   sd(r1 small-large)  1/sqrt(small)")
+    print("alpha dmax    m  small=true  large=true  agree  calls   sd(r1 small-large)  sqrt(1/small-1/large)")
     differ = False
     pure = [(a, 2) for a in (2, 1, 0, -1, -2)] + [(a, 3) for a in (-3, -4)]
     for alpha, dmax in pure:
@@ -92,7 +93,7 @@ def main():
             print(
                 f"{alpha:5d} {dmax:4d} {m:4d} {hit_small:6d}/{args.seeds:<4d}"
                 f" {hit_large:6d}/{args.seeds:<4d} {agree:3d}/{args.seeds:<3d}"
-                f" {str(found):8s} {spread:14.4f} {1 / np.sqrt(small):14.4f}"
+                f" {str(found):8s} {spread:14.4f} {np.sqrt(1 / small - 1 / large):14.4f}"
             )
     print()
     print("## two-noise mixtures (the crossover between the factors read)")
