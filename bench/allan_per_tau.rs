@@ -12,7 +12,9 @@
 //! cargo run --release -p allan --example allan_per_tau [N] [grids|passes]
 //!
 //! N defaults to 10^5 (the grids part runs only up to 2·10^5); `grids`
-//! runs that part alone, `passes` the memory-pass part alone, at the
+//! runs that part alone, `ident` times noise identification alone (one
+//! call of `allan::noise_id::identify` per τ, OADEV and HDEV, white and
+//! random-walk FM, m = 1, 2, 8, 64), `passes` the memory-pass part alone, at the
 //! factors listed in `ALLAN_PER_TAU_M` (say `1024,4096,65536`) if set. The rate
 //! series is reproducible white noise (white FM) and its running sum
 //! (random-walk FM), so the lag-1 ACF, B1 and R(n) paths all run.
@@ -59,6 +61,10 @@ fn main() {
         }
         Some("passes") => {
             bandwidth_ratios();
+            return;
+        }
+        Some("ident") => {
+            identification(&rate);
             return;
         }
         _ => {}
@@ -181,6 +187,36 @@ fn per_tau_overhead(rate: &[f64]) {
             }
         }
     });
+}
+
+/// One identification per τ, best of many calls, in µs: what the lag-1
+/// ACF costs where it reads its cap of points (m small against N) and
+/// beyond.
+fn identification(rate: &[f64]) {
+    println!("\n-- noise identification, one τ, best of 2000 calls --");
+    println!(
+        "{:<6} {:<6} {:>6} {:>10} {:>6} {:>4}",
+        "noise", "stat", "m", "time µs", "alpha", "d"
+    );
+    for (label, data) in [("wfm", rate.to_vec()), ("rwfm", integrate(rate))] {
+        let s = PhaseSeries::new(&data, DataType::Freq, 1.0).expect("finite samples");
+        for stat in [Stat::Oadev, Stat::Hdev] {
+            for m in [1usize, 2, 8, 64] {
+                let mut id = None;
+                let t = best(2000, || {
+                    id = Some(allan::noise_id::identify(s.points(), m, stat));
+                });
+                let id = id.expect("identified");
+                println!(
+                    "{label:<6} {:<6} {m:>6} {:>10.1} {:>6} {:>4}",
+                    stat.name(),
+                    t * 1e6,
+                    id.alpha,
+                    id.differences.map_or("-".to_string(), |d| d.to_string())
+                );
+            }
+        }
+    }
 }
 
 /// Phase points of the bandwidth section: 80 MB, well beyond any cache.
