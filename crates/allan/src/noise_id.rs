@@ -402,8 +402,8 @@ fn lag1_acf_id(phase: &[f64], m: usize, d_max: u32) -> Option<AcfId> {
 /// share of the samples of `perf record` times the user time). The fit's
 /// sums are written in explicit vectors (`lag1::fit_sums_avx2`), where the
 /// compiler had paired each lane's two products with shuffles: one
-/// identification of 2^14 points at m = 1 went from 18.1–18.7 to
-/// 13.4–13.7 µs (`allan_per_tau 1000000 ident`).
+/// identification of 2^14 points at m = 1 went from 18.3–20.5 to
+/// 13.6–14.5 µs (`allan_per_tau 1000000 ident`, three interleaved runs).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn lag1_acf_id_avx2(phase: &[f64], m: usize, d_max: u32, max_points: usize) -> Option<AcfId> {
