@@ -58,8 +58,9 @@ pub(super) fn gather_fit(phase: &[f64], m: usize, max: usize) -> Option<(Cow<'_,
     gather_fit_by::<false>(phase, m, max)
 }
 
-/// [`gather_fit`], its fit's sums in explicit AVX2 vectors when `AVX2`
-/// (only for a caller compiled for AVX2, on a CPU that has it).
+/// [`gather_fit`], its fit's sums in explicit AVX2 vectors when `AVX2`.
+/// `AVX2` may be true only in a caller compiled for AVX2 and reached after
+/// the CPU was found to have it (a debug assertion checks it).
 #[inline(always)]
 pub(super) fn gather_fit_by<const AVX2: bool>(
     phase: &[f64],
@@ -93,6 +94,10 @@ fn fit<const AVX2: bool>(x: &[f64]) -> Option<Fit> {
     let t: [f64; LANES] = std::array::from_fn(|l| l as f64 - centre);
     #[cfg(target_arch = "x86_64")]
     let [s0, s1, s2] = if AVX2 {
+        debug_assert!(
+            std::arch::is_x86_feature_detected!("avx2"),
+            "the AVX2 fit needs AVX2"
+        );
         // SAFETY: `AVX2` is true only in the AVX2 build of the method,
         // which runs only where the CPU has AVX2.
         unsafe { fit_sums_avx2(chunks, t, c) }
@@ -142,7 +147,8 @@ fn fit_sums(chunks: &[[f64; LANES]], mut t: [f64; LANES], c: f64) -> [[f64; LANE
 
 /// [`fit_sums`] in one 256-bit register per sum: the same operations on
 /// each lane, in the same order and without a fused multiply-add, so the
-/// same bits (the AVX2 build's test in the parent module holds them so).
+/// same bits (`the_avx2_fit_keeps_the_portable_bits` here and
+/// `the_avx2_build_gives_the_same_bits` in the parent module hold them so).
 /// Left to itself the compiler paired each lane's two products in a
 /// 128-bit register with shuffles, and the fit took about a third of an
 /// identification at m = 1.

@@ -43,8 +43,9 @@
 //!
 //! Per τ: O((N − 3m + 1)·m) time, on one core of a Zen 5 EPYC 0.54 ns per
 //! window and unit of m with AVX-512 and 0.84 with AVX2 (2·10^5 points,
-//! m = 256 to 16384; 0.78 and 1.11 at m = 16), four times less than the
-//! direct 6m-term sum with running window sums; O(m) scratch (256 + 3m
+//! m = 256 to 16384; 0.78 and 1.11 at m = 16; the direct 6m-term sum with
+//! running window sums took four times the folded form's time when the
+//! folds were first built); O(m) scratch (256 + 3m
 //! partial sums and 3 × 256 per-window values), no copy of the series.
 //! Over a tau grid reaching N/3 that is still O(N²).
 //!

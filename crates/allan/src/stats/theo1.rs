@@ -135,8 +135,8 @@ fn bend_squares(a: &[f64], c: &[f64], b: &[f64], d: &[f64]) -> f64 {
     bend_squares_portable(a, c, b, d)
 }
 
-/// [`bend_squares_portable`] compiled for AVX2: the four lanes in one
-/// register, the same operations in the same order, the same bits.
+/// [`bend_squares_portable`] compiled for AVX2: the eight lanes in two
+/// registers, the same operations in the same order, the same bits.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn bend_squares_avx2(a: &[f64], c: &[f64], b: &[f64], d: &[f64]) -> f64 {
