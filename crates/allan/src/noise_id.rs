@@ -33,9 +33,9 @@ mod lag1;
 /// points, against decision boundaries 0.25 apart in δ = r1/(1 + r1). The
 /// cap was 2^17 (±0.003); at 2^14 the calls are statistically the same,
 /// and identification costs an eighth as much at the factors that read the
-/// cap. On an octave grid at 10^6 samples, identification, EDF and
-/// intervals took 0.42–0.46 of OADEV's own time with 2^17 points and take
-/// 0.10–0.13 with 2^14 (`allan_per_tau 1000000 grids`).
+/// cap: on an octave grid, identification, EDF and intervals went from
+/// about half of OADEV's own time to about a tenth (`allan_per_tau 1000000
+/// grids`, bench/README.md).
 ///
 /// `bench/noise_id_points.py` compares the two caps with AllanTools' own
 /// method (`autocorr_noise_id`) on AllanTools' own power-law noise (Kasdin),
@@ -397,13 +397,11 @@ fn lag1_acf_id(phase: &[f64], m: usize, d_max: u32) -> Option<AcfId> {
 /// [`lag1_acf_id`] compiled for AVX2: its sums run in four lanes, one
 /// 256-bit register where SSE2 takes two, with the same operations in the
 /// same order and no fused multiply-add, so the same bits (a test holds the
-/// two to it). At 10^6 points, 300 OADEV curves on an octave grid on one
-/// thread, the method's sums took 0.30 s with SSE2 and 0.27 s so (their
-/// share of the samples of `perf record` times the user time). The fit's
+/// two to it), about a tenth faster than SSE2 (`perf record`). The fit's
 /// sums are written in explicit vectors (`lag1::fit_sums_avx2`), where the
-/// compiler had paired each lane's two products with shuffles: one
-/// identification of 2^14 points at m = 1 went from 18.3–20.5 to
-/// 13.6–14.5 µs (`allan_per_tau 1000000 ident`, three interleaved runs).
+/// compiler had paired each lane's two products with shuffles: that cut
+/// about a quarter of one identification (`allan_per_tau 1000000 ident`,
+/// bench/README.md).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn lag1_acf_id_avx2(phase: &[f64], m: usize, d_max: u32, max_points: usize) -> Option<AcfId> {

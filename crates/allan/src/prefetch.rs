@@ -4,11 +4,10 @@
 //! The O(N) statistics read the series at three or four offsets, j, j + m,
 //! j + 2m (and j + 3m). The leading stream is new data; the others were
 //! read m points and more earlier. With those streams m points apart, the
-//! hardware prefetcher no longer runs far enough ahead of the leading one:
-//! at 10^7 points on one thread of a Zen 5 EPYC, MDEV at m = 4096 took
-//! 10.5 ms (1.05 ns a point, against 0.30 in the cache) and OADEV 6.3 ms.
-//! Asking for the leading stream's lines [`DISTANCE`] bytes ahead brought
-//! them to 3.5 and 3.3 ms. The overlapped sums that take a far factor's
+//! hardware prefetcher no longer runs far enough ahead of the leading one,
+//! and MDEV at m = 4096 ran at about a third of its in-cache speed. Asking
+//! for the leading stream's lines [`DISTANCE`] bytes ahead recovered most
+//! of it (`allan_per_tau N passes`, bench/README.md). The overlapped sums that take a far factor's
 //! series in pieces by residue ask for the piece two ahead in their own
 //! order instead ([`line`]). MDEV's scans also ask for the two oldest
 //! streams a few lines ahead: with the leading stream's lines in the L1
@@ -17,7 +16,7 @@
 //! read, 16 KiB or 64 points ahead. Off x86-64 the hints are nothing.
 
 /// How far ahead of the leading stream, in bytes. 8 KiB and more reached
-/// the in-cache speed on a Zen 5 EPYC; 2 KiB recovered only half of it.
+/// the in-cache speed where it was measured; 2 KiB recovered only half.
 pub(crate) const DISTANCE: usize = 16 << 10;
 
 /// Asks for the cache line `DISTANCE` bytes past `x[at]`. A hint only: it

@@ -212,10 +212,9 @@ const BLOCK: usize = 256;
 /// Every order up to dmax is summed, though the method may stop at an
 /// earlier one. Asking for orders 0 and 1 first and for the rest in a
 /// second read only when the method goes on was measured (2^14 points at
-/// m = 1, whole identification): no faster for white FM with dmax = 2
-/// (18.4–18.8 µs against 18.9–19.5), 12 % faster for white FM with
-/// dmax = 3 (19–19.5 against 21.3–21.8), and 40–45 % slower for
-/// random-walk FM (26.5–30.4 against 18.2–21.7).
+/// m = 1, whole identification): no faster for white FM with dmax = 2, a
+/// little faster for white FM with dmax = 3, and far slower for
+/// random-walk FM, so one read it is.
 ///
 /// The means need no pass: the residual's is zero (the fit holds a
 /// constant) and a difference's telescopes to (u_last − u_first)/(len − 1).

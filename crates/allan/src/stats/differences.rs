@@ -118,8 +118,7 @@ const DECIMATED_CHUNK: usize = 64;
 /// decimated points y_k = x[k·m]: the non-overlapped sums without gaps.
 ///
 /// Read term by term, with a run-time stride and the hardware prefetcher
-/// alone, HDEV took 2.46 passes of memory at m = 2 and 1.47 at m = 4 on
-/// 10^7 points. Here the points are copied a chunk at a time into a buffer
+/// alone, HDEV at small m took well over two passes of memory. Here the points are copied a chunk at a time into a buffer
 /// in L1 ([`crate::decimate`]), and the terms formed from the copy in a
 /// loop of whole vectors. Term k goes to accumulator k mod 4, in order of
 /// k, and the tail is summed as before, so the bits are those of one
@@ -310,8 +309,7 @@ const PIECES_AHEAD: usize = 2;
 ///
 /// With other factors beside it, block order is faster: they read the
 /// stream at j for it, and an octave sweep's neighbours m and 2m share the
-/// one at 2m, so such a sweep takes about one memory pass a factor (at
-/// 10^7 points, 22 factors in 1.6 ms each, against 1.5 ms for a pass).
+/// one at 2m, so such a sweep takes about one memory pass a factor.
 /// Taken by residue, a factor reads the series on its own: an octave sweep
 /// went 15 % slower, and lists such as 1, 16, 256, 4096 or a factor given
 /// twice slower too.
@@ -338,10 +336,9 @@ const MIN_FAR_RUN: usize = 16;
 /// consecutive residues, and m/PIECE is a multiple of that), so each block
 /// sums as [`block_sum`] sums it; the blocks of a residue class of blocks
 /// (g, g + m/BLOCK, …) are cut into runs of consecutive ones, for the
-/// threads. On a Zen 5 EPYC at 10^7 points on one thread, OADEV at m =
-/// 4096 went from 1.8–1.9 memory passes to 1.3–1.45 (`allan_per_tau
-/// 10000000 passes`); 512-point pieces, or three or four pieces ahead, did
-/// no better, and whole blocks were slower (1.7).
+/// threads. Against whole blocks this saves about a third of a memory pass
+/// at m = 4096 (`allan_per_tau 10000000 passes`, bench/README.md);
+/// 512-point pieces, or three or four pieces ahead, did no better.
 fn far_block_sums(order: Order, x: &[f64], m: usize, blocks: usize, parallel: bool) -> Vec<f64> {
     let per_block = BLOCK / PIECE;
     let stride = m / PIECE; // pieces between one and the next in the order
@@ -396,7 +393,7 @@ fn far_block_sums(order: Order, x: &[f64], m: usize, blocks: usize, parallel: bo
 const BLOCK: usize = 2048;
 
 /// Terms below which [`sum_squared_overlapped_many`] stays on the calling
-/// thread (about 0.1 ms of work).
+/// thread: below it, handing work to other threads costs more than it saves.
 const SMALL_SWEEP: usize = 1 << 18;
 
 /// The overlapped sums of [`sum_squared`] (stride 1, no gaps) for many

@@ -34,10 +34,8 @@
 //! so each window is read straight from its 3m + 1 phase points: no rate
 //! series is formed, and the folded evaluation shared with MTOT
 //! ([`super::mtotdev`]) needs no partial sums of its own. Per τ (m ≥ 2):
-//! O((N − 3m)·m) time, on one core of a Zen 5 EPYC 0.50–0.51 ns per window
-//! and unit of m with AVX-512 and 0.80–0.81 with AVX2 (2·10^5 points,
-//! m = 256 to 16384),
-//! and O(1) scratch (3 × 256 per-window values). At m = 1 the OHDEV
+//! O((N − 3m)·m) time (per window and unit of m, measured by
+//! `allan_per_tau`, bench/README.md), and O(1) scratch (3 × 256 per-window values). At m = 1 the OHDEV
 //! of the crate is used, which copies the series once (O(N)).
 //!
 //! HTOT is MTOT's folded sum on the rate windows, so it stays O(N·m) per τ

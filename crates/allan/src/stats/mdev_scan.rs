@@ -11,8 +11,8 @@
 //! a large offset under small noise the windows drifted between resyncs:
 //! at m = 2, 1.2e-7 relative at an offset of 1e2 under noise of 1e-9, and
 //! 3.3 times MDEV at 1e6 under 1e-9. Six subtractions, where that form took
-//! two multiplications and three additions, and faster: 1.9 against 2.0 ms
-//! at m = 16 on 10^7 points (a form with one multiplication took 2.8).
+//! two multiplications and three additions, and no slower (a form with one
+//! multiplication was slower still).
 //! Eight consecutive windows ride together, each moving on by eight third
 //! differences at a time, W_{j+8} = W_j + O_j, with O_j their sum taken as a
 //! tree of sliding sums: P_j = e_j + e_{j+1}, Q_j = P_j + P_{j+2},
@@ -38,15 +38,13 @@
 //! AVX-512 used to give way to AVX2 from m = 1536 on: the streams x[j] and
 //! x[j + m] came from L2 there, and the 64-byte loads, every one across two
 //! cache lines, cost more than the narrower registers saved. With the
-//! trailing streams asked for ahead, AVX-512 was ahead at every m measured
-//! on a Zen 5 EPYC, 16 to 2^20 (10^7 points, one thread, medians of 7
-//! interleaved runs: 1.87 against 2.26 passes of memory at m = 1536, 1.90
-//! against 2.30 at m = 4096). On CPUs that split or slow 512-bit
-//! operations the balance may differ; both give the same bits.
+//! trailing streams asked for ahead, AVX-512 was ahead at every m measured,
+//! 16 to 2^20 (`allan_per_tau`, bench/README.md). On CPUs that split or
+//! slow 512-bit operations the balance may differ; both give the same bits.
 //!
 //! Before, four windows moved by four differences summed in a row: seven
 //! additions where the tree takes five, and a dependent chain every four
-//! points. On a Zen 5 EPYC, in the cache, that took 0.30 ns a point.
+//! points.
 
 use super::differences::third;
 use super::modified::RESYNC;
@@ -58,15 +56,12 @@ const LANES: usize = 8;
 /// of x[j] and x[j + m], in points. A move reads its group three groups on
 /// (the tree's reach), so the lines come 40 points ahead of their loads.
 /// Those streams were read 3m and 2m points earlier, and with the leading
-/// stream asked for 16 KiB ahead they no longer stay in the 48 KiB L1 cache
-/// of a Zen 5 EPYC even at m = 1024 (3m points span 24 KiB). At 10^7
-/// points on one thread, medians of 7 interleaved runs of the build
-/// before (AVX2 from m = 1536) and this one, in passes of memory: m = 16
-/// 1.30 → 1.25, m = 256 1.39 → 1.32, m = 1024 2.48 → 1.58, m = 1536
-/// 2.60 → 1.76, m = 4096 2.58 → 1.94, m = 8192 2.57 → 1.93. 32 points did
-/// as well at m = 16 but worse at 1024; 96 and more were slower than none.
-/// The stream x[j + 2m], asked for too, gained at m = 1024 and lost at 16
-/// and 4096.
+/// stream asked for 16 KiB ahead they no longer stay in a 48 KiB L1 cache
+/// even at m = 1024 (3m points span 24 KiB). Asking for them ahead cut the
+/// memory passes most from m = 1024 on; 32 points did as well at m = 16 but
+/// worse at 1024, 96 and more were slower than none, and the stream
+/// x[j + 2m], asked for too, gained at m = 1024 and lost at 16 and 4096
+/// (`allan_per_tau N passes`, bench/README.md).
 #[cfg(target_arch = "x86_64")]
 const TRAILING: usize = 64;
 
@@ -155,9 +150,9 @@ fn intervals(x: &[f64], m: usize, scan: impl Fn(&[f64], usize, usize, usize, &mu
 /// into two buffers, in loops the compiler vectorises for any target, and O
 /// as the windows move. The register scans take it for the moves near the
 /// end of the series, where they would read third differences that do not
-/// exist. On SSE2 alone, 10^5 points in the cache, it takes 0.80 ns a point
-/// where the scan before the tree took 0.60–0.67 (each level in a pass of
-/// its own took 0.95; the register scans' steps on arrays of eight, 1.03).
+/// exist. On SSE2 alone it is somewhat slower than the scan before the tree
+/// was, and faster than forming each level in a pass of its own or the
+/// register scans' steps on arrays of eight.
 #[inline(always)]
 fn scan_portable(x: &[f64], m: usize, j0: usize, moves: usize, w: &mut Lanes, acc: &mut Lanes) {
     let mut e = [0.0f64; CHUNK + LANES - 1];

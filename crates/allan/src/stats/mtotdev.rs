@@ -41,11 +41,10 @@
 //! position, so that every pass reads contiguous phase streams and
 //! vectorises.
 //!
-//! Per τ: O((N − 3m + 1)·m) time, on one core of a Zen 5 EPYC 0.54 ns per
-//! window and unit of m with AVX-512 and 0.84 with AVX2 (2·10^5 points,
-//! m = 256 to 16384; 0.78 and 1.11 at m = 16; the direct 6m-term sum with
-//! running window sums took four times the folded form's time when the
-//! folds were first built); O(m) scratch (256 + 3m
+//! Per τ: O((N − 3m + 1)·m) time (the direct 6m-term sum with running
+//! window sums took about four times the folded form's time; the cost per
+//! window and unit of m is measured by `allan_per_tau`, bench/README.md);
+//! O(m) scratch (256 + 3m
 //! partial sums and 3 × 256 per-window values), no copy of the series.
 //! Over a tau grid reaching N/3 that is still O(N²).
 //!

@@ -71,9 +71,8 @@ pub fn theo1_tau(m: usize, tau0: f64) -> f64 {
 /// m ≥ N, τ0 is not a positive finite number or a phase point is not
 /// finite.
 ///
-/// Cost O((N − m)·m/2) time, no scratch: on one core of a Zen 5 EPYC,
-/// 0.13 ns per term with AVX-512 and 0.17 with AVX2 (2·10^5 points,
-/// m = 256 to 16384).
+/// Cost O((N − m)·m/2) time, no scratch (the cost per term, with AVX-512
+/// and with AVX2, is measured by `allan_per_tau`, bench/README.md).
 pub fn theo1(phase: &[f64], m: usize, tau0: f64) -> Option<Estimate> {
     theo1_with_progress(phase, m, tau0, &|_| {})
 }
