@@ -7,8 +7,8 @@
 //! hardware prefetcher no longer runs far enough ahead of the leading one,
 //! and MDEV at m = 4096 ran at about a third of its in-cache speed. Asking
 //! for the leading stream's lines [`DISTANCE`] bytes ahead recovered most
-//! of it (`allan_per_tau N passes`, bench/README.md). The overlapped sums that take a far factor's
-//! series in pieces by residue ask for the piece two ahead in their own
+//! of it (`allan_per_tau N passes`, bench/README.md). The overlapped sums
+//! that take a far factor's series in pieces by residue ask for the piece two ahead in their own
 //! order instead ([`line`]). MDEV's scans also ask for the two oldest
 //! streams a few lines ahead: with the leading stream's lines in the L1
 //! cache as well, those streams come from L2 from m of about 1024 on. The

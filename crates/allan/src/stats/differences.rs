@@ -118,8 +118,8 @@ const DECIMATED_CHUNK: usize = 64;
 /// decimated points y_k = x[k·m]: the non-overlapped sums without gaps.
 ///
 /// Read term by term, with a run-time stride and the hardware prefetcher
-/// alone, HDEV at small m took well over two passes of memory. Here the points are copied a chunk at a time into a buffer
-/// in L1 ([`crate::decimate`]), and the terms formed from the copy in a
+/// alone, HDEV at small m took well over two passes of memory. Here the
+/// points are copied a chunk at a time into a buffer in L1 ([`crate::decimate`]), and the terms formed from the copy in a
 /// loop of whole vectors. Term k goes to accumulator k mod 4, in order of
 /// k, and the tail is summed as before, so the bits are those of one
 /// strided loop with four accumulators (a test holds them to it).

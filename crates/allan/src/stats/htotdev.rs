@@ -35,7 +35,8 @@
 //! series is formed, and the folded evaluation shared with MTOT
 //! ([`super::mtotdev`]) needs no partial sums of its own. Per τ (m ≥ 2):
 //! O((N − 3m)·m) time (per window and unit of m, measured by
-//! `allan_per_tau`, bench/README.md), and O(1) scratch (3 × 256 per-window values). At m = 1 the OHDEV
+//! `allan_per_tau`, bench/README.md), and O(1) scratch (3 × 256 per-window
+//! values). At m = 1 the OHDEV
 //! of the crate is used, which copies the series once (O(N)).
 //!
 //! HTOT is MTOT's folded sum on the rate windows, so it stays O(N·m) per τ
