@@ -49,6 +49,8 @@ pub mod drift;
 pub mod monte_carlo;
 pub mod prediction;
 pub mod quaternion;
+pub mod schuler;
+pub mod spectral;
 pub mod strapdown;
 
 pub use error::InsError;
