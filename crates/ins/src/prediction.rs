@@ -98,8 +98,13 @@ pub struct Prediction {
     pub t_s: f64,
     /// Horizontal position 1σ of each term (both axes in quadrature), m.
     pub terms: Vec<(PredictedTerm, f64)>,
-    /// All the terms in quadrature, m.
+    /// All the terms in quadrature, m: the horizontal 2-D rms (DRMS).
     pub total_m: f64,
+    /// The height's 1σ, m: the vertical accelerometer's white noise, the
+    /// error of its window mean taken as gravity, its random walk and its
+    /// bias instability. No Schuler loop and no gravity gradient act on it
+    /// in the navigation, so none here.
+    pub vertical_m: f64,
 }
 
 /// What the prediction needs besides the noise.
@@ -226,10 +231,24 @@ pub fn predict(model: &NoiseModel, setup: &PredictionSetup, t: f64) -> Predictio
         terms.push((term, per_axis(0).hypot(per_axis(1))));
     }
     let total_m = terms.iter().map(|(_, v)| v * v).sum::<f64>().sqrt();
+    let nz = along(&model.accel, 2, |a| a.n);
+    let vertical = [
+        nz * t.powf(1.5) / 3f64.sqrt(),
+        0.5 * nz * t * t / ta.sqrt(),
+        along(&model.accel, 2, |a| a.k) * t.powf(2.5) / 20f64.sqrt(),
+        spectral::bias_instability_variance(
+            Kernel::Accel { schuler_rate: None },
+            along(&model.accel, 2, |a| a.b),
+            t,
+            ta,
+        )
+        .sqrt(),
+    ];
     Prediction {
         t_s: t,
         terms,
         total_m,
+        vertical_m: vertical.iter().map(|v| v * v).sum::<f64>().sqrt(),
     }
 }
 
