@@ -13,7 +13,7 @@ use imusim::{SimConfig, Simulator};
 use crate::InsError;
 use crate::drift::{CurvePoint, curve_of, rms_interval_95};
 use crate::prediction::{AxisNoise, NoiseModel};
-use crate::strapdown::{ImuData, NavOptions, align_samples, navigate_window};
+use crate::strapdown::{ImuData, NavOptions, StaticError, align_samples, navigate_window};
 
 /// What to simulate besides the noise.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -53,6 +53,8 @@ pub struct MonteCarlo {
     /// DRMS), m, per time: how far the runs' figure may be from the model's.
     /// Its half-width is about 1.96/(2·√runs) of the rms.
     pub horizontal_rms_95: Vec<[f64; 2]>,
+    /// The same for the height's rms.
+    pub vertical_rms_95: Vec<[f64; 2]>,
 }
 
 /// The error spreads over `setup.runs` simulated runs of `model`, at each
@@ -110,14 +112,14 @@ pub fn monte_carlo(
                 .ok_or_else(|| InsError::Invalid("a simulated run could not be navigated".into()))
         })
         .collect::<Result<_, _>>()?;
-    let horizontal_rms_95 = (0..times.len())
-        .map(|j| {
-            let v: Vec<f64> = runs.iter().map(|r| r[j].horizontal_position_m).collect();
-            rms_interval_95(&v)
-        })
-        .collect();
+    let interval = |f: fn(&StaticError) -> f64| -> Vec<[f64; 2]> {
+        (0..times.len())
+            .map(|j| rms_interval_95(&runs.iter().map(|r| f(&r[j])).collect::<Vec<_>>()))
+            .collect()
+    };
     Ok(MonteCarlo {
         curve: curve_of(&runs, &times),
-        horizontal_rms_95,
+        horizontal_rms_95: interval(|e| e.horizontal_position_m),
+        vertical_rms_95: interval(|e| e.vertical_position_m),
     })
 }

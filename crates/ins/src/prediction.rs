@@ -103,7 +103,9 @@ pub struct Prediction {
     /// The height's 1σ, m: the vertical accelerometer's white noise, the
     /// error of its window mean taken as gravity, its random walk and its
     /// bias instability. No Schuler loop and no gravity gradient act on it
-    /// in the navigation, so none here.
+    /// in the navigation, so none here; nor the Coriolis acceleration of
+    /// the horizontal velocity error (2Ω·cos L·v_west), which takes over
+    /// once that error reaches metres per second.
     pub vertical_m: f64,
 }
 
