@@ -175,6 +175,9 @@ const GL8: [(f64, f64); 4] = [
     (0.960_289_856_497_536_2, 0.101_228_536_290_376_3),
 ];
 
+/// The most pieces of the linear stretch.
+const MAX_PIECES: f64 = 200_000.0;
+
 fn gauss(a: f64, b: f64, f: &impl Fn(f64) -> f64) -> f64 {
     let (m, h) = ((a + b) / 2.0, (b - a) / 2.0);
     h * GL8
@@ -205,7 +208,10 @@ pub fn variance(kernel: Kernel, t: f64, align_s: f64, remove_mean: bool, psd: im
             .sum()
     };
     sum += log_pieces((1e-5 * f1).ln(), f1.ln());
-    let n = ((f2 - f1) * span).ceil().max(1.0) as usize;
+    // One piece per oscillation; a very short window under a long horizon
+    // (hundreds of thousands of oscillations) gets wider pieces, over which
+    // the oscillating part, already small at those frequencies, averages.
+    let n = ((f2 - f1) * span).ceil().clamp(1.0, MAX_PIECES) as usize;
     let w = (f2 - f1) / n as f64;
     sum += (0..n)
         .map(|i| gauss(f1 + i as f64 * w, f1 + (i + 1) as f64 * w, &on_lin))
