@@ -860,8 +860,8 @@ pub struct InsArgs {
     #[arg(long, value_name = "MODEL.json")]
     pub model: Option<PathBuf>,
 
-    /// Runs of the Monte Carlo (its rms to ±1/(2·√N), 1σ).
-    #[arg(long, default_value = "700", value_name = "N", value_parser = clap::value_parser!(u32).range(2..))]
+    /// Runs of the Monte Carlo (its rms to ±1/(2·√N), 1σ), up to 100000.
+    #[arg(long, default_value = "700", value_name = "N", value_parser = clap::value_parser!(u32).range(2..=100_000))]
     pub runs: u32,
 
     /// Seed of the Monte Carlo's first run.

@@ -9,6 +9,7 @@ use anyhow::Result;
 use serde_json::{Value, json};
 
 use analysis::navigation::{AGREEMENT, CHANNELS, Navigated, Plan, raw_and_compensated};
+use imu::output::{OutputPolicy, check_output, write_file};
 use ins::drift::{Spread, report_times};
 use ins::prediction::AxisNoise;
 use ins::schuler::flat_earth_limit_s;
@@ -64,6 +65,16 @@ pub fn run(a: &InsArgs) -> Result<()> {
         .as_deref()
         .map(|p| plot_format(p).map(|f| (p, f)))
         .transpose()?;
+    // The plot replaces a file of its name, never one being read; checked
+    // before the navigation, not after it.
+    let inputs: Vec<std::path::PathBuf> = a.files.iter().chain(&a.model).cloned().collect();
+    let policy = OutputPolicy {
+        overwrite: true,
+        inputs: &inputs,
+    };
+    if let Some((path, _)) = plot {
+        check_output(path, &policy)?;
+    }
     let model = a.model.as_deref().map(Model::read).transpose()?;
     let plan = Plan {
         options: NavOptions {
@@ -111,7 +122,7 @@ pub fn run(a: &InsArgs) -> Result<()> {
         }
     }
     if let Some((path, format)) = plot {
-        write_plot(path, format, &plotted)?;
+        write_plot(path, format, &plotted, &policy)?;
     }
     if a.json {
         let doc = json!({
@@ -127,7 +138,12 @@ pub fn run(a: &InsArgs) -> Result<()> {
 
 /// The plot of every run navigated, to `path`: a PNG drawn beside it and
 /// renamed onto it, an SVG likewise.
-fn write_plot(path: &Path, format: PlotFormat, runs: &[(String, Navigated)]) -> Result<()> {
+fn write_plot(
+    path: &Path,
+    format: PlotFormat,
+    runs: &[(String, Navigated)],
+    policy: &OutputPolicy,
+) -> Result<()> {
     let runs: Vec<(&str, &Navigated)> = runs.iter().map(|(n, r)| (n.as_str(), r)).collect();
     let title = "Horizontal position error without aiding";
     match format {
@@ -138,13 +154,7 @@ fn write_plot(path: &Path, format: PlotFormat, runs: &[(String, Navigated)]) -> 
             let svg = navigation_plot(Target::Svg, title, &runs)?
                 .into_svg()
                 .unwrap_or_default();
-            let temp = path.with_extension("partial.svg");
-            std::fs::write(&temp, svg)
-                .and_then(|()| std::fs::rename(&temp, path))
-                .map_err(|e| {
-                    let _ = std::fs::remove_file(&temp);
-                    anyhow::anyhow!("{}: {e}", path.display())
-                })?;
+            write_file(path, svg.as_bytes(), policy)?;
         }
     }
     Ok(())
