@@ -248,8 +248,37 @@ pub fn raw_and_compensated(
             let (raw, compensated) = navigate_pair(file, &six, &comp, sel.rate_hz, plan)?;
             Ok((raw, Some(compensated)))
         }
-        None => Ok((navigate(file, &six, sel.rate_hz, plan)?, None)),
+        None => {
+            if let Some((lo, hi)) = temperature_span(sel)
+                && hi - lo > TEMPERATURE_STEADY_C
+            {
+                notes.push(format!(
+                    "note: {}: the temperature runs over {lo:.1}…{hi:.1} °C: the noise terms the prediction \
+                     rests on absorb part of its drift, so the measured error above the prediction understates \
+                     the temperature's share (--model predicts from the compensated run)",
+                    file.display()
+                ));
+            }
+            Ok((navigate(file, &six, sel.rate_hz, plan)?, None))
+        }
     }
+}
+
+/// A temperature span within which a run counts as at one temperature, °C:
+/// what a run at room temperature or in a chamber holds. Beyond it the
+/// run's bias follows its temperature, and its noise fit takes part of
+/// that for a random walk or a bias instability.
+const TEMPERATURE_STEADY_C: f64 = 1.0;
+
+/// The finite temperatures' least and greatest, if any.
+fn temperature_span(sel: &Selection) -> Option<(f64, f64)> {
+    let t = sel.temperature.as_deref()?;
+    t.iter()
+        .filter(|v| v.is_finite())
+        .fold(None, |acc, &v| match acc {
+            None => Some((v, v)),
+            Some((lo, hi)) => Some((f64::min(lo, v), f64::max(hi, v))),
+        })
 }
 
 /// The raw and the compensated channels of one run navigated, both
