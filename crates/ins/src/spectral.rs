@@ -27,7 +27,8 @@
 //! whose PSD flattens (below B²/(π·f)) outside the band where its Allan
 //! deviation is flat. The older bound, a constant bias of size B, is not
 //! one: the bias walks away from the window's mean logarithmically with
-//! the time since alignment, and passes B after some ten window lengths.
+//! the time since alignment, and passes B after 10 (specific force) to 16
+//! (gyro) window lengths; at 60 window lengths it is 1.15 times B.
 
 use std::f64::consts::PI;
 
