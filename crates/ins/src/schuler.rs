@@ -4,8 +4,8 @@
 //! velocity error δv tilts the level frame by δv/R, and the tilt feeds back
 //! through gravity: the single-channel error model of a static system
 //! (Titterton & Weston, *Strapdown Inertial Navigation Technology*, 2nd
-//! ed., §12.3.2, Fig. 12.4; Groves, *Principles of GNSS, Inertial, and
-//! Multisensor Integrated Navigation Systems*, 2nd ed., §14.2.3 "Schuler
+//! ed., ch. 12; Groves, *Principles of GNSS, Inertial, and
+//! Multisensor Integrated Navigation Systems*, 2nd ed., ch. 14, "Schuler
 //! oscillation"):
 //!
 //! ```text

@@ -18,9 +18,11 @@
 //! ```
 //!
 //! so a stationary error of one-sided PSD S(f) gives Var x(t) = ∫₀^∞ S(f)·
-//! |G(2πf)|² df (Papoulis, *Probability, Random Variables and Stochastic
-//! Processes*, §9-3). The bias instability's PSD is B²/(2π·f) two-sided
-//! (IEEE Std 952-1997, Annex C, Table C.1), B²/(π·f) one-sided. Because
+//! |G(2πf)|² df (the output variance of a linear system, Papoulis,
+//! *Probability, Random Variables and Stochastic Processes*). The bias
+//! instability's PSD is B²/(2π·f) two-sided (IEEE Std 952-1997, Annex C,
+//! whose Allan variance of it, 2·ln 2·B²/π, gives the 0.664·B floor),
+//! B²/(π·f) one-sided. Because
 //! the window's mean is taken out, |G|² falls as f² at low frequency and
 //! the integral converges with no cut-off: it is the variance of an ideal
 //! 1/f bias wandering over every time scale, and so a bound on a real one

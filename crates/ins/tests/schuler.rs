@@ -2,7 +2,7 @@
 //! single-channel error dynamics (position, velocity, tilt and, for the
 //! random walks and biases, the bias as a state): the covariance equation
 //! Ṗ = A·P + P·Aᵀ + Q integrated by Runge–Kutta, which shares nothing with
-//! the closed forms but the model (Titterton & Weston §12.3.2).
+//! the closed forms but the model (Titterton & Weston, 2nd ed., ch. 12).
 
 use ins::prediction::{AxisNoise, NoiseModel, PredictedTerm, PredictionSetup, predict};
 
