@@ -6,10 +6,10 @@
 //! | gyro white noise N_g | g·N_g·t^{5/2}/√20 |
 //! | accelerometer white noise N_a | N_a·t^{3/2}/√3 |
 //! | levelling on N_a over the window T_a | ½·N_a·t²/√T_a |
-//! | gyro rate random walk K_g | g·K_g·t^{7/2}/√252 |
+//! | gyro rate random walk K_g | g·K_g·t^{7/2}/√252, and its lead on the window's mean g·K_g·√(T_a/3)·t³/6 |
 //! | gyro bias ε left after alignment | g·ε·t³/6 |
 //! | gyro bias taken as the window's mean, from N_g | g·N_g·t³/(6·√T_a) |
-//! | accelerometer rate random walk K_a | K_a·t^{5/2}/√20 |
+//! | accelerometer rate random walk K_a | K_a·t^{5/2}/√20, and its lead on the window's mean ½·K_a·√(T_a/3)·t² |
 //! | bias instability B (no closed form) | from its 1/f spectrum, [`crate::spectral`] |
 //!
 //! (Titterton & Weston, *Strapdown Inertial Navigation Technology*, 2nd
@@ -195,16 +195,28 @@ pub fn predict(model: &NoiseModel, setup: &PredictionSetup, t: f64) -> Predictio
                 }
                 PredictedTerm::Levelling => 0.5 * na * t * t / ta.sqrt() * schuler::constant_accel(x),
                 PredictedTerm::GyroRateRandomWalk => {
-                    g * along(&model.gyro, tilt_axis, |a| a.k) * t.powf(3.5) / 252f64.sqrt()
-                        * schuler::gyro_random_walk(x).sqrt()
+                    let k = along(&model.gyro, tilt_axis, |a| a.k);
+                    let walk = g * k * t.powf(3.5) / 252f64.sqrt() * schuler::gyro_random_walk(x).sqrt();
+                    // The walk has left the window's mean by K·√(T_a/3)
+                    // when the navigation starts: a bias, independent of
+                    // the walk after it (taken out only with the mean).
+                    let left = if setup.gyro_bias_removed {
+                        g * k * (ta / 3.0).sqrt() * t.powi(3) / 6.0 * schuler::constant_gyro(x)
+                    } else {
+                        0.0
+                    };
+                    walk.hypot(left)
                 }
                 PredictedTerm::GyroBiasFromAlignment if setup.gyro_bias_removed => {
                     g * ng * t.powi(3) / (6.0 * ta.sqrt()) * schuler::constant_gyro(x)
                 }
                 PredictedTerm::GyroBiasFromAlignment => 0.0,
                 PredictedTerm::AccelRateRandomWalk => {
-                    along(&model.accel, pos, |a| a.k) * t.powf(2.5) / 20f64.sqrt()
-                        * schuler::gyro_white(x).sqrt()
+                    let k = along(&model.accel, pos, |a| a.k);
+                    let walk = k * t.powf(2.5) / 20f64.sqrt() * schuler::gyro_white(x).sqrt();
+                    // Levelling takes out the window's mean; the walk has
+                    // left it by K·√(T_a/3) when the navigation starts.
+                    walk.hypot(0.5 * k * (ta / 3.0).sqrt() * t * t * schuler::constant_accel(x))
                 }
                 PredictedTerm::GyroBiasInstability => {
                     let b = along(&model.gyro, tilt_axis, |a| a.b);
@@ -238,6 +250,7 @@ pub fn predict(model: &NoiseModel, setup: &PredictionSetup, t: f64) -> Predictio
         nz * t.powf(1.5) / 3f64.sqrt(),
         0.5 * nz * t * t / ta.sqrt(),
         along(&model.accel, 2, |a| a.k) * t.powf(2.5) / 20f64.sqrt(),
+        0.5 * along(&model.accel, 2, |a| a.k) * (ta / 3.0).sqrt() * t * t,
         spectral::bias_instability_variance(
             Kernel::Accel { schuler_rate: None },
             along(&model.accel, 2, |a| a.b),

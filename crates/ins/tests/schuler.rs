@@ -136,7 +136,9 @@ fn every_term_with_the_schuler_loop_is_the_propagated_one() {
         &want,
     );
 
-    let want = propagated(g, |_| {}, |q| q[4][4] = kg * kg);
+    // A walk, and its lead on the window's mean when navigation starts
+    // (variance K²·T_a/3: the walk's spread about its mean over the window).
+    let want = propagated(g, |p| p[4][4] = kg * kg * ALIGN_S / 3.0, |q| q[4][4] = kg * kg);
     check(
         "rate random walk",
         model(one(0.0, 0.0, kg), zero),
@@ -144,7 +146,7 @@ fn every_term_with_the_schuler_loop_is_the_propagated_one() {
         &want,
     );
 
-    let want = propagated(g, |_| {}, |q| q[3][3] = ka * ka);
+    let want = propagated(g, |p| p[3][3] = ka * ka * ALIGN_S / 3.0, |q| q[3][3] = ka * ka);
     check(
         "specific-force random walk",
         model(zero, one(0.0, 0.0, ka)),
