@@ -16,7 +16,9 @@ use thermal::tcal::{FitOptions, Model, Run, TcalChannel, fit};
 
 use crate::AnalysisError;
 use crate::dynamic_adev::{DynamicAdev, DynamicOptions, dynamic_adev};
-use crate::navigation::{Navigated, Plan, compensated_channels, horizontal_rms_at, navigate, six_channels};
+use crate::navigation::{
+    Navigated, Plan, compensated_channels, horizontal_rms_at, navigate_pair, six_channels,
+};
 use crate::noise::{RunNoise, analyse_run};
 use crate::selection::{Selection, read_channels};
 
@@ -275,15 +277,10 @@ fn navigation(
     model: &Model,
     notes: &mut Vec<String>,
 ) -> Result<Navigation, AnalysisError> {
-    let plan = Plan {
-        options: NavOptions::default(),
-        every_s: 10.0,
-        times: report_times(120.0),
-    };
+    let plan = Plan::standard(report_times(120.0));
     let six = six_channels(file, sel)?;
     let comp_six = compensated_channels(file, sel, model, &six, notes)?;
-    let raw = navigate(file, &six, sel.rate_hz, &plan)?;
-    let compensated = navigate(file, &comp_six, sel.rate_hz, &plan)?;
+    let (raw, compensated) = navigate_pair(file, &six, &comp_six, sel.rate_hz, &plan)?;
     let at = |c: &[Vec<f64>], o: &NavOptions| -> Result<f64, AnalysisError> {
         horizontal_rms_at(c, sel.rate_hz, o, plan.every_s, &plan.times, COMPARED_AT_S)
             .map_err(AnalysisError::ins(file.display().to_string()))?

@@ -806,11 +806,15 @@ specific force; heading 0, the sensor's x taken as north: a MEMS gyro cannot gyr
 the gyro's mean over the window, less the Earth's rate with --latitude, taken as its
 bias, as a filter at rest estimates it), then navigated for --horizon seconds. The truth
 is static, so every metre is error. Errors: RMS, median and 95th percentile over the
-windows. Predicted: the horizontal position 1σ from the noise terms (N, B, K of each axis,
-identified as `noise` does) in closed form, summed in quadrature; bias instability
-is bounded as a bias of size B. Monte Carlo: the same model simulated and navigated.
-Without --latitude: standard gravity and no Earth rotation (at rest, the gyro mean
-removes it); with it: Somigliana's normal gravity, Earth rate, transport rate, Coriolis.";
+windows. Predicted: the horizontal position DRMS (2-D rms) from the noise terms (N, B, K of
+each axis, identified as `noise` does, on the compensated run with --model) in closed
+form, summed in quadrature; bias instability bounded from its 1/f spectrum. Monte
+Carlo: the same model simulated and navigated --runs times, its rms with a 95 %
+interval; the output says from which time the closed form leaves it by over 10 %.
+Without --latitude: standard gravity, no Earth rotation (at rest, the gyro mean removes
+it) and no Schuler loop, which holds to 1/ω_s = 806 s: a longer --horizon needs
+--latitude. With it: Somigliana's normal gravity, Earth rate, transport rate (the
+Schuler loop, in the closed form too), Coriolis.";
 
 /// A positive number of seconds.
 fn seconds(text: &str) -> Result<f64, String> {
@@ -851,9 +855,23 @@ pub struct InsArgs {
     pub latitude: Option<f64>,
 
     /// Also navigate each recording compensated with this model (from
-    /// `tcal fit`), beside the raw one.
+    /// `tcal fit`), beside the raw one; both predicted from the compensated
+    /// run's noise terms.
     #[arg(long, value_name = "MODEL.json")]
     pub model: Option<PathBuf>,
+
+    /// Runs of the Monte Carlo (its rms to ±1/(2·√N), 1σ), up to 100000.
+    #[arg(long, default_value = "700", value_name = "N", value_parser = clap::value_parser!(u32).range(2..=100_000))]
+    pub runs: u32,
+
+    /// Seed of the Monte Carlo's first run.
+    #[arg(long, default_value = "1", value_name = "N")]
+    pub seed: u64,
+
+    /// Also draw the error against time (measured, predicted, Monte Carlo
+    /// band; raw and compensated) to this file: .svg or .png.
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
 
     #[command(flatten)]
     pub read: ReadArgs,

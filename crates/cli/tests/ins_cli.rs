@@ -176,6 +176,88 @@ fn a_model_navigates_the_compensated_run_beside_the_raw_one() {
         at60(c),
         at60(file)
     );
+    // Both predictions rest on the compensated run's terms: the raw run's
+    // measured error above its prediction is the temperature's share.
+    assert_eq!(file["noise_from"], "compensated_run");
+    assert_eq!(file["noise_si"], c["noise_si"]);
+    for (r, k) in file["curve"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(c["curve"].as_array().unwrap())
+    {
+        assert_eq!(
+            r["predicted_horizontal_position_drms_m"],
+            k["predicted_horizontal_position_drms_m"]
+        );
+        // The old name keeps the same figure.
+        assert_eq!(
+            r["predicted_horizontal_position_1sigma_m"],
+            r["predicted_horizontal_position_drms_m"]
+        );
+    }
+}
+
+/// `ins --horizon 3600` on white noise with a latitude: at every printed
+/// time the prediction is within 10 % of the Monte Carlo, or the output
+/// says from when it is not.
+#[test]
+fn an_hour_with_a_latitude_is_predicted_or_says_where_it_stops() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = Simulation::new()
+        .args(&["--preset", "white"])
+        .duration("3620")
+        .rate("10")
+        .write(dir.path(), "hour.txt");
+    let plot = dir.path().join("hour.svg");
+    let args = [
+        "--horizon",
+        "3600",
+        "--every",
+        "3610",
+        "--latitude",
+        "48",
+        "--runs",
+        "200",
+        "--seed",
+        "7",
+    ];
+    let mut with_plot = args.to_vec();
+    with_plot.extend(["--plot", plot.to_str().unwrap()]);
+    let doc = json_of(&with_plot, &[&f]);
+    let file = &doc["files"][0];
+    assert_eq!(file["schuler_loop"], true);
+    assert_eq!(
+        (
+            file["monte_carlo_runs"].as_u64(),
+            file["monte_carlo_seed"].as_u64()
+        ),
+        (Some(200), Some(7))
+    );
+    let stops = file["prediction_stops_at_s"].as_f64();
+    let curve = file["curve"].as_array().unwrap();
+    assert_eq!(curve.len(), 10, "1 s to an hour");
+    for p in curve {
+        let t = p["t_s"].as_f64().unwrap();
+        let predicted = p["predicted_horizontal_position_drms_m"].as_f64().unwrap();
+        let mc = p["monte_carlo_horizontal_position_m"]["rms"].as_f64().unwrap();
+        assert!(
+            (predicted / mc - 1.0).abs() < 0.1 || stops.is_some_and(|s| s <= t),
+            "{t} s: predicted {predicted} m, Monte Carlo {mc} m, stops at {stops:?}"
+        );
+    }
+    let svg = std::fs::read_to_string(&plot).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("predicted DRMS"));
+    imutherm()
+        .arg("ins")
+        .arg(&f)
+        .args(args)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains(
+            "latitude 48°: normal gravity, Earth rate, Coriolis, the Schuler loop",
+        ))
+        .stdout(predicate::str::contains("Monte Carlo: 200 runs from seed 7"));
 }
 
 #[test]
@@ -191,9 +273,28 @@ fn bad_values_are_usage_errors_and_short_files_runtime_errors() {
         &["--every", "abc"],
         &["--latitude", "91"],
         &["--latitude", "north"],
+        &["--runs", "1"],
     ] {
         imutherm().arg("ins").arg(&f).args(bad).assert().code(2);
     }
+    // A plot neither SVG nor PNG is refused before anything is written.
+    let pdf = dir.path().join("drift.pdf");
+    imutherm()
+        .arg("ins")
+        .arg(&f)
+        .arg("--plot")
+        .arg(&pdf)
+        .assert()
+        .code(2);
+    assert!(!pdf.exists());
+    // Past 1/ω_s a flat Earth no longer stands for the real one.
+    imutherm()
+        .arg("ins")
+        .arg(&f)
+        .args(["--horizon", "900"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("give the latitude"));
     // Sixty seconds cannot hold 10 s of alignment and 120 s of navigation.
     imutherm()
         .arg("ins")

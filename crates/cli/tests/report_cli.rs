@@ -38,12 +38,13 @@ fn report_escapes_file_names_and_draws_every_figure() {
     assert!(!html.contains("<script>alert"));
     // Two sensor ADEV plots per run, six per-axis ADEV plots; for the run
     // whose temperature changes two raw-data plots, six heat maps of its
-    // temperature bins and six of its dynamic ADEV (one 30 min window).
+    // temperature bins and six of its dynamic ADEV (one 30 min window); the
+    // navigation's error against time per run.
     let static_svg = html.matches("<figure class=\"plot\"><svg").count();
     let with_chart = html
         .matches("<figure class=\"plot\"><div class=\"static\"><svg")
         .count();
-    assert_eq!(static_svg + with_chart, 24);
+    assert_eq!(static_svg + with_chart, 26);
     // Every ADEV and raw-data plot is also an interactive chart; the heat
     // maps stay static.
     assert_eq!(with_chart, 12);

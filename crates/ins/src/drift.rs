@@ -6,8 +6,10 @@ use rayon::prelude::*;
 use crate::InsError;
 use crate::strapdown::{ImuData, NavOptions, StaticError, align_samples, navigate_window};
 
-/// The times since alignment imutherm reports, s, before the horizon.
-pub const STANDARD_TIMES_S: [f64; 5] = [1.0, 10.0, 30.0, 60.0, 120.0];
+/// The times since alignment imutherm reports, s, before the horizon: to
+/// two minutes, where a MEMS IMU is still of use, then on to an hour, past
+/// the Schuler loop's turn (1/ω_s = 13 min).
+pub const STANDARD_TIMES_S: [f64; 9] = [1.0, 10.0, 30.0, 60.0, 120.0, 300.0, 600.0, 1200.0, 1800.0];
 
 /// The standard times up to `horizon_s`, and the horizon itself, ascending.
 pub fn report_times(horizon_s: f64) -> Vec<f64> {
@@ -63,6 +65,21 @@ fn percentile(sorted: &[f64], p: f64) -> f64 {
     }
 }
 
+/// The 95 % confidence interval of the rms of `values`, from independent
+/// draws (the runs of a Monte Carlo, not overlapping windows): the mean of
+/// the squares ± 1.96 standard errors, its square roots. Empty: (0, 0).
+pub fn rms_interval_95(values: &[f64]) -> [f64; 2] {
+    let n = values.len() as f64;
+    if values.len() < 2 {
+        let v = values.first().map_or(0.0, |v| v.abs());
+        return [v, v];
+    }
+    let mean = values.iter().map(|v| v * v).sum::<f64>() / n;
+    let var = values.iter().map(|v| (v * v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    let half = 1.96 * (var / n).sqrt();
+    [(mean - half).max(0.0).sqrt(), (mean + half).sqrt()]
+}
+
 /// The errors at one time since alignment, over the windows.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CurvePoint {
@@ -70,6 +87,7 @@ pub struct CurvePoint {
     pub t_s: f64,
     pub horizontal_position_m: Spread,
     pub horizontal_velocity_m_s: Spread,
+    pub vertical_position_m: Spread,
     pub tilt_rad: Spread,
     pub heading_rad: Spread,
 }
@@ -154,6 +172,7 @@ pub fn curve_of(runs: &[Vec<StaticError>], times: &[f64]) -> Vec<CurvePoint> {
                 t_s: times[j],
                 horizontal_position_m: col(|e| e.horizontal_position_m),
                 horizontal_velocity_m_s: col(|e| e.horizontal_velocity_m_s),
+                vertical_position_m: col(|e| e.vertical_position_m),
                 tilt_rad: col(|e| e.tilt_rad),
                 heading_rad: col(|e| e.heading_rad),
             }
@@ -176,9 +195,23 @@ mod tests {
     }
 
     #[test]
+    fn the_rms_interval_is_the_mean_square_s_by_hand() {
+        // Squares 1, 4, 9, 16: mean 7.5, sample variance 129/3 = 43,
+        // standard error √(43/4); 7.5 ± 1.96·3.2787.
+        let [lo, hi] = rms_interval_95(&[1.0, -2.0, 3.0, 4.0]);
+        let half = 1.96 * (43.0f64 / 4.0).sqrt();
+        assert!((lo - (7.5 - half).sqrt()).abs() < 1e-12, "{lo}");
+        assert!((hi - (7.5 + half).sqrt()).abs() < 1e-12, "{hi}");
+    }
+
+    #[test]
     fn report_times_stop_at_the_horizon() {
         assert_eq!(report_times(45.0), vec![1.0, 10.0, 30.0, 45.0]);
         assert_eq!(report_times(120.0), vec![1.0, 10.0, 30.0, 60.0, 120.0]);
         assert_eq!(report_times(300.0), vec![1.0, 10.0, 30.0, 60.0, 120.0, 300.0]);
+        assert_eq!(
+            report_times(3600.0),
+            vec![1.0, 10.0, 30.0, 60.0, 120.0, 300.0, 600.0, 1200.0, 1800.0, 3600.0]
+        );
     }
 }

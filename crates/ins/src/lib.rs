@@ -13,11 +13,13 @@
 //!   and position in a local-level frame (x north, y west, z up) with
 //!   Somigliana's normal gravity, and the Earth's rate, the transport rate
 //!   and Coriolis when a latitude is given ([`strapdown::Navigator`]);
-//! - the horizontal position and velocity, tilt and heading errors over
-//!   many start points of a recording ([`drift::drift_over_windows`]);
+//! - the horizontal position and velocity, tilt, heading and height errors
+//!   over many start points of a recording ([`drift::drift_over_windows`]);
 //! - their prediction in closed form from the IEEE 952 noise terms, term by
-//!   term ([`prediction`]), and a Monte Carlo of the same model through the
-//!   same navigation ([`monte_carlo`]).
+//!   term ([`prediction`]), with the Schuler loop when the latitude is given
+//!   ([`schuler`]) and the bias instability from its 1/f spectrum
+//!   ([`spectral`]), and a Monte Carlo of the same model through the same
+//!   navigation, with the confidence interval of its rms ([`monte_carlo`]).
 //!
 //! **What it is not:** not a navigation filter (no Kalman filter, no aiding,
 //! no bias estimation beyond the alignment window), not a trajectory
@@ -49,6 +51,8 @@ pub mod drift;
 pub mod monte_carlo;
 pub mod prediction;
 pub mod quaternion;
+pub mod schuler;
+pub mod spectral;
 pub mod strapdown;
 
 pub use error::InsError;

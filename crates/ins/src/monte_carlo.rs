@@ -11,9 +11,9 @@ use imusim::thermal::Profile;
 use imusim::{SimConfig, Simulator};
 
 use crate::InsError;
-use crate::drift::{CurvePoint, curve_of};
+use crate::drift::{CurvePoint, curve_of, rms_interval_95};
 use crate::prediction::{AxisNoise, NoiseModel};
-use crate::strapdown::{ImuData, NavOptions, align_samples, navigate_window};
+use crate::strapdown::{ImuData, NavOptions, StaticError, align_samples, navigate_window};
 
 /// What to simulate besides the noise.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,6 +44,19 @@ fn group(axes: &[AxisNoise; 3]) -> GroupConfig {
     }
 }
 
+/// What the runs give at each time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MonteCarlo {
+    /// The spreads over the runs, one point per time.
+    pub curve: Vec<CurvePoint>,
+    /// The 95 % confidence interval of the horizontal position rms (the
+    /// DRMS), m, per time: how far the runs' figure may be from the model's.
+    /// Its half-width is about 1.96/(2·√runs) of the rms.
+    pub horizontal_rms_95: Vec<[f64; 2]>,
+    /// The same for the height's rms.
+    pub vertical_rms_95: Vec<[f64; 2]>,
+}
+
 /// The error spreads over `setup.runs` simulated runs of `model`, at each
 /// time of `times_s`.
 pub fn monte_carlo(
@@ -51,7 +64,7 @@ pub fn monte_carlo(
     opts: &NavOptions,
     setup: &MonteCarloSetup,
     times_s: &[f64],
-) -> Result<Vec<CurvePoint>, InsError> {
+) -> Result<MonteCarlo, InsError> {
     opts.validate()?;
     if setup.runs == 0 {
         return Err(InsError::Invalid("a Monte Carlo needs at least one run".into()));
@@ -99,5 +112,14 @@ pub fn monte_carlo(
                 .ok_or_else(|| InsError::Invalid("a simulated run could not be navigated".into()))
         })
         .collect::<Result<_, _>>()?;
-    Ok(curve_of(&runs, &times))
+    let interval = |f: fn(&StaticError) -> f64| -> Vec<[f64; 2]> {
+        (0..times.len())
+            .map(|j| rms_interval_95(&runs.iter().map(|r| f(&r[j])).collect::<Vec<_>>()))
+            .collect()
+    };
+    Ok(MonteCarlo {
+        curve: curve_of(&runs, &times),
+        horizontal_rms_95: interval(|e| e.horizontal_position_m),
+        vertical_rms_95: interval(|e| e.vertical_position_m),
+    })
 }

@@ -106,8 +106,9 @@ impl NavOptions {
         Ok(())
     }
 
-    /// The gravity navigation uses: normal gravity at the latitude, else
-    /// standard gravity.
+    /// The gravity the tilt acts through: normal gravity at the latitude,
+    /// else standard gravity. (The vertical channel subtracts the window's
+    /// measured magnitude instead, [`Alignment::gravity`].)
     pub fn gravity(&self) -> f64 {
         match self.latitude_deg {
             Some(l) => earth::normal_gravity(l.to_radians()),
@@ -128,6 +129,13 @@ pub struct Alignment {
     /// The gyro bias taken out, rad/s (zero unless
     /// [`NavOptions::remove_gyro_bias`]).
     pub gyro_bias: [f64; 3],
+    /// The mean specific force's magnitude over the window, m/s²: the
+    /// gravity the vertical channel subtracts. A filter at rest fixes the
+    /// vertical accelerometer's bias so (or a barometer does); with a
+    /// gravity model instead, a 60 mg offset of an MPU-9250 (PS-MPU-9250A-01
+    /// §3.2) would move the height by a kilometre a minute and, through
+    /// Coriolis, the horizontal position too.
+    pub gravity: f64,
 }
 
 /// Levels on the mean specific force of samples `range`: roll and pitch
@@ -161,6 +169,7 @@ pub fn align(imu: &ImuData, range: std::ops::Range<usize>, opts: &NavOptions) ->
         pitch,
         attitude,
         gyro_bias,
+        gravity: f[0].hypot(f[1]).hypot(f[2]),
     }
 }
 
@@ -208,7 +217,7 @@ impl Navigator {
             velocity: [0.0; 3],
             position: [0.0; 3],
             gyro_bias: alignment.gyro_bias,
-            gravity: opts.gravity(),
+            gravity: alignment.gravity,
             dt: 1.0 / rate_hz,
             previous_increment: [0.0; 3],
             earth,
@@ -275,6 +284,9 @@ pub struct StaticError {
     pub horizontal_position_m: f64,
     /// Horizontal speed, m/s.
     pub horizontal_velocity_m_s: f64,
+    /// Height above the start, unsigned, m. The vertical channel has no
+    /// gravity gradient, so none of the instability of a real one (2g/R).
+    pub vertical_position_m: f64,
     /// Rotation about the horizontal axes since alignment, rad.
     pub tilt_rad: f64,
     /// Rotation about the vertical since alignment, rad.
@@ -291,6 +303,7 @@ impl Navigator {
             t_s,
             horizontal_position_m: self.position[0].hypot(self.position[1]),
             horizontal_velocity_m_s: self.velocity[0].hypot(self.velocity[1]),
+            vertical_position_m: self.position[2].abs(),
             tilt_rad: r[0].hypot(r[1]),
             heading_rad: r[2].abs(),
         }

@@ -8,7 +8,7 @@ use allan::noise_terms::{Minimum, NoiseTerms, Term, TermEstimate};
 use analysis::AnalysisError;
 use analysis::dynamic_adev::DynamicAdev;
 use analysis::experiment::{COMPARED_AT_S, Experiment};
-use analysis::navigation::{Navigated, Plan};
+use analysis::navigation::{Navigated, Plan, Row};
 use analysis::noise::{ChannelNoise, RunNoise, held_value};
 use analysis::selection::Selection;
 use analysis::thesis::ThesisTables;
@@ -20,6 +20,7 @@ use crate::PlotError;
 use crate::ReportError;
 use crate::charts::{Chart, adev_chart, time_chart};
 use crate::html::{Page, significant};
+use crate::navigation_plot::navigation_plot;
 use crate::plots::{
     Asymptote, Curve, Drawn, Target, adev_heatmap, adev_heatmap_slices, adev_plot, bias_plot,
     temperature_colour, time_plot,
@@ -522,7 +523,7 @@ pub fn compensation_section(page: &mut Page, exp: &Experiment, png: &PngDir) -> 
 /// navigated without aiding from many start points, raw and compensated,
 /// measured beside the prediction from its noise terms; and the 60 s drift
 /// for longer alignment windows.
-pub fn navigation_section(page: &mut Page, exp: &Experiment) {
+pub fn navigation_section(page: &mut Page, exp: &Experiment, png: &PngDir) -> Result<(), ReportError> {
     let nav = &exp.navigation;
     let (raw, comp) = (&nav.raw, &nav.compensated);
     let (every, opts) = (nav.plan.every_s, &nav.plan.options);
@@ -531,11 +532,13 @@ pub fn navigation_section(page: &mut Page, exp: &Experiment) {
         "Strapdown navigation of the cooling run from a start point every {every} s ({} windows), each \
          levelled on its first {} s (heading 0: a MEMS gyro cannot gyrocompass; the gyro's mean over \
          the window taken as its bias) and navigated without aiding. The sensor is static, so every \
-         metre is error. Predicted: the horizontal position 1σ from the noise terms identified on the \
-         run itself (closed form per term, summed in quadrature; bias instability bounded as a bias); \
-         the temperature drift is in no prediction, so on the raw run the measured error above the \
-         predicted is the temperature's.",
-        raw.windows, opts.align_s
+         metre is error. Predicted: the horizontal position DRMS (the 2-D rms) from the noise terms \
+         identified on the compensated run (closed form per term, summed in quadrature; bias \
+         instability bounded from its 1/f spectrum), for both runs: the temperature drift is in no \
+         prediction, so on the raw run the measured error above the predicted is the temperature's. \
+         Monte Carlo: the same terms simulated and navigated {} times (seed {}), its rms with a 95 % \
+         interval.",
+        raw.windows, opts.align_s, raw.monte_carlo_runs, raw.monte_carlo_seed
     ));
     let rows: Vec<Vec<String>> = raw
         .rows
@@ -546,10 +549,10 @@ pub fn navigation_section(page: &mut Page, exp: &Experiment) {
                 format!("{}", r.measured.t_s),
                 format!("{:.3}", r.measured.horizontal_position_m.rms),
                 format!("{:.3}", r.measured.horizontal_position_m.p95),
-                format!("{:.3}", r.predicted.total_m),
                 format!("{:.3}", c.measured.horizontal_position_m.rms),
                 format!("{:.3}", c.measured.horizontal_position_m.p95),
                 format!("{:.3}", c.predicted.total_m),
+                monte_carlo_cell(c),
             ]
         })
         .collect();
@@ -559,14 +562,24 @@ pub fn navigation_section(page: &mut Page, exp: &Experiment) {
             "t [s]",
             "raw RMS",
             "raw p95",
-            "raw predicted 1σ",
             "compensated RMS",
             "compensated p95",
-            "compensated predicted 1σ",
+            "predicted DRMS",
+            "Monte Carlo rms (95 %)",
         ]
         .map(String::from),
         &rows,
     );
+    let runs = [("raw", raw), ("compensated", comp)];
+    figure(
+        page,
+        png,
+        "navigation_cooling",
+        "The cooling run's horizontal position error against time since alignment: measured (RMS over \
+         the windows), predicted from the compensated run's terms, and the Monte Carlo's rms with its \
+         95 % interval.",
+        |t| navigation_plot(t, "Cooling run: horizontal position error", &runs),
+    )?;
     let rows: Vec<Vec<String>> = nav
         .by_alignment
         .iter()
@@ -585,6 +598,13 @@ pub fn navigation_section(page: &mut Page, exp: &Experiment) {
         &rows,
     );
     page.paragraph(&navigation_summary(raw, comp));
+    Ok(())
+}
+
+/// The Monte Carlo's rms and its 95 % interval, for a table cell.
+fn monte_carlo_cell(r: &Row) -> String {
+    let [lo, hi] = r.monte_carlo_rms_95;
+    format!("{:.3} ({lo:.3}–{hi:.3})", r.monte_carlo.rms)
 }
 
 /// One sentence on what the compensation buys at 60 s, and why not more.
@@ -626,15 +646,19 @@ pub fn recordings_navigation_section(
     page: &mut Page,
     plan: &Plan,
     navigated: &[(PathBuf, Result<Navigated, AnalysisError>)],
-) {
+    png: &PngDir,
+) -> Result<(), ReportError> {
     page.heading("Navigation without GNSS");
     page.paragraph(&format!(
         "Strapdown navigation of each static recording from a start point every {} s, each levelled on \
          its first {} s (heading 0: a MEMS gyro cannot gyrocompass) and navigated without aiding, so every \
-         metre is error. Predicted: the horizontal position 1σ from the recording's own noise terms (closed \
-         form per term, summed in quadrature). A temperature drift is in no prediction: on a run whose \
-         temperature changes, the measured error above the predicted is the temperature's.",
-        plan.every_s, plan.options.align_s
+         metre is error. Predicted: the horizontal position DRMS (2-D rms) from the recording's own noise \
+         terms (closed form per term, summed in quadrature). A temperature drift is in no prediction, but \
+         the terms identified on a run whose temperature changes absorb part of it: the measured error \
+         above the predicted is then less than the temperature's share (`imutherm ins --model` predicts \
+         from the compensated run). Monte Carlo: the same terms simulated and navigated {} times (seed \
+         {}), its rms with a 95 % interval.",
+        plan.every_s, plan.options.align_s, plan.monte_carlo_runs, plan.monte_carlo_seed
     ));
     for (f, navigated) in navigated {
         match navigated {
@@ -649,6 +673,7 @@ pub fn recordings_navigation_section(
                             format!("{:.3}", r.measured.horizontal_position_m.p50),
                             format!("{:.3}", r.measured.horizontal_position_m.p95),
                             format!("{:.3}", r.predicted.total_m),
+                            monte_carlo_cell(r),
                         ]
                     })
                     .collect();
@@ -658,11 +683,32 @@ pub fn recordings_navigation_section(
                         f.display(),
                         n.windows
                     ),
-                    &["t [s]", "RMS", "median", "95th percentile", "predicted 1σ"].map(String::from),
+                    &[
+                        "t [s]",
+                        "RMS",
+                        "median",
+                        "95th percentile",
+                        "predicted DRMS",
+                        "Monte Carlo rms (95 %)",
+                    ]
+                    .map(String::from),
                     &rows,
                 );
+                let runs = [("measured", n)];
+                figure(
+                    page,
+                    png,
+                    &format!("navigation_{}", f.display()),
+                    &format!(
+                        "{}: horizontal position error against time since alignment, measured, predicted \
+                         and the Monte Carlo's rms with its 95 % interval",
+                        f.display()
+                    ),
+                    |t| navigation_plot(t, "Horizontal position error", &runs),
+                )?;
             }
             Err(e) => page.paragraph(&format!("{}: not navigated: {e}", f.display())),
         }
     }
+    Ok(())
 }

@@ -14,7 +14,7 @@ use crate::PlotError;
 static FONT: Once = Once::new();
 
 /// Registers the embedded font once: SVG text needs metrics for layout.
-fn font() {
+pub(crate) fn font() {
     FONT.call_once(|| {
         // A failure leaves plotters' built-in fallback; the plot still draws.
         let _ = plotters::style::register_font(
@@ -25,7 +25,7 @@ fn font() {
     });
 }
 
-fn err<E: std::fmt::Debug>(e: E) -> PlotError {
+pub(crate) fn err<E: std::fmt::Debug>(e: E) -> PlotError {
     PlotError(format!("{e:?}"))
 }
 
@@ -87,7 +87,7 @@ pub struct Asymptote {
     pub slope: f64,
 }
 
-fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+pub(crate) fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = values
         .filter(|v| v.is_finite() && *v > 0.0)
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
@@ -101,7 +101,7 @@ fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 /// Draws with `draw` on an SVG canvas of `size` pixels and returns the text.
-fn to_svg(
+pub(crate) fn to_svg(
     size: (u32, u32),
     draw: impl FnOnce(&DrawingArea<SVGBackend, Shift>) -> Result<(), PlotError>,
 ) -> Result<String, PlotError> {
@@ -115,7 +115,7 @@ fn to_svg(
 }
 
 /// Draws with `draw` into a PNG file of `size` pixels.
-fn to_png(
+pub(crate) fn to_png(
     path: &std::path::Path,
     size: (u32, u32),
     draw: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> Result<(), PlotError>,

@@ -180,7 +180,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     time_figures(&mut page, &exp.cooling, "cooling run", &png)?;
     surface_section(&mut page, &exp, &png)?;
     compensation_section(&mut page, &exp, &png)?;
-    navigation_section(&mut page, &exp);
+    navigation_section(&mut page, &exp, &png)?;
     let html = page.finish()?;
     let report_path = file("report.html");
     write_file(&report_path, html.as_bytes(), &OWN_FILE)?;

@@ -8,20 +8,73 @@ use std::path::Path;
 use anyhow::Result;
 use serde_json::{Value, json};
 
-use analysis::navigation::{CHANNELS, MONTE_CARLO_RUNS, Navigated, Plan, raw_and_compensated};
+use analysis::navigation::{AGREEMENT, CHANNELS, Navigated, Plan, raw_and_compensated};
+use imu::output::{OutputPolicy, check_output, write_file};
 use ins::drift::{Spread, report_times};
 use ins::prediction::AxisNoise;
+use ins::schuler::flat_earth_limit_s;
 use ins::strapdown::NavOptions;
+use report::navigation_plot::navigation_plot;
+use report::plots::Target;
 use thermal::tcal::Model;
 
 use crate::args::InsArgs;
-use crate::flags::recording_options;
+use crate::flags::{UsageError, recording_options};
 use crate::print::{notes, read_channels};
 
 const SCHEMA: &str = "imutherm.ins/1";
 
+/// How a plot is written, from the name's extension.
+enum PlotFormat {
+    Svg,
+    Png,
+}
+
+fn plot_format(path: &Path) -> Result<PlotFormat> {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+    {
+        Some(e) if e == "svg" => Ok(PlotFormat::Svg),
+        Some(e) if e == "png" => Ok(PlotFormat::Png),
+        _ => Err(UsageError(format!(
+            "--plot {}: the name must end in .svg or .png",
+            path.display()
+        ))
+        .into()),
+    }
+}
+
 pub fn run(a: &InsArgs) -> Result<()> {
     let read = recording_options(&a.read)?;
+    // Without the transport rate the navigation has no Schuler loop: past
+    // 1/ω_s its figures are those of a flat Earth, and grow as t^{5/2} to
+    // t^{7/2} where a navigator on the Earth oscillates.
+    let limit = flat_earth_limit_s();
+    if a.latitude.is_none() && a.horizon > limit {
+        return Err(UsageError(format!(
+            "--horizon {} s without --latitude: past {limit:.0} s (1/ω_s, the Schuler loop's) a flat, \
+             non-rotating Earth no longer stands for the real one; give the latitude",
+            a.horizon
+        ))
+        .into());
+    }
+    let plot = a
+        .plot
+        .as_deref()
+        .map(|p| plot_format(p).map(|f| (p, f)))
+        .transpose()?;
+    // The plot replaces a file of its name, never one being read; checked
+    // before the navigation, not after it.
+    let inputs: Vec<std::path::PathBuf> = a.files.iter().chain(&a.model).cloned().collect();
+    let policy = OutputPolicy {
+        overwrite: true,
+        inputs: &inputs,
+    };
+    if let Some((path, _)) = plot {
+        check_output(path, &policy)?;
+    }
     let model = a.model.as_deref().map(Model::read).transpose()?;
     let plan = Plan {
         options: NavOptions {
@@ -31,7 +84,10 @@ pub fn run(a: &InsArgs) -> Result<()> {
         },
         every_s: a.every,
         times: report_times(a.horizon),
+        monte_carlo_runs: a.runs as usize,
+        monte_carlo_seed: a.seed,
     };
+    let mut plotted: Vec<(String, Navigated)> = Vec::new();
     let mut files = Vec::new();
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
@@ -54,6 +110,19 @@ pub fn run(a: &InsArgs) -> Result<()> {
         } else {
             print_file(&mut out, file, a, rate, &raw, compensated.as_ref())?;
         }
+        if plot.is_some() {
+            let name = if a.files.len() > 1 {
+                format!("{}: ", file.display())
+            } else {
+                String::new()
+            };
+            let comp = compensated.map(|c| (format!("{name}compensated"), c));
+            plotted.push((format!("{name}raw"), raw));
+            plotted.extend(comp);
+        }
+    }
+    if let Some((path, format)) = plot {
+        write_plot(path, format, &plotted, &policy)?;
     }
     if a.json {
         let doc = json!({
@@ -63,6 +132,30 @@ pub fn run(a: &InsArgs) -> Result<()> {
         });
         serde_json::to_writer_pretty(&mut out, &doc)?;
         writeln!(out)?;
+    }
+    Ok(())
+}
+
+/// The plot of every run navigated, to `path`: a PNG drawn beside it and
+/// renamed onto it, an SVG likewise.
+fn write_plot(
+    path: &Path,
+    format: PlotFormat,
+    runs: &[(String, Navigated)],
+    policy: &OutputPolicy,
+) -> Result<()> {
+    let runs: Vec<(&str, &Navigated)> = runs.iter().map(|(n, r)| (n.as_str(), r)).collect();
+    let title = "Horizontal position error without aiding";
+    match format {
+        PlotFormat::Png => {
+            navigation_plot(Target::Png(path), title, &runs)?;
+        }
+        PlotFormat::Svg => {
+            let svg = navigation_plot(Target::Svg, title, &runs)?
+                .into_svg()
+                .unwrap_or_default();
+            write_file(path, svg.as_bytes(), policy)?;
+        }
     }
     Ok(())
 }
@@ -90,9 +183,18 @@ fn file_json(n: &Navigated, a: &InsArgs, rate: f64) -> Value {
                 "horizontal_velocity_m_s": spread_json(m.horizontal_velocity_m_s),
                 "tilt_deg": spread_json(m.tilt_rad.scaled(deg)),
                 "heading_deg": spread_json(m.heading_rad.scaled(deg)),
+                "vertical_position_m": spread_json(m.vertical_position_m),
+                // The old name of the DRMS, kept: it is not a 1σ of the distance.
                 "predicted_horizontal_position_1sigma_m": r.predicted.total_m,
+                "predicted_horizontal_position_drms_m": r.predicted.total_m,
+                "predicted_vertical_position_1sigma_m": r.predicted.vertical_m,
                 "predicted_terms_m": terms,
+                "prediction_within_monte_carlo": r.prediction_holds(),
                 "monte_carlo_horizontal_position_m": spread_json(r.monte_carlo),
+                "monte_carlo_horizontal_position_rms_95_m": r.monte_carlo_rms_95,
+                "monte_carlo_vertical_position_m": spread_json(r.monte_carlo_vertical),
+                "monte_carlo_vertical_position_rms_95_m": r.monte_carlo_vertical_rms_95,
+                "vertical_prediction_within_monte_carlo": r.vertical_prediction_holds(),
             })
         })
         .collect();
@@ -114,7 +216,13 @@ fn file_json(n: &Navigated, a: &InsArgs, rate: f64) -> Value {
         "latitude_deg": a.latitude,
         "windows": n.windows,
         "windows_with_gaps": n.windows_with_gaps,
-        "monte_carlo_runs": MONTE_CARLO_RUNS,
+        "schuler_loop": a.latitude.is_some(),
+        "monte_carlo_runs": n.monte_carlo_runs,
+        "monte_carlo_seed": n.monte_carlo_seed,
+        "monte_carlo_agreement": AGREEMENT,
+        "prediction_stops_at_s": n.prediction_stops_at(),
+        "vertical_prediction_stops_at_s": n.vertical_prediction_stops_at(),
+        "noise_from": n.noise_from.key(),
         "noise_si": noise,
         "curve": curve,
     })
@@ -138,40 +246,88 @@ fn sig(v: f64) -> String {
 
 fn print_curve(out: &mut impl Write, n: &Navigated) -> Result<()> {
     let deg = 180.0 / std::f64::consts::PI;
-    writeln!(
+    let line = |out: &mut dyn Write, c: [&str; 14]| -> std::io::Result<()> {
+        writeln!(
+            out,
+            "  {:>6}  {:>10} {:>10} {:>10}  {:>10} {:>10}  {:>9}  {:>9}  {:>11}  {:>11}  {:>21}  {:>10}  {:>11}  {:>11}",
+            c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8], c[9], c[10], c[11], c[12], c[13]
+        )
+    };
+    line(
         out,
-        "  {:>6}  {:>10} {:>10} {:>10}  {:>10} {:>10}  {:>9}  {:>9}  {:>11}  {:>11}",
-        "t [s]",
-        "pos rms",
-        "pos p50",
-        "pos p95",
-        "vel rms",
-        "vel p95",
-        "tilt rms",
-        "hdg rms",
-        "predicted",
-        "Monte Carlo"
+        [
+            "t [s]",
+            "pos rms",
+            "pos p50",
+            "pos p95",
+            "vel rms",
+            "vel p95",
+            "tilt rms",
+            "hdg rms",
+            "predicted",
+            "Monte Carlo",
+            "Monte Carlo rms",
+            "height rms",
+            "predicted",
+            "Monte Carlo",
+        ],
     )?;
-    writeln!(
+    line(
         out,
-        "  {:>6}  {:>10} {:>10} {:>10}  {:>10} {:>10}  {:>9}  {:>9}  {:>11}  {:>11}",
-        "", "[m]", "[m]", "[m]", "[m/s]", "[m/s]", "[°]", "[°]", "1σ [m]", "rms [m]"
+        [
+            "",
+            "[m]",
+            "[m]",
+            "[m]",
+            "[m/s]",
+            "[m/s]",
+            "[°]",
+            "[°]",
+            "DRMS [m]",
+            "rms [m]",
+            "95 % [m]",
+            "[m]",
+            "height [m]",
+            "height [m]",
+        ],
     )?;
     for r in &n.rows {
         let m = &r.measured;
+        let [lo, hi] = r.monte_carlo_rms_95;
+        let flag = if r.prediction_holds() { "" } else { "*" };
+        let vflag = if r.vertical_prediction_holds() { "" } else { "†" };
+        line(
+            out,
+            [
+                &m.t_s.to_string(),
+                &sig(m.horizontal_position_m.rms),
+                &sig(m.horizontal_position_m.p50),
+                &sig(m.horizontal_position_m.p95),
+                &sig(m.horizontal_velocity_m_s.rms),
+                &sig(m.horizontal_velocity_m_s.p95),
+                &sig(m.tilt_rad.rms * deg),
+                &sig(m.heading_rad.rms * deg),
+                &format!("{}{flag}", sig(r.predicted.total_m)),
+                &sig(r.monte_carlo.rms),
+                &format!("{}…{}", sig(lo), sig(hi)),
+                &sig(m.vertical_position_m.rms),
+                &format!("{}{vflag}", sig(r.predicted.vertical_m)),
+                &sig(r.monte_carlo_vertical.rms),
+            ],
+        )?;
+    }
+    if let Some(t) = n.prediction_stops_at() {
         writeln!(
             out,
-            "  {:>6}  {:>10} {:>10} {:>10}  {:>10} {:>10}  {:>9}  {:>9}  {:>11}  {:>11}",
-            m.t_s,
-            sig(m.horizontal_position_m.rms),
-            sig(m.horizontal_position_m.p50),
-            sig(m.horizontal_position_m.p95),
-            sig(m.horizontal_velocity_m_s.rms),
-            sig(m.horizontal_velocity_m_s.p95),
-            sig(m.tilt_rad.rms * deg),
-            sig(m.heading_rad.rms * deg),
-            sig(r.predicted.total_m),
-            sig(r.monte_carlo.rms),
+            "  * from {t} s the closed form is more than {:.0} % outside the Monte Carlo's 95 % interval: read the Monte Carlo there",
+            AGREEMENT * 100.0
+        )?;
+    }
+    if let Some(t) = n.vertical_prediction_stops_at() {
+        writeln!(
+            out,
+            "  † the height's closed form (the vertical accelerometer alone) leaves the Monte Carlo from {t} s: \
+             the Coriolis acceleration of the horizontal velocity error takes over; read the Monte Carlo there"
         )?;
     }
     Ok(())
@@ -186,8 +342,11 @@ fn print_file(
     compensated: Option<&Navigated>,
 ) -> Result<()> {
     let earth = match a.latitude {
-        Some(l) => format!("latitude {l}°: normal gravity, Earth rate, Coriolis"),
-        None => "standard gravity, Earth rotation not modelled".to_string(),
+        Some(l) => format!("latitude {l}°: normal gravity, Earth rate, Coriolis, the Schuler loop"),
+        None => format!(
+            "no latitude: standard gravity, no Earth rotation, no Schuler loop (holds to {:.0} s)",
+            flat_earth_limit_s()
+        ),
     };
     writeln!(
         out,
@@ -205,7 +364,15 @@ fn print_file(
     )?;
     writeln!(
         out,
-        "  heading 0 (levelled; a MEMS gyro cannot gyrocompass); gyro bias: the mean over each alignment window"
+        "  heading 0 (levelled; a MEMS gyro cannot gyrocompass); gyro bias: the mean over each alignment window; \
+         gravity: the mean specific force's magnitude over it"
+    )?;
+    writeln!(
+        out,
+        "  predicted from {} noise terms; Monte Carlo: {} runs from seed {}, its rms with a 95 % interval",
+        raw.noise_from.describe(),
+        raw.monte_carlo_runs,
+        raw.monte_carlo_seed
     )?;
     match compensated {
         None => print_curve(out, raw)?,

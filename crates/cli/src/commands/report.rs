@@ -9,7 +9,6 @@ use analysis::navigation::{Plan, navigate, take_six_channels};
 use analysis::noise::analyse_run;
 use analysis::summary::Summary;
 use ins::drift::report_times;
-use ins::strapdown::NavOptions;
 use report::experiment::{
     PAGE_MARK, PngDir, adev_figures, command_section, dynamic_heatmap, dynamic_note, dynamic_slices, figure,
     noise_tables, recordings_navigation_section, refuse_foreign_files, time_figures,
@@ -190,7 +189,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
         }
     }
 
-    navigation_section(&mut page, &a.files, &read)?;
+    navigation_section(&mut page, &a.files, &read, &png)?;
 
     let path = a.out.join("report.html");
     // DIR is the report's own: its report.html is replaced (atomically),
@@ -216,12 +215,9 @@ fn navigation_section(
     page: &mut Page,
     files: &[std::path::PathBuf],
     read: &imu::RecordingOptions,
+    png: &PngDir,
 ) -> Result<()> {
-    let plan = Plan {
-        options: NavOptions::default(),
-        every_s: 10.0,
-        times: report_times(120.0),
-    };
+    let plan = Plan::standard(report_times(120.0));
     let mut navigated = Vec::new();
     for f in files {
         let mut sel = read_channels(f, &[], read)?;
@@ -232,6 +228,6 @@ fn navigation_section(
         let n = six.and_then(|six| navigate(f, &six, rate, &plan));
         navigated.push((f.clone(), n));
     }
-    recordings_navigation_section(page, &plan, &navigated);
+    recordings_navigation_section(page, &plan, &navigated, png)?;
     Ok(())
 }
