@@ -403,6 +403,43 @@ mod tests {
         assert_eq!(back, [3_000_000.0, 1_000_000.0]);
     }
 
+    proptest::proptest! {
+        /// For any clock whose steps stay within (0.7, 1.3) of its period,
+        /// with messages lost here and there: the rate is one over the mean
+        /// step between the stamps that have no loss between them, and the
+        /// grid holds every sample plus the gaps reported (the duration is
+        /// count / rate plus the gaps).
+        #[test]
+        fn the_rate_is_the_mean_gap_free_step_and_the_grid_holds_the_gaps(
+            period in 1e-3f64..1.0,
+            steps in proptest::collection::vec((0.7f64..1.3, 0usize..40), 10..400),
+        ) {
+            let mut t = vec![0.0];
+            let mut lost_steps = Vec::new();
+            for (k, &(f, lose)) in steps.iter().enumerate() {
+                // Now and then (1 in 40) a message or two is not logged.
+                let lost = if lose == 0 { 1 + k % 2 } else { 0 };
+                let d: f64 = (0..=lost).map(|j| if j == 0 { f } else { 1.0 } * period).sum();
+                t.push(t[k] + d);
+                lost_steps.push(lost > 0);
+            }
+            let tm = analyze_timestamps(&t).unwrap();
+            let kept: Vec<f64> = t
+                .windows(2)
+                .zip(&lost_steps)
+                .filter(|(_, l)| !**l)
+                .map(|(w, _)| w[1] - w[0])
+                .collect();
+            proptest::prop_assume!(!kept.is_empty());
+            let mean = kept.iter().sum::<f64>() / kept.len() as f64;
+            proptest::prop_assert!((tm.rate_hz * mean - 1.0).abs() < 1e-9, "{} vs {}", tm.rate_hz, 1.0 / mean);
+            let (grid, dropped) = regularize(&t, tm.rate_hz, &[vec![1.0; t.len()]]).unwrap();
+            let missing: usize = tm.gaps.iter().map(|g| g.1).sum();
+            proptest::prop_assert!(dropped.is_empty());
+            proptest::prop_assert_eq!(grid[0].len(), t.len() + missing);
+        }
+    }
+
     #[test]
     fn the_rate_is_the_clocks_not_the_median_steps() {
         // 200 Hz nominal, the chip 0.3 % fast, stamped in whole ms.
