@@ -400,17 +400,14 @@ struct ChannelMotion {
 
 fn channel_motion(q: Quantity, v: &[f64], w: usize, rate_hz: f64) -> Option<ChannelMotion> {
     let win = windows(v, w);
-    let stds: Vec<f64> = win.iter().map(|x| x.1).collect();
-    let p10 = quantile(&stds, 0.1)?;
-    let median = quantile(&stds, 0.5)?;
-    if median <= 0.0 {
-        // Stuck, reported as such: no floor to compare with.
+    // The quiet windows' level, over the windows that vary at all: a few
+    // windows of one repeated value must not make every other one look
+    // loud, and a channel stuck throughout (reported as such) has none.
+    let varying: Vec<f64> = win.iter().map(|x| x.1).filter(|s| *s > 0.0).collect();
+    if varying.len() * 2 < win.len() {
         return None;
     }
-    // The quiet windows' level, not below a tenth of the typical one: a
-    // few windows of one repeated value must not make every other one look
-    // loud.
-    let floor = p10.max(0.1 * median);
+    let floor = quantile(&varying, 0.1)?;
     let mut moving = vec![false; win.len()];
     let mut excess: f64 = 0.0;
     let mut max_std: f64 = 0.0;
@@ -764,6 +761,24 @@ mod tests {
         assert!(m.stretches[1].0 >= 198.0 && m.stretches[1].1 <= 202.0, "{m:?}");
         assert!(!m.throughout());
         assert!(c.to_owned().findings.len() == 1, "{:?}", c.findings);
+    }
+
+    #[test]
+    fn a_record_moving_half_the_time_keeps_the_floor_of_its_static_half() {
+        let mut rec = static_rec(12_000, 100.0, 2e-3, 2e-2);
+        let moving = static_rec(6000, 100.0, 0.1, 0.8);
+        for (c, m) in rec.channels.iter_mut().zip(&moving.channels) {
+            for (v, w) in c.data[3000..9000].iter_mut().zip(&m.data) {
+                *v = *w;
+            }
+        }
+        let c = check(&rec);
+        let m = c.motion().expect("motion");
+        assert_eq!(m.stretches.len(), 1, "{m:?}");
+        assert!(m.stretches[0].0 >= 29.0 && m.stretches[0].1 <= 91.0, "{m:?}");
+        // The floor is the static half's (2e-3 rad/s or 2e-2 m/s² per sample).
+        let static_sd = if m.channel.starts_with("gyro") { 2e-3 } else { 2e-2 };
+        assert!(m.noise_floor < 1.2 * static_sd, "{m:?}");
     }
 
     #[test]
