@@ -4,7 +4,7 @@
 //! char[16], labels char[64]`) earlier in the log. The `IMU` message
 //! (`TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,…,T,…`, rad/s, m/s², °C)
 //! gives one stream per instance `I`; older logs write `IMU2`, `IMU3`
-//! instead of an instance field, `Temp` for `T` (3.3 to 3.6) and, before
+//! instead of an instance field, `Temp` for `T` (3.3, 3.4) and, before
 //! 3.3, `TimeMS` in milliseconds for `TimeUS`.
 
 use std::collections::HashMap;
@@ -208,9 +208,9 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
             )
             .at(format!("byte {at}")));
         };
-        // The temperature is `T` since ArduPilot 4.0; 3.3 to 3.6 and Solo
-        // call it `Temp` (LogStructure.h, `IMU` `QffffffIIfBB`
-        // `TimeUS,…,ErrG,ErrA,Temp,GyHlt,AcHlt`).
+        // Later logs label the temperature `T` (`…,EG,EA,T,GH,AH,GHz,AHz`);
+        // ArduCopter 3.3 and 3.4 and Solo label it `Temp` (LogStructure.h:
+        // `IMU` `QffffffIIfBB` `TimeUS,…,ErrG,ErrA,Temp,GyHlt,AcHlt`).
         let temp = field("T").or_else(|| field("Temp"));
         let s = out.imu_mut(&format!("IMU/{instance}"), "ArduPilot IMU");
         s.instance = Some(instance);

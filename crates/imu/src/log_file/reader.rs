@@ -495,8 +495,6 @@ pub fn read_recording_from(
                 }
             ));
         }
-        // Epoch stamps (1.7e18 ns) are taken from the first one, so that
-        // the steps keep their digits.
         let mut raw = raw;
         let wraps = crate::timing::unwrap_u32(&mut raw);
         if let Some(&first) = wraps.first() {
@@ -535,6 +533,8 @@ pub fn read_recording_from(
             )
             .at(line_of(row), Some(ti + 1)));
         }
+        // Epoch stamps (1.7e18 ns) are taken from the first one, so that
+        // the steps keep their digits.
         let t0 = raw.iter().copied().find(|v| v.is_finite()).unwrap_or(0.0);
         let epoch = t0.abs() * scale > 1e8;
         let origin_raw = if epoch { t0 } else { 0.0 };
