@@ -383,3 +383,25 @@ fn a_clock_running_backwards_is_refused_with_its_line() {
                 .and(predicate::str::contains("runs backwards")),
         );
 }
+
+#[test]
+fn real_px4_clocks_run_at_their_mean_gap_free_step() {
+    // PX4/pyulog's sample logs (BSD-3, in robotlogs' fixtures). The rates
+    // are pyulog 1.3.0's sensor_combined timestamps read with NumPy 2.4: the mean of
+    // the steps within (0.5, 1.5) of that mean, iterated from the median.
+    let px4 = Path::new(env!("CARGO_MANIFEST_DIR")).join("../robotlogs/tests/fixtures/px4");
+    for (file, rate) in [
+        ("sample_log_small.ulg", 204.582_619_096_366_73),
+        ("sample_appended_multiple.ulg", 247.039_744_629_699_9),
+        ("sample_logging_tagged_and_default_params.ulg", 250.0),
+    ] {
+        let f = info(&px4.join(file));
+        let r = f["rate_hz"].as_f64().unwrap();
+        assert!((r / rate - 1.0).abs() < 1e-9, "{file}: {r} Hz, not {rate}");
+        let slots = f["samples"].as_f64().unwrap();
+        assert!(
+            (f["duration_s"].as_f64().unwrap() - slots / r).abs() < 1e-9,
+            "{file}"
+        );
+    }
+}
