@@ -2,7 +2,8 @@
 //! imutherm once, and what it must say of it now: a dead gyro, an
 //! accelerometer reading 3.38 m/s², a driving robot, ArduPilot 3.4's
 //! `Temp` and 3.2's `TimeMS`, an FMUv5 clock with unlogged messages, a
-//! 32-bit µs counter that wraps, a clock that runs backwards.
+//! 32-bit µs counter that wraps, a clock that runs backwards; and the
+//! clocks of PX4's real sample logs.
 //!
 //! The DataFlash logs follow ArduPilot's LogStructure.h of their version:
 //! the `FMT` message (type 128, `BBnNZ`, 89 bytes) and the `IMU` message
