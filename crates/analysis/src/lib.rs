@@ -5,6 +5,8 @@
 //! - [`selection`]: which channels of a file are analysed, read in SI with
 //!   their gaps, and what the reader noted on the way;
 //! - [`reading`]: the reader's options from what a user gives;
+//! - [`channel_checks`]: what a recording's channels rule out (a dead or
+//!   clipped channel, an accelerometer far from g, motion), with figures;
 //! - [`units`]: the unit systems of noise terms (SI, datasheet, thesis);
 //! - [`noise`]: each run's ADEV and noise terms;
 //! - [`dynamic_adev`]: the OADEV of sliding time windows labelled by their
@@ -51,6 +53,7 @@
 
 mod error;
 
+pub mod channel_checks;
 pub mod compensation;
 pub mod datasheet;
 pub use thermal::dynamic_adev;

@@ -9,7 +9,7 @@ use imu::{Quantity, ReadReport, Recording, RecordingOptions};
 use serde::Serialize;
 
 use crate::AnalysisError;
-use crate::selection::{Selection, reader_notes, selection, take_channel};
+use crate::selection::{Selection, checked, reader_notes, selection, take_channel};
 
 /// A stream found in a log, as `info` lists it.
 #[derive(Debug, Clone, Serialize)]
@@ -109,7 +109,8 @@ pub(crate) fn read_channels(
     read: &RecordingOptions,
 ) -> Result<Selection, AnalysisError> {
     let (mut rec, report, _) = read_recording_with_report(file, read)?;
-    let notes = reader_notes(file, &report, "the messages' clock");
+    let mut notes = reader_notes(file, &report, "the messages' clock");
+    let checks = checked(file, &rec, &mut notes);
     let rate_hz = rec.rate_hz.unwrap_or(1.0);
     let names: Vec<String> = rec.channels.iter().map(|c| c.name.clone()).collect();
     let inertial: Vec<usize> = (0..rec.channels.len())
@@ -165,5 +166,5 @@ pub(crate) fn read_channels(
         .into_iter()
         .map(|i| take_channel(file, i + 1, &mut rec.channels[i], rate_hz, report.lines))
         .collect();
-    Ok(selection(&mut rec, channels, rate_hz, notes))
+    Ok(selection(&mut rec, channels, rate_hz, notes, checks))
 }

@@ -7,6 +7,7 @@ use imu::table::TableReader;
 use imu::{Quantity, RecordingOptions};
 
 use crate::AnalysisError;
+use crate::channel_checks::{self, Checks};
 
 /// One column to analyse (a file's column as selected, not the data
 /// model's [`imu::Channel`]).
@@ -43,8 +44,12 @@ pub struct Selection {
     pub rate_hz: f64,
     /// What the reader found and did, one line each (`warning: …`,
     /// `note: …`), for the caller to show: an analysis never rests on
-    /// filled or dropped samples unsaid.
+    /// filled or dropped samples unsaid. The checks' findings are among
+    /// them.
     pub notes: Vec<String>,
+    /// What the file's inertial channels rule out (all of them, selected
+    /// or not: motion shows on any axis).
+    pub checks: Checks,
 }
 
 /// Reads the wanted channels of one file, converted to SI, with gaps where
@@ -129,6 +134,7 @@ pub fn read_channels(
             1.0
         }
     };
+    let checks = checked(file, &rec, &mut notes);
     let mut out = Vec::with_capacity(select.len());
     for idx in select {
         let Some(pos) = rec.channels.iter().position(|c| c.source_name == headers[idx]) else {
@@ -146,7 +152,7 @@ pub fn read_channels(
             report.lines,
         ));
     }
-    Ok(selection(&mut rec, out, rate_hz, notes))
+    Ok(selection(&mut rec, out, rate_hz, notes, checks))
 }
 
 /// What the reader found and did, one line each (`warning: …`, `note: …`):
@@ -197,6 +203,16 @@ pub(crate) fn reader_notes(file: &Path, report: &imu::ReadReport, clock: &str) -
     notes
 }
 
+/// Checks the recording's channels ([`channel_checks::check`]), each
+/// finding a warning among `notes`.
+pub(crate) fn checked(file: &Path, rec: &imu::Recording, notes: &mut Vec<String>) -> Checks {
+    let checks = channel_checks::check(rec);
+    for f in &checks.findings {
+        notes.push(format!("warning: {}: {f}", file.display()));
+    }
+    checks
+}
+
 /// One selected channel of a recording read: its samples move out, except
 /// the temperature's, which stays in the recording for the callers that need
 /// it beside the channels.
@@ -232,6 +248,7 @@ pub(crate) fn selection(
     channels: Vec<SelectedChannel>,
     rate_hz: f64,
     notes: Vec<String>,
+    checks: Checks,
 ) -> Selection {
     let temperature = rec
         .channels
@@ -251,5 +268,6 @@ pub(crate) fn selection(
         temperature,
         rate_hz,
         notes,
+        checks,
     }
 }

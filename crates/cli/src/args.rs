@@ -476,6 +476,9 @@ pub struct TcalFitArgs {
     #[command(flatten)]
     pub read: ReadArgs,
 
+    #[command(flatten)]
+    pub motion: MotionArgs,
+
     /// Where to write the model (JSON, schema imutherm.tcal/1).
     #[arg(long, short = 'o', value_name = "MODEL.json")]
     pub output: PathBuf,
@@ -515,12 +518,15 @@ pub struct TcalEvalArgs {
     #[arg(value_name = "MODEL.json")]
     pub model: PathBuf,
 
-    /// Runs to evaluate on (best: runs the fit did not see).
-    #[arg(value_name = "FILE")]
+    /// Runs to evaluate on (best: runs the fit did not see); at least one.
+    #[arg(value_name = "FILE", required = true)]
     pub files: Vec<PathBuf>,
 
     #[command(flatten)]
     pub read: ReadArgs,
+
+    #[command(flatten)]
+    pub motion: MotionArgs,
 
     /// Also apply the exported parameters as the firmware does and show the
     /// bias left; print the parameter file, with the table as comments.
@@ -632,6 +638,9 @@ pub struct NoiseArgs {
     #[command(flatten)]
     pub read: ReadArgs,
 
+    #[command(flatten)]
+    pub motion: MotionArgs,
+
     /// Units of the printed terms: si (rad/√s, rad/s, rad/s/√s; m/s/√s, m/s²,
     /// m/s²/√s) or datasheet (°/√h, °/h, °/h/√h; m/s/√h, µg, µg/√s) — the thesis
     /// table uses °/√s and °/s for gyros in both.
@@ -720,6 +729,17 @@ pub struct ReadArgs {
     /// the IMU (default: the only one).
     #[arg(long, value_name = "NAME")]
     pub temp_topic: Option<String>,
+}
+
+/// For the analyses of a static sensor (`noise`, `ins`, `tcal fit`,
+/// `tcal eval`).
+#[derive(Debug, Args)]
+pub struct MotionArgs {
+    /// Analyse a record that moves: without it, a record whose gyro or
+    /// accelerometer scatters far above its noise floor or changes level
+    /// is refused, with the stretches that move.
+    #[arg(long)]
+    pub allow_motion: bool,
 }
 
 #[derive(Debug, Args)]
@@ -875,6 +895,9 @@ pub struct InsArgs {
 
     #[command(flatten)]
     pub read: ReadArgs,
+
+    #[command(flatten)]
+    pub motion: MotionArgs,
 
     /// Print one JSON document (schema imutherm.ins/1).
     #[arg(long)]

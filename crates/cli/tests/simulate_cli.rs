@@ -158,3 +158,17 @@ fn help_documents_profiles_and_durations() {
         .assert()
         .code(2);
 }
+
+#[test]
+fn a_log_of_no_samples_is_a_usage_error_and_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("empty.txt");
+    // 1 ms at the thesis preset's 20 Hz rounds to 0 samples.
+    imutherm()
+        .args(["simulate", "--duration", "0.001", "-o"])
+        .arg(&out)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("less than one sample"));
+    assert!(!out.exists());
+}

@@ -654,3 +654,17 @@ fn held_out_is_judged_by_the_file_and_a_run_is_fitted_once() {
     assert!(!held["copy-of-cool.txt"]);
     assert!(held["heat.txt"]);
 }
+
+#[test]
+fn eval_without_a_run_is_a_usage_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("model.json");
+    std::fs::write(&model, "{}").unwrap();
+    imutherm()
+        .args(["tcal", "eval"])
+        .arg(&model)
+        .assert()
+        .code(2)
+        .stdout("")
+        .stderr(predicate::str::contains("<FILE>"));
+}

@@ -160,14 +160,19 @@ impl Recording {
         self.len() == 0
     }
 
-    /// Duration in seconds, from the rate (or the timestamps).
+    /// Duration in seconds: the samples over the rate, the gaps' empty
+    /// slots among them (so count / rate plus the gaps); without a rate,
+    /// the span of increasing timestamps.
     pub fn duration_s(&self) -> Option<f64> {
-        if let Some(t) = &self.timestamps
-            && let (Some(a), Some(b)) = (t.first(), t.last())
-        {
-            return Some(b - a);
+        if let Some(r) = self.rate_hz {
+            return Some(self.len() as f64 / r);
         }
-        self.rate_hz.map(|r| self.len() as f64 / r)
+        let t = self.timestamps.as_ref()?;
+        let (a, b) = (
+            t.iter().find(|v| v.is_finite())?,
+            t.iter().rev().find(|v| v.is_finite())?,
+        );
+        (b > a).then(|| b - a)
     }
 
     /// The channel named `name` (imutherm's name or the file's header).

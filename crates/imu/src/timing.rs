@@ -1,22 +1,26 @@
 //! Per-sample timestamps: the rate of the clock that made them, its jitter,
-//! and everything wrong with them (gaps, duplicates, steps backwards).
+//! and everything wrong with them (gaps, duplicates, steps backwards, a
+//! counter that wraps).
 //!
 //! The rate is the clock's, not the median step's: a chip running 0.3 %
 //! fast and stamped in whole milliseconds steps 5 ms almost always and 4 ms
 //! now and then, so the median says 200 Hz while the samples come at
-//! 200.6 Hz. The period is the least-squares slope of time against sample
-//! index over the stretches without gaps, refitted without stamps that sit
-//! far off the line. Samples are then placed one slot after another, a
-//! step of more than 1.5 periods opening a gap of the size the clock
-//! implies: no real sample is dropped and no gap is invented, whatever the
-//! stamps' jitter or rounding.
+//! 200.6 Hz. The period is the mean step over the gap-free stretches (runs
+//! of steps within (0.5, 1.5) periods): every real step counts, 4.5 ms
+//! steps among 5 ms ones included, and a stamp leaves the clock only where
+//! its step leaves that band, against a clock the other stamps hold. The
+//! jitter is the stamps' scatter about that clock, all of them. Samples are
+//! then placed one slot after another, a step of more than 1.5 periods
+//! opening a gap of the size the clock implies: no real sample is dropped
+//! and no gap is invented, whatever the stamps' jitter or rounding.
 
 /// What the timestamps say.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Timing {
-    /// 1 / the clock's period, fitted over the stretches without gaps, Hz.
+    /// 1 / the mean step over the gap-free stretches, Hz.
     pub rate_hz: f64,
-    /// Standard deviation of the stamps about the fitted clock, s.
+    /// Standard deviation of the stamps of the gap-free stretches about
+    /// the clock (a line of the clock's period through each stretch), s.
     pub jitter_s: f64,
     /// (row, missing samples) for every step longer than 1.5 periods.
     pub gaps: Vec<(usize, usize)>,
@@ -27,64 +31,46 @@ pub struct Timing {
     /// The median step between stamps, s (what a rate read off the steps
     /// would have been).
     pub median_step_s: f64,
-    /// Samples the fit of the clock used.
+    /// Stamps in the gap-free stretches, which the clock is the mean step of.
     pub fitted_samples: usize,
 }
 
 /// A step longer than this many periods is a gap.
 pub const GAP_FACTOR: f64 = 1.5;
 
-/// Stamps further from the fitted clock than this many robust standard
-/// deviations are left out of the refit (a late write, a clock glitch).
-const OUTLIER_SIGMAS: f64 = 6.0;
-
-/// Least-squares slope and residual scale of `t` against the row index,
-/// over runs of rows whose steps all lie within (0.5, 1.5) × `step`; rows
-/// for which `keep` is false end a run.
-fn fit_period(t: &[f64], step: f64, keep: &dyn Fn(usize, f64) -> bool) -> Option<(f64, usize)> {
-    let (mut sxy, mut sxx, mut used) = (0.0, 0.0, 0usize);
-    let mut run_start = 0;
-    let flush = |from: usize, to: usize, sxy: &mut f64, sxx: &mut f64, used: &mut usize| {
-        // Rows from..to (exclusive) form one run: centred sums, in two
-        // passes over the rows kept rather than a list of them, so that a
-        // long run costs no memory.
-        let kept = || (from..to).filter(|&i| keep(i, t[i]));
-        let n = kept().count();
-        if n < 2 {
-            return;
-        }
-        let n_f = n as f64;
-        let mi = kept().map(|i| i as f64).sum::<f64>() / n_f;
-        // Stamps are taken relative to the run's first one so that epoch
-        // magnitudes (1.7e18 ns) do not eat the digits of the step.
-        let Some(first) = kept().next() else { return };
-        let t0 = t[first];
-        let mt = kept().map(|i| t[i] - t0).sum::<f64>() / n_f;
-        for i in kept() {
-            let di = i as f64 - mi;
-            *sxy += di * (t[i] - t0 - mt);
-            *sxx += di * di;
-        }
-        *used += n;
-    };
+/// Calls `run(from, to)` for each gap-free stretch of rows `from..to`
+/// (at least two rows, every step within (0.5, [`GAP_FACTOR`]) × `step`).
+fn for_each_run(t: &[f64], step: f64, mut run: impl FnMut(usize, usize)) {
+    let mut start = 0;
     for i in 1..=t.len() {
         let breaks = i == t.len() || {
             let d = t[i] - t[i - 1];
             !(d.is_finite() && d > 0.5 * step && d < GAP_FACTOR * step)
         };
         if breaks {
-            flush(run_start, i, &mut sxy, &mut sxx, &mut used);
-            run_start = i;
+            if i - start >= 2 {
+                run(start, i);
+            }
+            start = i;
         }
     }
-    (sxx > 0.0 && sxy > 0.0).then(|| (sxy / sxx, used))
+}
+
+/// The mean step over the gap-free stretches of `step`, and the stamps in
+/// them.
+fn mean_gap_free_step(t: &[f64], step: f64) -> Option<(f64, usize)> {
+    let (mut span, mut steps, mut used) = (0.0, 0usize, 0usize);
+    for_each_run(t, step, |a, b| {
+        span += t[b - 1] - t[a];
+        steps += b - 1 - a;
+        used += b - a;
+    });
+    (steps > 0 && span > 0.0).then(|| (span / steps as f64, used))
 }
 
 /// Studies timestamps in seconds. `None` with fewer than two finite,
 /// increasing timestamps (no rate can be derived).
 pub fn analyze_timestamps(t: &[f64]) -> Option<Timing> {
-    // Memory is a few series the length of `t`, one at a time: the
-    // recordings are long, and the samples themselves are already held.
     let median = {
         let mut dts: Vec<f64> = t
             .windows(2)
@@ -97,44 +83,27 @@ pub fn analyze_timestamps(t: &[f64]) -> Option<Timing> {
         let mid = dts.len() / 2;
         *dts.select_nth_unstable_by(mid, f64::total_cmp).1
     };
-    let (first, _) = fit_period(t, median, &|_, v| v.is_finite())?;
-    // Residuals about the first fit, per run (NaN for rows in no run), to
-    // find the stamps that sit off the clock and the jitter of the others.
-    let residuals = run_residuals(t, median, first);
-    let mad = {
-        let mut abs: Vec<f64> = residuals
-            .iter()
-            .filter(|r| !r.is_nan())
-            .map(|r| r.abs())
-            .collect();
-        let mid = abs.len() / 2;
-        if abs.is_empty() {
-            0.0
+    // The stretches are cut on the median step first, then again on the
+    // clock it gives: where the steps are mixed (5 ms and 4.5 ms), the
+    // median is one of them and the clock lies between.
+    let (first, _) = mean_gap_free_step(t, median)?;
+    let (period, fitted) = mean_gap_free_step(t, first).unwrap_or((first, 0));
+    let jitter_s = {
+        let (mut sum2, mut n, mut runs) = (0.0, 0usize, 0usize);
+        for_each_run(t, period, |a, b| {
+            let offset = (a..b).map(|k| t[k] - t[a] - (k - a) as f64 * period).sum::<f64>() / (b - a) as f64;
+            for k in a..b {
+                sum2 += (t[k] - t[a] - (k - a) as f64 * period - offset).powi(2);
+            }
+            n += b - a;
+            runs += 1;
+        });
+        if n > runs {
+            (sum2 / (n - runs) as f64).sqrt()
         } else {
-            *abs.select_nth_unstable_by(mid, f64::total_cmp).1 * 1.4826
+            0.0
         }
     };
-    let limit = (OUTLIER_SIGMAS * mad).max(1e-3 * median);
-    let (period, fitted) = fit_period(t, median, &|i, v| {
-        v.is_finite() && (residuals[i].is_nan() || residuals[i].abs() <= limit)
-    })
-    .unwrap_or((first, 0));
-    drop(residuals);
-    let final_res = run_residuals(t, median, period);
-    let kept = || {
-        final_res
-            .iter()
-            .copied()
-            .filter(|r| !r.is_nan() && r.abs() <= limit)
-    };
-    let n_kept = kept().count();
-    let jitter_s = if n_kept > 1 {
-        let m = kept().sum::<f64>() / n_kept as f64;
-        (kept().map(|r| (r - m).powi(2)).sum::<f64>() / (n_kept - 1) as f64).sqrt()
-    } else {
-        0.0
-    };
-    drop(final_res);
 
     let mut gaps = Vec::new();
     let mut duplicates = Vec::new();
@@ -177,38 +146,44 @@ pub fn analyze_timestamps(t: &[f64]) -> Option<Timing> {
     })
 }
 
+/// A counter of 32 bits wraps after 2³² ticks: a `micros()` clock after
+/// 4294.967296 s (71.6 min), a millisecond one after 49.7 days.
+pub const U32_WRAP: f64 = 4_294_967_296.0;
+
+/// Unwraps a time column of raw ticks that a 32-bit counter wrote: where a
+/// stamp falls from the top hundredth of the counter's range to its bottom
+/// hundredth, 2³² ticks are added from there on. Returns the rows where it
+/// wrapped; none (and `raw` untouched) unless every finite stamp is a whole
+/// number within [0, 2³²).
+pub fn unwrap_u32(raw: &mut [f64]) -> Vec<usize> {
+    let finite = || raw.iter().copied().filter(|v| v.is_finite());
+    if !finite().all(|v| (0.0..U32_WRAP).contains(&v) && v.fract() == 0.0) {
+        return Vec::new();
+    }
+    let near = U32_WRAP / 100.0;
+    let mut wraps = Vec::new();
+    let mut offset = 0.0;
+    let mut prev: Option<f64> = None;
+    for (row, v) in raw.iter_mut().enumerate() {
+        if !v.is_finite() {
+            continue;
+        }
+        if let Some(p) = prev
+            && *v < near
+            && p - offset >= U32_WRAP - near
+        {
+            offset += U32_WRAP;
+            wraps.push(row);
+        }
+        *v += offset;
+        prev = Some(*v);
+    }
+    wraps
+}
+
 /// Samples missing in a step of `d` seconds on a clock of `period`.
 fn missing_before(d: f64, period: f64) -> usize {
     ((d / period).round() as usize).saturating_sub(1).max(1)
-}
-
-/// Each row's distance from the straight line of `period` through its run
-/// (runs as in [`fit_period`]); NaN for rows in no run (the stamps of a run
-/// are finite, so no residual is NaN otherwise).
-fn run_residuals(t: &[f64], step: f64, period: f64) -> Vec<f64> {
-    let mut out = vec![f64::NAN; t.len()];
-    let mut start = 0;
-    for i in 1..=t.len() {
-        let breaks = i == t.len() || {
-            let d = t[i] - t[i - 1];
-            !(d.is_finite() && d > 0.5 * step && d < GAP_FACTOR * step)
-        };
-        if breaks {
-            if i - start >= 2 {
-                let t0 = t[start];
-                let n = (i - start) as f64;
-                let offset = (start..i)
-                    .map(|k| t[k] - t0 - (k - start) as f64 * period)
-                    .sum::<f64>()
-                    / n;
-                for k in start..i {
-                    out[k] = t[k] - t0 - (k - start) as f64 * period - offset;
-                }
-            }
-            start = i;
-        }
-    }
-    out
 }
 
 /// Largest grid a time column may ask for, as a multiple of its samples:
@@ -327,6 +302,142 @@ mod tests {
             (1.0, 2.0, 3.0, 4.0, 5.0, 7.0)
         );
         assert!(v[2].is_nan() && v[3].is_nan());
+    }
+
+    /// A fixed pseudo-random sequence in [0, 1).
+    fn uniforms(mut state: u64) -> impl FnMut() -> f64 {
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    /// An FMUv5 `sensor_combined` as logged: 1,737 stamps stepping 5 ms
+    /// with stretches of 4.5 ms (20 steps in every 100: a true mean of
+    /// 4.9 ms), 101 messages not logged, 20 µs of jitter: the case where a
+    /// clock fit that leaves out stamps off its line drops the 4.5 ms
+    /// steps.
+    fn fmuv5_clock() -> Vec<f64> {
+        let mut u = uniforms(0x9e37_79b9_7f4a_7c15);
+        let mut t = Vec::new();
+        let mut now = 0.0;
+        for k in 0..1737 + 101 {
+            now += if k % 100 >= 80 { 4.5e-3 } else { 5.0e-3 };
+            t.push(now + 20e-6 * (u() - 0.5));
+        }
+        let mut removed = 0;
+        while removed < 101 {
+            let k = 1 + (u() * (t.len() - 2) as f64) as usize;
+            t.remove(k);
+            removed += 1;
+        }
+        t
+    }
+
+    #[test]
+    fn an_irregular_clock_keeps_its_real_steps() {
+        let t = fmuv5_clock();
+        assert_eq!(t.len(), 1737);
+        let tm = analyze_timestamps(&t).unwrap();
+        // The mean gap-free step, read here without imutherm's code: every
+        // step shorter than 7 ms (an unlogged message makes 9.5 to 10 ms).
+        let short: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).filter(|d| *d < 7e-3).collect();
+        let mean_step = short.iter().sum::<f64>() / short.len() as f64;
+        assert!(
+            (tm.rate_hz * mean_step - 1.0).abs() < 0.002,
+            "{} Hz, mean step {mean_step}",
+            tm.rate_hz
+        );
+        assert!((mean_step - 4.9e-3).abs() < 0.01e-3, "{mean_step}");
+        // No stamp of the gap-free stretches is left out of the clock: all
+        // but those alone between two unlogged messages.
+        let alone = (0..t.len())
+            .filter(|&k| {
+                let gap_before = k == 0 || t[k] - t[k - 1] >= 7e-3;
+                let gap_after = k + 1 == t.len() || t[k + 1] - t[k] >= 7e-3;
+                gap_before && gap_after
+            })
+            .count();
+        assert_eq!(tm.fitted_samples, t.len() - alone);
+        // The jitter is the stamps' spread about the clock reported,
+        // recomputed here stretch by stretch.
+        let period = 1.0 / tm.rate_hz;
+        let (mut sum2, mut n, mut runs) = (0.0, 0usize, 0usize);
+        let mut start = 0;
+        for i in 1..=t.len() {
+            if i == t.len() || t[i] - t[i - 1] >= 7e-3 {
+                let r: Vec<f64> = (start..i).map(|k| t[k] - (k - start) as f64 * period).collect();
+                let m = r.iter().sum::<f64>() / r.len() as f64;
+                sum2 += r.iter().map(|x| (x - m).powi(2)).sum::<f64>();
+                n += r.len();
+                runs += 1;
+                start = i;
+            }
+        }
+        let spread = (sum2 / (n - runs) as f64).sqrt();
+        assert!(
+            (tm.jitter_s / spread - 1.0).abs() < 1e-6,
+            "{} vs {spread}",
+            tm.jitter_s
+        );
+        // Every unlogged message is a gap of one sample.
+        assert_eq!(tm.gaps.iter().map(|g| g.1).sum::<usize>(), 101, "{:?}", tm.gaps);
+    }
+
+    #[test]
+    fn a_micros_counter_that_wraps_is_unwrapped() {
+        // An Arduino's micros() at 100 Hz across its wrap at 2^32 µs.
+        let start = U32_WRAP - 50_000.0;
+        let mut raw: Vec<f64> = (0..20)
+            .map(|k| (start + k as f64 * 10_000.0) % U32_WRAP)
+            .collect();
+        assert_eq!(unwrap_u32(&mut raw), [5]);
+        assert!(raw.windows(2).all(|w| w[1] - w[0] == 10_000.0), "{raw:?}");
+        // A column of seconds, or one that merely steps back, is left as is.
+        let mut secs = vec![0.5, 0.25, 1.0];
+        assert!(unwrap_u32(&mut secs).is_empty());
+        let mut back = vec![3_000_000.0, 1_000_000.0];
+        assert!(unwrap_u32(&mut back).is_empty());
+        assert_eq!(back, [3_000_000.0, 1_000_000.0]);
+    }
+
+    proptest::proptest! {
+        /// For any clock whose steps stay within (0.7, 1.3) of its period,
+        /// with messages lost here and there: the rate is one over the mean
+        /// step between the stamps that have no loss between them, and the
+        /// grid holds every sample plus the gaps reported (the duration is
+        /// count / rate plus the gaps).
+        #[test]
+        fn the_rate_is_the_mean_gap_free_step_and_the_grid_holds_the_gaps(
+            period in 1e-3f64..1.0,
+            steps in proptest::collection::vec((0.7f64..1.3, 0usize..40), 10..400),
+        ) {
+            let mut t = vec![0.0];
+            let mut lost_steps = Vec::new();
+            for (k, &(f, lose)) in steps.iter().enumerate() {
+                // Now and then (1 in 40) a message or two is not logged.
+                let lost = if lose == 0 { 1 + k % 2 } else { 0 };
+                let d: f64 = (0..=lost).map(|j| if j == 0 { f } else { 1.0 } * period).sum();
+                t.push(t[k] + d);
+                lost_steps.push(lost > 0);
+            }
+            let tm = analyze_timestamps(&t).unwrap();
+            let kept: Vec<f64> = t
+                .windows(2)
+                .zip(&lost_steps)
+                .filter(|(_, l)| !**l)
+                .map(|(w, _)| w[1] - w[0])
+                .collect();
+            proptest::prop_assume!(!kept.is_empty());
+            let mean = kept.iter().sum::<f64>() / kept.len() as f64;
+            proptest::prop_assert!((tm.rate_hz * mean - 1.0).abs() < 1e-9, "{} vs {}", tm.rate_hz, 1.0 / mean);
+            let (grid, dropped) = regularize(&t, tm.rate_hz, &[vec![1.0; t.len()]]).unwrap();
+            let missing: usize = tm.gaps.iter().map(|g| g.1).sum();
+            proptest::prop_assert!(dropped.is_empty());
+            proptest::prop_assert_eq!(grid[0].len(), t.len() + missing);
+        }
     }
 
     #[test]

@@ -5,6 +5,7 @@
 
 use std::path::PathBuf;
 
+use analysis::channel_checks::{Checks, Finding};
 use analysis::reading::{ReadingChoices, recording_options};
 use analysis::robot_logs::{Stream, format_of, read_recording_with_report};
 use imu::{ReadReport, Recording};
@@ -55,7 +56,10 @@ pub fn read(
     } else {
         "unknown"
     };
+    // Checked before the samples move into NumPy.
+    let checks = analysis::channel_checks::check(&rec);
     let d = recording_dict(py, rec)?;
+    put_checks(py, &d, &checks)?;
     d.set_item("file", path.display().to_string())?;
     d.set_item("format", format)?;
     d.set_item("rate_source", rate_source)?;
@@ -88,6 +92,61 @@ pub(crate) fn recording_dict(py: Python<'_>, rec: Recording) -> PyResult<Bound<'
     meta.set_item("entries", rec.meta.entries)?;
     d.set_item("metadata", meta)?;
     Ok(d)
+}
+
+/// What the channels rule out, as `imutherm info --json` gives it under
+/// `checks.findings`: a kind, the sentence and the figures.
+fn put_checks(py: Python<'_>, d: &Bound<'_, PyDict>, checks: &Checks) -> PyResult<()> {
+    let list = PyList::empty(py);
+    for f in &checks.findings {
+        let q = PyDict::new(py);
+        q.set_item("message", f.to_string())?;
+        match f {
+            Finding::Stuck {
+                channel,
+                value,
+                samples,
+                of,
+                first_sample,
+            } => {
+                q.set_item("kind", "stuck")?;
+                q.set_item("channel", channel)?;
+                q.set_item("value", value)?;
+                q.set_item("samples", samples)?;
+                q.set_item("of", of)?;
+                q.set_item("first_sample", first_sample)?;
+            }
+            Finding::Saturated {
+                channel,
+                full_scale,
+                full_scale_label,
+                samples,
+            } => {
+                q.set_item("kind", "saturated")?;
+                q.set_item("channel", channel)?;
+                q.set_item("full_scale", full_scale)?;
+                q.set_item("full_scale_label", full_scale_label)?;
+                q.set_item("samples", samples)?;
+            }
+            Finding::AccelNorm { norm, gravity } => {
+                q.set_item("kind", "accel_norm")?;
+                q.set_item("norm", norm)?;
+                q.set_item("gravity", gravity)?;
+            }
+            Finding::Motion(m) => {
+                q.set_item("kind", "motion")?;
+                q.set_item("channel", &m.channel)?;
+                q.set_item("stretches", m.stretches.clone())?;
+                q.set_item("moving_s", m.moving_s)?;
+                q.set_item("total_s", m.total_s)?;
+                q.set_item("max_window_std", m.max_window_std)?;
+                q.set_item("max_level_change", m.max_level_change)?;
+                q.set_item("noise_floor", m.noise_floor)?;
+            }
+        }
+        list.append(q)?;
+    }
+    d.set_item("checks", list)
 }
 
 fn put_report(py: Python<'_>, d: &Bound<'_, PyDict>, report: &ReadReport) -> PyResult<()> {

@@ -160,3 +160,18 @@ def test_same_as_info_json(which, text_log):
         assert c["min"] == finite.min() and c["max"] == finite.max()
         assert c["mean"] == pytest.approx(finite.mean(), rel=1e-12, abs=1e-15)
         assert c["std"] == pytest.approx(finite.std(ddof=1), rel=1e-9, abs=1e-15)
+
+
+def test_a_dead_gyro_is_among_the_checks(tmp_path):
+    # A gyro reading exactly 0.0 in every sample, beside a live one.
+    rng = np.random.default_rng(35)
+    cols = {
+        "gyro_x": np.zeros(500),
+        "gyro_y": 2e-3 * rng.standard_normal(500),
+    }
+    path = tmp_path / "dead.csv"
+    write_csv(path, cols, 50.0)
+    rec = imutherm.read(path)
+    stuck = [c for c in rec.checks if c["kind"] == "stuck"]
+    assert [(c["channel"], c["value"], c["samples"], c["of"]) for c in stuck] == [("gyro_x", 0.0, 500, 500)]
+    assert "stuck at zero" in stuck[0]["message"]

@@ -4,7 +4,8 @@
 //! char[16], labels char[64]`) earlier in the log. The `IMU` message
 //! (`TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,…,T,…`, rad/s, m/s², °C)
 //! gives one stream per instance `I`; older logs write `IMU2`, `IMU3`
-//! instead of an instance field.
+//! instead of an instance field, `Temp` for `T` (3.3, 3.4) and, before
+//! 3.3, `TimeMS` in milliseconds for `TimeUS`.
 
 use std::collections::HashMap;
 use std::fs::File;
@@ -185,8 +186,14 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
                 .and_then(|&(_, o, c)| value(c, body.get(o..)?))
         };
         let instance = field("I").map_or(name_instance, |v| v as u32);
+        // ArduPilot before 3.3 stamps in milliseconds (`TimeMS`, a u32);
+        // pymavlink's DFReader scales it by 0.001 (`DFReaderClock_msec`).
+        let (time_name, time_us) = match field("TimeUS") {
+            Some(v) => ("TimeUS", Some(v)),
+            None => ("TimeMS", field("TimeMS").map(|v| v * 1e3)),
+        };
         let (Some(t_us), Some(gx), Some(gy), Some(gz), Some(ax), Some(ay), Some(az)) = (
-            field("TimeUS").or_else(|| field("TimeMS").map(|v| v * 1e3)),
+            time_us,
             field("GyrX"),
             field("GyrY"),
             field("GyrZ"),
@@ -197,15 +204,18 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
             return Err(malformed(
                 path,
                 "DataFlash",
-                format!("{} lacks TimeUS or a gyro/accel field", f.name),
+                format!("{} lacks TimeUS (or TimeMS) or a gyro/accel field", f.name),
             )
             .at(format!("byte {at}")));
         };
-        let temp = field("T");
+        // Later logs label the temperature `T` (`…,EG,EA,T,GH,AH,GHz,AHz`);
+        // ArduCopter 3.3 and 3.4 and Solo label it `Temp` (LogStructure.h:
+        // `IMU` `QffffffIIfBB` `TimeUS,…,ErrG,ErrA,Temp,GyHlt,AcHlt`).
+        let temp = field("T").or_else(|| field("Temp"));
         let s = out.imu_mut(&format!("IMU/{instance}"), "ArduPilot IMU");
         s.instance = Some(instance);
-        s.stamp_name = "TimeUS";
-        s.log_time_name = "TimeUS";
+        s.stamp_name = time_name;
+        s.log_time_name = time_name;
         s.axis_fields = Some([["AccX", "AccY", "AccZ"], ["GyrX", "GyrY", "GyrZ"]]);
         s.push(t_us * 1e-6, t_us * 1e-6, [gx, gy, gz], [ax, ay, az], temp);
     }

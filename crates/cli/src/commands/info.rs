@@ -6,6 +6,7 @@ use std::path::Path;
 use anyhow::Result;
 use serde::Serialize;
 
+use analysis::channel_checks::{self, Checks, Finding};
 use analysis::reading::unit_text;
 use analysis::robot_logs::{self, Stream};
 use imu::{ReadReport, Recording, RecordingOptions};
@@ -42,6 +43,10 @@ struct FileInfo {
     channels: Vec<ChannelInfo>,
     problems: Vec<ProblemInfo>,
     problems_unlisted: usize,
+    /// What the inertial channels rule out, with figures (each finding is
+    /// also among `problems`, kinds `stuck`, `saturated`, `accel_norm`,
+    /// `motion`).
+    checks: Checks,
     dropped_samples: usize,
     /// What the reader guessed or found suspicious (a time unit guessed, a
     /// clock that disagrees with the given rate, an accelerometer in g).
@@ -158,6 +163,7 @@ fn file_info(
             }
         })
         .collect();
+    let checks = channel_checks::check(rec);
     let temperature_c = rec.temperature().and_then(|t| {
         let (d, _) = describe(&t.data);
         d.map(|(mean, _, min, max)| Range { min, mean, max })
@@ -197,8 +203,10 @@ fn file_info(
                 count: p.count,
                 message: p.message.clone(),
             })
+            .chain(checks.findings.iter().map(check_problem))
             .collect(),
         problems_unlisted: report.unlisted,
+        checks,
         dropped_samples: report.dropped_samples,
         notes: report.notes.clone(),
         logger: rec.meta.get(imu::log_file::TRAILER_KEY).map(|t| {
@@ -224,6 +232,25 @@ fn file_info(
             Vec::new()
         },
         streams,
+    }
+}
+
+/// A finding of the checks as a problem of the file (no line: it is the
+/// whole channel's).
+fn check_problem(f: &Finding) -> ProblemInfo {
+    let (kind, channel, count) = match f {
+        Finding::Stuck { channel, samples, .. } => ("stuck", Some(channel.clone()), *samples),
+        Finding::Saturated { channel, samples, .. } => ("saturated", Some(channel.clone()), *samples),
+        Finding::AccelNorm { .. } => ("accel_norm", None, 0),
+        Finding::Motion(m) => ("motion", Some(m.channel.clone()), m.stretches.len()),
+    };
+    ProblemInfo {
+        kind,
+        line: None,
+        column: None,
+        channel,
+        count,
+        message: f.to_string(),
     }
 }
 

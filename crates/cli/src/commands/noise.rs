@@ -86,6 +86,12 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
                     .join(", ")
             );
         }
+        // A channel stuck at one value has no noise to read: said as such,
+        // not as a fit short of points.
+        let names: Vec<&str> = sel.channels.iter().map(|c| c.name.as_str()).collect();
+        if let Err(e) = sel.checks.require_static(&names, true) {
+            bail!("{}: {e}; leave the channel out with --channels", file.display());
+        }
         temps.push(sel.temperature_mean_c);
         rates.push(sel.rate_hz);
         work.extend(sel.channels.into_iter().map(|c| (i, c)));

@@ -70,6 +70,15 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
     let Some(out) = &a.output else {
         bail!("give an output file with -o FILE");
     };
+    // A log of no samples is a file no command can read: the duration or
+    // rate asked for is the mistake, said before anything is written.
+    if cfg.samples() == 0 {
+        return Err(UsageError(format!(
+            "{} s at {} Hz is less than one sample: give a longer --duration or a higher --rate",
+            cfg.duration_s, cfg.rate_hz
+        ))
+        .into());
+    }
     let values = cfg.duration_s * cfg.rate_hz * LOG_COLUMNS;
     if values > MAX_VALUES && !a.allow_large {
         return Err(UsageError(format!(

@@ -495,6 +495,44 @@ pub fn read_recording_from(
                 }
             ));
         }
+        let mut raw = raw;
+        let wraps = crate::timing::unwrap_u32(&mut raw);
+        if let Some(&first) = wraps.first() {
+            report.notes.push(format!(
+                "time column '{}': a 32-bit counter wrapping every 2^32 ticks ({:.3} s, {:.1} min), at line{} {}{}: unwrapped",
+                headers[ti],
+                crate::timing::U32_WRAP * scale,
+                crate::timing::U32_WRAP * scale / 60.0,
+                if wraps.len() == 1 { "" } else { "s" },
+                line_of(first),
+                wraps
+                    .iter()
+                    .skip(1)
+                    .take(9)
+                    .map(|&r| format!(", {}", line_of(r)))
+                    .collect::<String>()
+            ));
+        }
+        // A clock that mostly runs backwards is no clock to place samples
+        // on (rows in reverse order, a countdown): refused at its first
+        // step back, not read as a pile of out-of-order rows.
+        let (back, forth) = raw.windows(2).fold((0usize, 0usize), |(b, f), w| {
+            (b + usize::from(w[1] < w[0]), f + usize::from(w[1] > w[0]))
+        });
+        if back > forth
+            && let Some(row) = raw.windows(2).position(|w| w[1] < w[0]).map(|k| k + 1)
+        {
+            return Err(ReadError::new(
+                path,
+                ReadErrorKind::TimeColumn(format!(
+                    "'{}' runs backwards: {back} of its {} steps go back, from this line on; \
+                     sort the rows by time, or name the true time column with --time-column",
+                    headers[ti],
+                    back + forth
+                )),
+            )
+            .at(line_of(row), Some(ti + 1)));
+        }
         // Epoch stamps (1.7e18 ns) are taken from the first one, so that
         // the steps keep their digits.
         let t0 = raw.iter().copied().find(|v| v.is_finite()).unwrap_or(0.0);

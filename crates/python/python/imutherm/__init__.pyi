@@ -104,6 +104,7 @@ class Recording:
     dropped_samples: int
     clock: dict[str, Any] | None
     streams: list[dict[str, Any]]
+    checks: list[dict[str, Any]]
     out_of_range: int
     read_options: dict[str, Any]
     def __len__(self) -> int: ...

@@ -39,9 +39,10 @@ class Recording:
     * ``file``, ``format``, ``lines``, ``notes`` (what the reader guessed or
       found suspicious), ``problems`` (dicts: ``kind``, ``line``,
       ``column``, ``channel``, ``count``, ``message``), ``dropped_samples``,
-      ``clock`` (the fitted clock of a time column, or None) and
-      ``streams`` (a robot log's streams): the fields of ``imutherm info
-      --json``.
+      ``clock`` (the fitted clock of a time column, or None),
+      ``streams`` (a robot log's streams) and ``checks`` (dicts: ``kind``
+      -- stuck, saturated, accel_norm or motion --, ``message`` and the
+      figures): the fields of ``imutherm info --json``.
 
     >>> import imutherm
     >>> rec = imutherm.simulate(preset="white", duration=10, rate=100, seed=1)
@@ -65,6 +66,7 @@ class Recording:
         self.dropped_samples = fields.get("dropped_samples", 0)
         self.clock = fields.get("clock")
         self.streams = fields.get("streams", [])
+        self.checks = fields.get("checks", [])
 
     def __len__(self):
         return len(self._channels[0].data) if self._channels else 0
