@@ -95,7 +95,7 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
     if let Profile::File { path } = &sim.config().profile {
         inputs.push(path.clone());
     }
-    // Written under FILE.partial and renamed at the end, so that an
+    // Written to a scratch file of its own and renamed at the end, so that an
     // interrupted run never leaves a log that looks complete.
     let mut file = AtomicFile::create(
         out,
