@@ -17,6 +17,7 @@ pub mod assemble;
 pub mod dataflash;
 pub mod error;
 pub mod format;
+pub mod inflate;
 pub mod mcap_file;
 pub mod ros1_bag;
 pub mod ros_msgs;
