@@ -63,6 +63,17 @@ pub enum LogErrorKind {
     /// A stream choice given for a text log.
     #[error("{0} applies to robot logs (bags, ULog, DataFlash) only")]
     NotARobotLog(&'static str),
+    /// The stamps give no clock at all (every one zero, NaN, equal or
+    /// running backwards) and no rate was given.
+    #[error(
+        "the stamps of {stream} cannot time it: {detail}; give the nominal rate with --rate HZ to place the samples one per period in the log's order"
+    )]
+    NoClock {
+        /// The stream.
+        stream: String,
+        /// What the stamps are.
+        detail: String,
+    },
     /// The samples cannot be placed on a grid (stamps far apart).
     #[error("the stamps of {0} span far more time than its samples fill: they cannot be placed on a clock")]
     BadClock(String),

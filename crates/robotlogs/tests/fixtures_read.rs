@@ -106,7 +106,7 @@ fn zero_stamps_fall_back_to_the_bag_time_and_say_so() {
             .meta
             .get("time_source_reason")
             .unwrap()
-            .contains("zero in every message")
+            .contains("zero, negative or NaN in every message")
     );
     assert!(close(r.recording.rate_hz.unwrap(), 200.0, 1e-6));
 }
