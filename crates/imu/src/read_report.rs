@@ -31,6 +31,8 @@ pub enum ProblemKind {
     /// A message of a binary log without a usable stamp (zero, negative
     /// or NaN).
     NoStamp,
+    /// A stretch of a binary log skipped as undecodable.
+    SkippedData,
 }
 
 impl ProblemKind {
@@ -46,6 +48,7 @@ impl ProblemKind {
             ProblemKind::BackwardsTime => "backwards_time",
             ProblemKind::BadMetadata => "bad_metadata",
             ProblemKind::NoStamp => "no_stamp",
+            ProblemKind::SkippedData => "skipped_data",
         }
     }
 }

@@ -208,6 +208,49 @@ fn time_source(s: &mut ImuStream) -> (Vec<f64>, bool, String) {
     }
 }
 
+/// Above this share of the log skipped, a loss says so in its message.
+const LOSS_SHARE: f64 = 0.01;
+
+/// Each stretch of the log skipped as a problem with its byte offsets:
+/// data dropped is never "problems none".
+fn losses(path: &Path, losses: &[crate::streams::Loss], report: &mut ReadReport) {
+    let size = std::fs::metadata(path)
+        .ok()
+        .filter(|m| m.is_file())
+        .map(|m| m.len());
+    let total: u64 = losses.iter().map(|l| l.bytes).sum();
+    let share = size.filter(|&s| s > 0).map(|s| total as f64 / s as f64);
+    for (k, l) in losses.iter().enumerate() {
+        if k >= imu::read_report::MAX_LISTED {
+            report.unlisted += 1;
+            continue;
+        }
+        let of_log = match share {
+            Some(f) if k == 0 && f > LOSS_SHARE => format!(
+                "; {} stretch{} skipped, {total} bytes in all, {:.1} % of the log",
+                losses.len(),
+                if losses.len() == 1 { "" } else { "es" },
+                100.0 * f
+            ),
+            _ => String::new(),
+        };
+        report.problems.push(Problem {
+            kind: ProblemKind::SkippedData,
+            line: None,
+            column: None,
+            channel: None,
+            count: 1,
+            message: format!(
+                "bytes {}..{} ({} bytes) skipped: {}{of_log}",
+                l.offset,
+                l.offset + l.bytes,
+                l.bytes,
+                l.why
+            ),
+        });
+    }
+}
+
 /// What a stream's stamps are, for a clock that cannot be fitted: how many
 /// are unusable, repeat the previous one or step back.
 fn describe_stamps(t: &[f64]) -> String {
@@ -317,6 +360,7 @@ pub fn assemble(
         ..ReadReport::default()
     };
     report.notes.extend(d.notes.iter().cloned());
+    losses(path, &d.losses, &mut report);
     report.notes.push(format!("time source: {why}"));
 
     let (temp, temp_source) = match (temp_topic.map(|k| &d.temps[k]), s.temp.take()) {

@@ -17,7 +17,7 @@ use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
 
 use crate::error::{LogError, malformed};
-use crate::streams::Decoded;
+use crate::streams::{Decoded, Loss};
 
 /// The first bytes of a ULog file.
 pub const MAGIC: &[u8] = b"ULog\x01\x12\x35";
@@ -90,6 +90,45 @@ impl Slot {
             Prim::F64 => f64::from_le_bytes(s.try_into().ok()?),
             Prim::Other => return None,
         })
+    }
+}
+
+/// The message types of the ULog format (docs.px4.io, "ULog File Format":
+/// flag bits, format, info, multi info, parameter, default parameter, add
+/// and remove subscription, data, logging, tagged logging, sync, dropout).
+const MESSAGE_TYPES: &[u8] = b"BFIMPQARDLCSO";
+
+/// The sync message's magic bytes (the same page, "Synchronization").
+const SYNC_MAGIC: [u8; 8] = [0x2F, 0x73, 0x13, 0x20, 0x25, 0x0C, 0xBB, 0x12];
+
+/// The offset of the next sync message's header at or after `from`, read
+/// a block at a time; `None` when there is none.
+fn find_sync<R: Read + Seek>(r: &mut R, from: u64) -> std::io::Result<Option<u64>> {
+    r.seek(SeekFrom::Start(from))?;
+    let mut block = vec![0u8; 1 << 16];
+    // Bytes carried over from the last block, so that a magic across two
+    // blocks is found; `base` is the offset of `block[0]`.
+    let mut kept = 0usize;
+    let mut base = from;
+    loop {
+        let n = r.read(&mut block[kept..])?;
+        if n == 0 {
+            return Ok(None);
+        }
+        let filled = kept + n;
+        // The header (u16 size, b'S') sits just before the magic.
+        let found = block[..filled]
+            .windows(SYNC_MAGIC.len())
+            .enumerate()
+            .filter(|(_, w)| *w == SYNC_MAGIC)
+            .map(|(i, _)| base + i as u64)
+            .find(|&magic_at| magic_at >= from + 3);
+        if let Some(magic_at) = found {
+            return Ok(Some(magic_at - 3));
+        }
+        kept = (SYNC_MAGIC.len() - 1).min(filled);
+        block.copy_within(filled - kept..filled, 0);
+        base += (filled - kept) as u64;
     }
 }
 
@@ -291,6 +330,34 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
         }
         let size = u16::from_le_bytes([h[0], h[1]]) as usize;
         let ty = h[2];
+        if !MESSAGE_TYPES.contains(&ty) {
+            // Not a message: corrupt bytes. Reading resumes at the next
+            // sync message, as pyulog does (`ULog._find_sync`), and the
+            // stretch skipped is counted.
+            let resume = find_sync(&mut r, pos + 1).map_err(|e| LogError::new(path, e.into()))?;
+            let end = match resume {
+                Some(at) => at,
+                None => r
+                    .seek(SeekFrom::End(0))
+                    .map_err(|e| LogError::new(path, e.into()))?,
+            };
+            out.losses.push(Loss {
+                offset: pos,
+                bytes: end - pos,
+                why: format!(
+                    "a message of unknown type 0x{ty:02x}{}",
+                    if resume.is_some() {
+                        ", skipped to the next sync message"
+                    } else {
+                        ", with no sync message after it"
+                    }
+                ),
+            });
+            r.seek(SeekFrom::Start(end))
+                .map_err(|e| LogError::new(path, e.into()))?;
+            pos = end;
+            continue;
+        }
         if let Some(&next) = appended.first()
             && pos + 3 + size as u64 > next
         {
