@@ -130,8 +130,22 @@ pub fn read_channels(
         }
     };
     let mut out = Vec::with_capacity(select.len());
-    for idx in select {
-        let Some(pos) = rec.channels.iter().position(|c| c.source_name == headers[idx]) else {
+    // Each header looked up once: a table of 200 000 columns is read in
+    // time linear in its columns, not their square.
+    let position: std::collections::HashMap<&str, usize> = rec
+        .channels
+        .iter()
+        .enumerate()
+        .rev()
+        .map(|(k, c)| (c.source_name.as_str(), k))
+        .collect();
+    let positions: Vec<Option<usize>> = select
+        .iter()
+        .map(|&idx| position.get(headers[idx].as_str()).copied())
+        .collect();
+    drop(position);
+    for (idx, pos) in select.into_iter().zip(positions) {
+        let Some(pos) = pos else {
             return Err(AnalysisError::TimeColumn {
                 file: file.to_path_buf(),
                 column: idx + 1,

@@ -1,0 +1,695 @@
+//! Hostile inputs and hostile directories, one named case per class: a
+//! scratch name already taken (a link, a hard link, the user's own file,
+//! an input), decompression bombs in every codec, ULog formats that nest
+//! without end or contain themselves, offsets that point back, stamps that
+//! give no clock, corrupt bytes inside a log, bags missing part of their
+//! files, tables of absurd width.
+//!
+//! Every case is built here, tiny, and run under a 2 GiB address-space
+//! limit and a 60 s time limit; each asserts the exit status, the message,
+//! and what the directory holds afterwards (nothing written, nothing
+//! destroyed).
+
+use std::collections::BTreeMap;
+use std::io::{Read, Write};
+use std::os::unix::process::CommandExt;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use assert_cmd::cargo::CommandCargoExt;
+
+/// The address space each run may take: a bomb fails instead of paging.
+const MEMORY: u64 = 2 << 30;
+/// How long a run may take before it counts as a hang.
+const TIME: Duration = Duration::from_secs(60);
+
+struct Run {
+    code: Option<i32>,
+    stdout: String,
+    stderr: String,
+}
+
+impl Run {
+    /// Asserts the exit status and that stderr (or stdout) says each of `says`.
+    fn expect(&self, code: i32, says: &[&str]) -> &Run {
+        assert_eq!(
+            self.code,
+            Some(code),
+            "stdout:\n{}\nstderr:\n{}",
+            self.stdout,
+            self.stderr
+        );
+        for s in says {
+            assert!(
+                self.stderr.contains(s) || self.stdout.contains(s),
+                "expected {s:?}\nstdout:\n{}\nstderr:\n{}",
+                self.stdout,
+                self.stderr
+            );
+        }
+        self
+    }
+}
+
+/// Runs imutherm in `dir` under the memory and time limits.
+fn run(dir: &Path, args: &[&str]) -> Run {
+    let mut cmd = Command::cargo_bin("imutherm").unwrap();
+    cmd.current_dir(dir)
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    // SAFETY: setrlimit is async-signal-safe; nothing else runs between
+    // fork and exec.
+    unsafe {
+        cmd.pre_exec(|| {
+            let limit = libc::rlimit {
+                rlim_cur: MEMORY,
+                rlim_max: MEMORY,
+            };
+            if libc::setrlimit(libc::RLIMIT_AS, &limit) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    let mut child = cmd.spawn().unwrap();
+    let drain = |mut r: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut s = Vec::new();
+            let _ = r.read_to_end(&mut s);
+            String::from_utf8_lossy(&s).into_owned()
+        })
+    };
+    let out = drain(Box::new(child.stdout.take().unwrap()));
+    let err = drain(Box::new(child.stderr.take().unwrap()));
+    let started = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if started.elapsed() > TIME {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("imutherm {args:?} ran longer than {TIME:?}");
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    Run {
+        code: status.code(),
+        stdout: out.join().unwrap(),
+        stderr: err.join().unwrap(),
+    }
+}
+
+/// Every entry of `dir` and below: its bytes, or where a link points.
+fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut out = BTreeMap::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        let meta = std::fs::symlink_metadata(&p).unwrap();
+        if meta.file_type().is_symlink() {
+            let mut v = b"link to ".to_vec();
+            v.extend(std::fs::read_link(&p).unwrap().as_os_str().as_encoded_bytes());
+            out.insert(p, v);
+        } else if meta.is_dir() {
+            out.extend(snapshot(&p));
+        } else {
+            out.insert(p.clone(), std::fs::read(&p).unwrap());
+        }
+    }
+    out
+}
+
+/// A directory holding `files`.
+fn dir_with(files: &[(&str, &[u8])]) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, bytes) in files {
+        let p = dir.path().join(name);
+        if let Some(parent) = p.parent() {
+            std::fs::create_dir_all(parent).unwrap();
+        }
+        std::fs::write(p, bytes).unwrap();
+    }
+    dir
+}
+
+/// Runs `args` on the files of `dir` and asserts that nothing in it changed.
+fn read_only(dir: &tempfile::TempDir, args: &[&str]) -> Run {
+    let before = snapshot(dir.path());
+    let r = run(dir.path(), args);
+    assert_eq!(snapshot(dir.path()), before, "{args:?} changed the directory");
+    r
+}
+
+/// PX4 ULog files (docs.px4.io, "ULog File Format").
+mod ulog {
+    pub const SYNC: [u8; 8] = [0x2F, 0x73, 0x13, 0x20, 0x25, 0x0C, 0xBB, 0x12];
+    /// PX4's `msg/SensorCombined.msg`, 40 bytes of data.
+    pub const COMBINED: &str = "sensor_combined:uint64_t timestamp;float[3] gyro_rad;uint32_t gyro_integral_dt;int32_t accelerometer_timestamp_relative;float[3] accelerometer_m_s2;";
+
+    pub fn msg(ty: u8, body: &[u8]) -> Vec<u8> {
+        let mut m = (body.len() as u16).to_le_bytes().to_vec();
+        m.push(ty);
+        m.extend_from_slice(body);
+        m
+    }
+
+    pub fn header() -> Vec<u8> {
+        let mut h = b"ULog\x01\x12\x35\x01".to_vec();
+        h.extend(0u64.to_le_bytes());
+        h
+    }
+
+    pub fn subscribe(name: &str) -> Vec<u8> {
+        let mut b = vec![0u8, 0, 0];
+        b.extend_from_slice(name.as_bytes());
+        msg(b'A', &b)
+    }
+
+    /// One sensor_combined sample stamped `t_us`.
+    pub fn sample(t_us: u64, k: usize) -> Vec<u8> {
+        let mut b = 0u16.to_le_bytes().to_vec();
+        b.extend(t_us.to_le_bytes());
+        for axis in 0..3 {
+            b.extend((((k * 7 + axis * 3) % 11) as f32 * 1e-3).to_le_bytes());
+        }
+        b.extend(4000u32.to_le_bytes());
+        b.extend(0i32.to_le_bytes());
+        for axis in 0..3 {
+            b.extend((if axis == 2 { 9.81f32 } else { 0.0 }).to_le_bytes());
+        }
+        msg(b'D', &b)
+    }
+
+    /// A log of sensor_combined stamped `stamps` (µs), a sync message every
+    /// 50 samples as PX4 writes them.
+    pub fn log(stamps: &[u64]) -> Vec<u8> {
+        let mut f = header();
+        f.extend(msg(b'F', COMBINED.as_bytes()));
+        f.extend(subscribe("sensor_combined"));
+        for (k, &t) in stamps.iter().enumerate() {
+            if k % 50 == 0 {
+                f.extend(msg(b'S', &SYNC));
+            }
+            f.extend(sample(t, k));
+        }
+        f
+    }
+
+    /// `n` samples at 250 Hz.
+    pub fn steady(n: usize) -> Vec<u64> {
+        (0..n as u64).map(|k| 1_000_000 + 4000 * k).collect()
+    }
+
+    /// A log whose formats are `formats`, subscribing `topic`.
+    pub fn with_formats(formats: &[String], topic: &str) -> Vec<u8> {
+        let mut f = header();
+        for x in formats {
+            f.extend(msg(b'F', x.as_bytes()));
+        }
+        f.extend(subscribe(topic));
+        f
+    }
+}
+
+/// MCAP files (mcap.dev/spec).
+mod mcap {
+    pub fn record(op: u8, body: &[u8]) -> Vec<u8> {
+        let mut r = vec![op];
+        r.extend((body.len() as u64).to_le_bytes());
+        r.extend_from_slice(body);
+        r
+    }
+
+    pub fn string(s: &str) -> Vec<u8> {
+        let mut b = (s.len() as u32).to_le_bytes().to_vec();
+        b.extend_from_slice(s.as_bytes());
+        b
+    }
+
+    /// Magic, header, and one chunk declaring `declared` bytes unpacked.
+    pub fn with_chunk(declared: u64, compression: &str, data: &[u8]) -> Vec<u8> {
+        let mut f = b"\x89MCAP0\r\n".to_vec();
+        let mut h = string("ros2");
+        h.extend(string("hostile"));
+        f.extend(record(0x01, &h));
+        let mut c = 0u64.to_le_bytes().to_vec();
+        c.extend(1u64.to_le_bytes());
+        c.extend(declared.to_le_bytes());
+        c.extend(0u32.to_le_bytes());
+        c.extend(string(compression));
+        c.extend((data.len() as u64).to_le_bytes());
+        c.extend_from_slice(data);
+        f.extend(record(0x06, &c));
+        f
+    }
+}
+
+/// ROS 1 bags, format 2.0 (wiki.ros.org/Bags/Format/2.0).
+mod bag {
+    pub fn field(name: &str, value: &[u8]) -> Vec<u8> {
+        let mut f = ((name.len() + 1 + value.len()) as u32).to_le_bytes().to_vec();
+        f.extend_from_slice(name.as_bytes());
+        f.push(b'=');
+        f.extend_from_slice(value);
+        f
+    }
+
+    pub fn record(header: &[u8], data: &[u8]) -> Vec<u8> {
+        let mut r = (header.len() as u32).to_le_bytes().to_vec();
+        r.extend_from_slice(header);
+        r.extend((data.len() as u32).to_le_bytes());
+        r.extend_from_slice(data);
+        r
+    }
+
+    /// A bag of one chunk: `compression`, its `size` field, its data.
+    pub fn with_chunk(compression: &str, size: Option<u32>, data: &[u8]) -> Vec<u8> {
+        let mut f = b"#ROSBAG V2.0\n".to_vec();
+        let mut h = field("op", &[0x05]);
+        h.extend(field("compression", compression.as_bytes()));
+        if let Some(s) = size {
+            h.extend(field("size", &s.to_le_bytes()));
+        }
+        f.extend(record(&h, data));
+        f
+    }
+}
+
+fn bz2(data: &[u8]) -> Vec<u8> {
+    let mut e = bzip2::write::BzEncoder::new(Vec::new(), bzip2::Compression::best());
+    e.write_all(data).unwrap();
+    e.finish().unwrap()
+}
+
+fn lz4(data: &[u8]) -> Vec<u8> {
+    let mut e = lz4_flex::frame::FrameEncoder::new(Vec::new());
+    e.write_all(data).unwrap();
+    e.finish().unwrap()
+}
+
+fn zstd_of(data: &[u8]) -> Vec<u8> {
+    zstd::encode_all(data, 19).unwrap()
+}
+
+/// A short simulated run, the input of the commands that write.
+fn simulated(dir: &Path, name: &str) {
+    run(
+        dir,
+        &[
+            "simulate",
+            "--duration",
+            "20",
+            "--rate",
+            "50",
+            "--seed",
+            "1",
+            "-o",
+            name,
+        ],
+    )
+    .expect(0, &[]);
+}
+
+fn scratch_files(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".partial"))
+        .collect();
+    v.sort();
+    v
+}
+
+// ---- scratch files ------------------------------------------------------
+
+#[test]
+fn scratch_old_name_symlinked_to_another_file_is_not_followed() {
+    let dir = dir_with(&[("victim.txt", b"victim\n")]);
+    std::os::unix::fs::symlink("victim.txt", dir.path().join("out.txt.partial")).unwrap();
+    run(dir.path(), &["simulate", "--duration", "5", "-o", "out.txt"]).expect(0, &["wrote out.txt"]);
+    assert_eq!(std::fs::read(dir.path().join("victim.txt")).unwrap(), b"victim\n");
+    assert!(
+        std::fs::symlink_metadata(dir.path().join("out.txt.partial"))
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+}
+
+#[test]
+fn scratch_old_name_hard_linked_to_another_file_is_not_truncated() {
+    let dir = dir_with(&[("victim.txt", b"victim\n")]);
+    std::fs::hard_link(dir.path().join("victim.txt"), dir.path().join("out.txt.partial")).unwrap();
+    run(dir.path(), &["simulate", "--duration", "5", "-o", "out.txt"]).expect(0, &[]);
+    assert_eq!(std::fs::read(dir.path().join("victim.txt")).unwrap(), b"victim\n");
+    assert_eq!(
+        std::fs::read(dir.path().join("out.txt.partial")).unwrap(),
+        b"victim\n"
+    );
+}
+
+#[test]
+fn scratch_name_holding_the_users_own_file_keeps_it() {
+    let dir = dir_with(&[("out.txt.partial", b"my notes\n")]);
+    run(dir.path(), &["simulate", "--duration", "5", "-o", "out.txt"]).expect(0, &[]);
+    assert_eq!(
+        std::fs::read(dir.path().join("out.txt.partial")).unwrap(),
+        b"my notes\n"
+    );
+}
+
+#[test]
+fn scratch_name_of_a_killed_run_is_left_alone() {
+    let stale = "out.txt.0123456789abcdef.partial";
+    let dir = dir_with(&[(stale, b"half a run\n")]);
+    run(dir.path(), &["simulate", "--duration", "5", "-o", "out.txt"]).expect(0, &[]);
+    assert_eq!(std::fs::read(dir.path().join(stale)).unwrap(), b"half a run\n");
+    assert_eq!(scratch_files(dir.path()), vec![stale.to_string()]);
+}
+
+#[test]
+fn scratch_name_that_is_an_input_is_not_consumed() {
+    let dir = tempfile::tempdir().unwrap();
+    simulated(dir.path(), "run.txt.partial");
+    let before = std::fs::read(dir.path().join("run.txt.partial")).unwrap();
+    run(dir.path(), &["noise", "run.txt.partial", "--kalibr", "run.txt"]).expect(0, &[]);
+    assert_eq!(std::fs::read(dir.path().join("run.txt.partial")).unwrap(), before);
+    assert!(dir.path().join("run.txt").is_file());
+}
+
+#[test]
+fn scratch_file_is_gone_after_a_write() {
+    let dir = tempfile::tempdir().unwrap();
+    run(dir.path(), &["simulate", "--duration", "5", "-o", "out.txt"]).expect(0, &[]);
+    assert_eq!(scratch_files(dir.path()), Vec::<String>::new());
+}
+
+#[test]
+fn output_onto_its_own_input_is_refused_by_a_hard_link() {
+    let dir = tempfile::tempdir().unwrap();
+    simulated(dir.path(), "run.txt");
+    std::fs::hard_link(dir.path().join("run.txt"), dir.path().join("alias.txt")).unwrap();
+    read_only(
+        &dir,
+        &["noise", "run.txt", "--kalibr", "alias.txt", "--overwrite"],
+    )
+    .expect(1, &["destroy the data being read"]);
+}
+
+#[test]
+fn output_existing_is_refused_without_overwrite() {
+    let dir = dir_with(&[("out.txt", b"precious\n")]);
+    read_only(&dir, &["simulate", "--duration", "5", "-o", "out.txt"])
+        .expect(1, &["already exists (9 bytes)"]);
+}
+
+#[test]
+fn output_in_a_missing_directory_creates_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    read_only(
+        &dir,
+        &["simulate", "--duration", "5", "-o", "no/such/dir/out.txt"],
+    )
+    .expect(1, &["no/such/dir/out.txt"]);
+}
+
+// ---- decompression bombs -------------------------------------------------
+
+#[test]
+fn mcap_zstd_chunk_declaring_16_gib_is_refused_unread() {
+    let dir = dir_with(&[(
+        "bomb.mcap",
+        &mcap::with_chunk(16 << 30, "zstd", &[0x28, 0xb5, 0x2f, 0xfd, 0, 0]),
+    )]);
+    read_only(&dir, &["info", "bomb.mcap"])
+        .expect(1, &["17179869184 bytes uncompressed", "limit of 268435456"]);
+}
+
+#[test]
+fn mcap_zstd_chunk_unpacking_past_its_declaration_is_refused() {
+    let data = zstd_of(&vec![0u8; 64 << 20]);
+    let dir = dir_with(&[("bomb.mcap", &mcap::with_chunk(1024, "zstd", &data))]);
+    read_only(&dir, &["adev", "bomb.mcap"])
+        .expect(1, &["zstd chunk unpacks to more than the 1024 bytes it declares"]);
+}
+
+#[test]
+fn mcap_lz4_chunk_unpacking_past_its_declaration_is_refused() {
+    let data = lz4(&vec![0u8; 64 << 20]);
+    let dir = dir_with(&[("bomb.mcap", &mcap::with_chunk(4096, "lz4", &data))]);
+    read_only(&dir, &["info", "bomb.mcap"])
+        .expect(1, &["lz4 chunk unpacks to more than the 4096 bytes it declares"]);
+}
+
+#[test]
+fn mcap_chunk_of_an_unknown_compression_is_named() {
+    let dir = dir_with(&[("odd.mcap", &mcap::with_chunk(10, "brotli", b"0123456789"))]);
+    read_only(&dir, &["info", "odd.mcap"]).expect(1, &["compressed with 'brotli'"]);
+}
+
+#[test]
+fn mcap_chunk_shorter_than_its_declaration_is_refused() {
+    let data = lz4(&[1u8; 100]);
+    let dir = dir_with(&[("short.mcap", &mcap::with_chunk(1000, "lz4", &data))]);
+    read_only(&dir, &["info", "short.mcap"]).expect(1, &["unpacks to 100 bytes, not the 1000 it declares"]);
+}
+
+#[test]
+fn ros1_bz2_chunk_declaring_4_gib_is_refused_unread() {
+    let dir = dir_with(&[("bomb.bag", &bag::with_chunk("bz2", Some(u32::MAX), b"BZh9"))]);
+    read_only(&dir, &["info", "bomb.bag"]).expect(1, &["4294967295 bytes uncompressed", "limit of"]);
+}
+
+#[test]
+fn ros1_bz2_chunk_unpacking_past_its_declaration_is_refused() {
+    let data = bz2(&vec![0u8; 32 << 20]);
+    let dir = dir_with(&[("bomb.bag", &bag::with_chunk("bz2", Some(1000), &data))]);
+    read_only(&dir, &["info", "bomb.bag"])
+        .expect(1, &["bz2 chunk unpacks to more than the 1000 bytes it declares"]);
+}
+
+#[test]
+fn ros1_lz4_chunk_unpacking_past_its_declaration_is_refused() {
+    let data = lz4(&vec![0u8; 64 << 20]);
+    let dir = dir_with(&[("bomb.bag", &bag::with_chunk("lz4", Some(1000), &data))]);
+    read_only(&dir, &["info", "bomb.bag"])
+        .expect(1, &["lz4 chunk unpacks to more than the 1000 bytes it declares"]);
+}
+
+#[test]
+fn ros1_compressed_chunk_without_its_size_is_refused() {
+    let dir = dir_with(&[("nosize.bag", &bag::with_chunk("lz4", None, &lz4(b"x")))]);
+    read_only(&dir, &["info", "nosize.bag"]).expect(1, &["a compressed chunk without its size field"]);
+}
+
+#[test]
+fn ros1_chunk_of_an_unknown_compression_is_named() {
+    let dir = dir_with(&[("odd.bag", &bag::with_chunk("xz", Some(1), b"x"))]);
+    read_only(&dir, &["info", "odd.bag"]).expect(1, &["unsupported compression 'xz'"]);
+}
+
+// ---- ULog formats and offsets ------------------------------------------
+
+#[test]
+fn ulog_format_containing_itself_is_refused() {
+    let f = ulog::with_formats(
+        &["sensor_combined:uint64_t timestamp;sensor_combined inner;".into()],
+        "sensor_combined",
+    );
+    let dir = dir_with(&[("loop.ulg", &f)]);
+    read_only(&dir, &["info", "loop.ulg"]).expect(1, &["the format 'sensor_combined' contains itself"]);
+}
+
+#[test]
+fn ulog_formats_containing_each_other_are_refused() {
+    let f = ulog::with_formats(
+        &[
+            "a:uint8_t x;b y;".into(),
+            "b:a z;".into(),
+            "sensor_combined:uint64_t timestamp;a w;".into(),
+        ],
+        "sensor_combined",
+    );
+    let dir = dir_with(&[("cycle.ulg", &f)]);
+    read_only(&dir, &["info", "cycle.ulg"]).expect(1, &["contains itself"]);
+}
+
+#[test]
+fn ulog_formats_nested_exponentially_end_at_once() {
+    // 30 levels, each holding the next four times: 4^30 visits if walked.
+    let mut formats: Vec<String> = (0..30)
+        .map(|k| format!("n{k}:n{0} a;n{0} b;n{0} c;n{0} d;", k + 1))
+        .collect();
+    formats.push("n30:uint8_t x;".into());
+    formats.push("sensor_combined:uint64_t timestamp;n0 deep;".into());
+    let dir = dir_with(&[("nest.ulg", &ulog::with_formats(&formats, "sensor_combined"))]);
+    read_only(&dir, &["info", "nest.ulg"]).expect(1, &["larger than any message"]);
+}
+
+#[test]
+fn ulog_formats_nested_too_deep_are_refused() {
+    let mut formats: Vec<String> = (0..100).map(|k| format!("d{k}:d{} a;", k + 1)).collect();
+    formats.push("d100:uint8_t x;".into());
+    formats.push("sensor_combined:uint64_t timestamp;d0 deep;".into());
+    let dir = dir_with(&[("deep.ulg", &ulog::with_formats(&formats, "sensor_combined"))]);
+    read_only(&dir, &["info", "deep.ulg"]).expect(1, &["nests formats more than 32 deep"]);
+}
+
+#[test]
+fn ulog_appended_offset_pointing_back_is_refused() {
+    let mut f = ulog::header();
+    let mut bits = vec![0u8; 40];
+    bits[8] = 1;
+    bits[16..24].copy_from_slice(&5u64.to_le_bytes());
+    f.extend(ulog::msg(b'B', &bits));
+    f.extend(ulog::log(&ulog::steady(10))[16..].to_vec());
+    let dir = dir_with(&[("back.ulg", &f)]);
+    read_only(&dir, &["info", "back.ulg"])
+        .expect(1, &["appended-data offset (5) points back to before byte 59"]);
+}
+
+#[test]
+fn ulog_format_lacking_a_field_names_the_format() {
+    let f = ulog::with_formats(
+        &["sensor_combined:uint64_t timestamp;float[3] gyro_rad;".into()],
+        "sensor_combined",
+    );
+    let dir = dir_with(&[("lacking.ulg", &f)]);
+    read_only(&dir, &["info", "lacking.ulg"]).expect(
+        1,
+        &["the format of sensor_combined has no field 'accelerometer_m_s2'"],
+    );
+}
+
+#[test]
+fn ulog_message_shorter_than_its_format_says_so() {
+    let mut f = ulog::log(&[]);
+    let mut short = 0u16.to_le_bytes().to_vec();
+    short.extend([0u8; 20]);
+    f.extend(ulog::msg(b'D', &short));
+    let dir = dir_with(&[("short.ulg", &f)]);
+    read_only(&dir, &["info", "short.ulg"]).expect(
+        1,
+        &["a sensor_combined message of 20 bytes is shorter than its format's 40 bytes"],
+    );
+}
+
+#[test]
+fn ulog_block_of_0xff_is_skipped_to_the_next_sync_and_counted() {
+    let mut f = ulog::log(&ulog::steady(2000));
+    let middle = f.len() / 2;
+    f[middle..middle + 4096].fill(0xFF);
+    let dir = dir_with(&[("ff.ulg", &f)]);
+    let r = read_only(&dir, &["info", "ff.ulg"]);
+    r.expect(
+        0,
+        &[
+            "skipped: a message of unknown type 0xff, skipped to the next sync message",
+            "% of the log",
+        ],
+    );
+    assert!(!r.stdout.contains("problems     none"), "{}", r.stdout);
+}
+
+// ---- stamps --------------------------------------------------------------
+
+#[test]
+fn ulog_stamps_all_equal_are_refused_without_a_rate() {
+    let dir = dir_with(&[("equal.ulg", &ulog::log(&[5_000_000; 300]))]);
+    read_only(&dir, &["adev", "equal.ulg"]).expect(
+        1,
+        &["cannot time it", "299 repeat the previous stamp", "--rate HZ"],
+    );
+}
+
+#[test]
+fn ulog_stamps_all_zero_are_refused_without_a_rate() {
+    let dir = dir_with(&[("zero.ulg", &ulog::log(&[0; 300]))]);
+    read_only(&dir, &["adev", "zero.ulg"]).expect(1, &["cannot time it"]);
+}
+
+#[test]
+fn ulog_stamps_reversed_are_refused_without_a_rate() {
+    let mut t = ulog::steady(300);
+    t.reverse();
+    let dir = dir_with(&[("reversed.ulg", &ulog::log(&t))]);
+    read_only(&dir, &["adev", "reversed.ulg"]).expect(1, &["cannot time it", "299 step back"]);
+}
+
+#[test]
+fn ulog_stamps_all_equal_take_the_rate_given_and_say_so() {
+    let dir = dir_with(&[("equal.ulg", &ulog::log(&[5_000_000; 300]))]);
+    let r = read_only(&dir, &["adev", "equal.ulg", "--rate", "250"]);
+    r.expect(0, &["cannot time it", "placed one per 1/250 s (--rate 250)"]);
+    assert!(!r.stderr.contains("assuming 1 Hz"), "{}", r.stderr);
+}
+
+#[test]
+fn ulog_one_stamp_back_is_a_problem_with_its_message_number() {
+    let mut t = ulog::steady(300);
+    t[100] = t[98];
+    let dir = dir_with(&[("back.ulg", &ulog::log(&t))]);
+    read_only(&dir, &["info", "back.ulg"]).expect(0, &["message 101"]);
+}
+
+#[test]
+fn ulog_steady_stamps_read_without_a_problem() {
+    let dir = dir_with(&[("good.ulg", &ulog::log(&ulog::steady(300)))]);
+    read_only(&dir, &["info", "good.ulg"]).expect(0, &["250 Hz", "problems     none"]);
+}
+
+// ---- ROS 2 bag directories ----------------------------------------------
+
+const YAML: &[u8] = b"rosbag2_bagfile_information:\n  version: 5\n  storage_identifier: mcap\n  relative_file_paths:\n    - part_0.mcap\n    - part_1.mcap\n  duration:\n    nanoseconds: 1\n";
+
+#[test]
+fn bag_missing_a_listed_file_is_refused() {
+    let dir = dir_with(&[("bag/metadata.yaml", YAML), ("bag/part_0.mcap", b"\x89MCAP0\r\n")]);
+    read_only(&dir, &["info", "bag"]).expect(1, &["the storage file part_1.mcap it lists is missing"]);
+}
+
+#[test]
+fn bag_missing_every_listed_file_never_reads_a_stray_one() {
+    let dir = dir_with(&[("bag/metadata.yaml", YAML), ("bag/stray.mcap", b"\x89MCAP0\r\n")]);
+    let r = read_only(&dir, &["info", "bag"]);
+    r.expect(1, &["part_0.mcap it lists is missing"]);
+    assert!(!r.stderr.contains("stray"), "{}", r.stderr);
+}
+
+#[test]
+fn bag_listing_a_path_outside_itself_is_refused() {
+    let yaml = b"rosbag2_bagfile_information:\n  relative_file_paths:\n    - ../outside.mcap\n";
+    let dir = dir_with(&[("bag/metadata.yaml", yaml), ("outside.mcap", b"\x89MCAP0\r\n")]);
+    read_only(&dir, &["info", "bag"]).expect(1, &["lies outside the bag directory", "line 3"]);
+}
+
+#[test]
+fn bag_listing_no_file_is_refused() {
+    let dir = dir_with(&[
+        (
+            "bag/metadata.yaml",
+            b"rosbag2_bagfile_information:\n  version: 5\n",
+        ),
+        ("bag/stray.mcap", b"x"),
+    ]);
+    read_only(&dir, &["info", "bag"]).expect(1, &["relative_file_paths lists no storage file"]);
+}
+
+// ---- tables --------------------------------------------------------------
+
+#[test]
+fn table_of_60000_columns_is_read_in_linear_time() {
+    // Looked up column by column, 60 000 columns took over a minute.
+    let row = vec!["1"; 60_000].join(",") + "\n";
+    let dir = dir_with(&[("wide.csv", row.repeat(40).as_bytes())]);
+    let started = Instant::now();
+    read_only(&dir, &["adev", "wide.csv", "--rate", "100", "--json"]).expect(0, &[]);
+    assert!(
+        started.elapsed() < Duration::from_secs(30),
+        "{:?}",
+        started.elapsed()
+    );
+}
