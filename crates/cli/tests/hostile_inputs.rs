@@ -693,3 +693,57 @@ fn table_of_60000_columns_is_read_in_linear_time() {
         started.elapsed()
     );
 }
+
+// ---- absurd numbers on the command line ---------------------------------
+
+#[test]
+fn simulate_profile_at_1e308_degrees_is_a_usage_error() {
+    let dir = tempfile::tempdir().unwrap();
+    read_only(
+        &dir,
+        &[
+            "simulate",
+            "--profile",
+            "constant:1e308",
+            "--duration",
+            "5",
+            "-o",
+            "x.txt",
+        ],
+    )
+    .expect(2, &["--profile", "is beyond physics"]);
+}
+
+#[test]
+fn simulate_profile_below_absolute_zero_is_a_usage_error() {
+    let dir = tempfile::tempdir().unwrap();
+    read_only(
+        &dir,
+        &[
+            "simulate",
+            "--profile",
+            "ramp:-300:20:60",
+            "--duration",
+            "5",
+            "-o",
+            "x.txt",
+        ],
+    )
+    .expect(2, &["profile.from_c = -300", "absolute zero"]);
+}
+
+#[test]
+fn tcal_reference_temperature_beyond_physics_is_a_usage_error() {
+    let dir = tempfile::tempdir().unwrap();
+    simulated(dir.path(), "run.txt");
+    read_only(&dir, &["tcal", "fit", "run.txt", "--tref", "1e6", "-o", "m.json"])
+        .expect(2, &["between absolute zero (-273.15) and 1000"]);
+}
+
+#[test]
+fn ins_alignment_shorter_than_a_sample_is_a_usage_error() {
+    let dir = tempfile::tempdir().unwrap();
+    simulated(dir.path(), "run.txt");
+    read_only(&dir, &["ins", "run.txt", "--align", "1e-9"])
+        .expect(2, &["--align", "shorter than one sample of run.txt (50 Hz"]);
+}

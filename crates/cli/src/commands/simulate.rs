@@ -42,7 +42,8 @@ fn configuration(a: &SimulateArgs) -> Result<(SimConfig, String)> {
         }
     };
     if let Some(p) = &a.profile {
-        cfg.profile = Profile::parse(p)?;
+        // A profile on the command line is a flag: a bad one is a usage error.
+        cfg.profile = Profile::parse(p).map_err(|e| UsageError(format!("--profile: {e}")))?;
     }
     if let Some(d) = a.duration {
         cfg.duration_s = d;
