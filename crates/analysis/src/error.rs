@@ -21,6 +21,21 @@ pub enum AnalysisError {
         /// The file's columns, comma-separated.
         columns: String,
     },
+    /// Several columns resolve to one channel, and none was named by its
+    /// full header.
+    #[error(
+        "{file}: columns {columns} resolve to one channel, {channel}: name one by its full header with --channels (e.g. --channels '{first}')"
+    )]
+    AmbiguousChannel {
+        /// The file.
+        file: PathBuf,
+        /// The channel they resolve to.
+        channel: String,
+        /// The columns, numbered and named.
+        columns: String,
+        /// The first column's header, for the example.
+        first: String,
+    },
     /// The time column asked for as a channel.
     #[error("{file}: column {column} ({name}) is the time column, not a channel to analyse")]
     TimeColumn {

@@ -75,6 +75,8 @@ pub fn read_channels(
             .collect()
     };
     let mut select: Vec<usize> = Vec::new();
+    // Columns the user named by their full header.
+    let mut by_header: Vec<usize> = Vec::new();
     if wanted.is_empty() {
         select = if inertial.is_empty() {
             (0..kinds.len())
@@ -105,10 +107,27 @@ pub fn read_channels(
                     columns: headers.join(", "),
                 });
             }
-            None => match kinds.iter().position(|k| k.name.eq_ignore_ascii_case(w.trim())) {
-                Some(i) => vec![i],
-                None => vec![reader.column_index(w)?],
-            },
+            None => {
+                let w = w.trim();
+                // A full header names its column, whatever else resolves
+                // to the same channel.
+                match headers.iter().position(|h| h == w) {
+                    Some(i) => {
+                        by_header.push(i);
+                        vec![i]
+                    }
+                    None => {
+                        let same: Vec<usize> = (0..kinds.len())
+                            .filter(|&i| kinds[i].name.eq_ignore_ascii_case(w))
+                            .collect();
+                        if same.is_empty() {
+                            vec![reader.column_index(w)?]
+                        } else {
+                            same
+                        }
+                    }
+                }
+            }
         };
         for i in found {
             if !select.contains(&i) {
@@ -116,6 +135,7 @@ pub fn read_channels(
             }
         }
     }
+    refuse_ambiguity(file, &headers, &kinds, &select, &by_header)?;
     // The same reader goes on to the body: a pipe or `-` is read once.
     let (mut rec, report) = read_recording_from(reader, read)?;
     let mut notes = reader_notes(file, &report, "the time column's clock");
@@ -161,6 +181,40 @@ pub fn read_channels(
         ));
     }
     Ok(selection(&mut rec, out, rate_hz, notes))
+}
+
+/// Refuses a selection holding two columns that resolve to one channel
+/// (`gx` and `gyro_x`, `gyro_x[deg/s]` and `gyro_x[rad/s]`): analysing one
+/// of them under the channel's name would be a silent guess. Columns named
+/// by their full header are the user's choice and stand.
+fn refuse_ambiguity(
+    file: &Path,
+    headers: &[String],
+    kinds: &[ColumnKind],
+    select: &[usize],
+    by_header: &[usize],
+) -> Result<(), AnalysisError> {
+    let mut seen: std::collections::HashMap<String, Vec<usize>> = std::collections::HashMap::new();
+    for &i in select.iter().filter(|i| !by_header.contains(i)) {
+        seen.entry(kinds[i].name.to_ascii_lowercase())
+            .or_default()
+            .push(i);
+    }
+    let mut clashes: Vec<&Vec<usize>> = seen.values().filter(|v| v.len() > 1).collect();
+    clashes.sort();
+    match clashes.first() {
+        None => Ok(()),
+        Some(cols) => Err(AnalysisError::AmbiguousChannel {
+            file: file.to_path_buf(),
+            channel: kinds[cols[0]].name.clone(),
+            columns: cols
+                .iter()
+                .map(|&i| format!("{} ('{}')", i + 1, headers[i]))
+                .collect::<Vec<_>>()
+                .join(" and "),
+            first: headers[cols[0]].clone(),
+        }),
+    }
 }
 
 /// What the reader found and did, one line each (`warning: …`, `note: …`):

@@ -747,3 +747,148 @@ fn ins_alignment_shorter_than_a_sample_is_a_usage_error() {
     read_only(&dir, &["ins", "run.txt", "--align", "1e-9"])
         .expect(2, &["--align", "shorter than one sample of run.txt (50 Hz"]);
 }
+
+// ---- ambiguity -------------------------------------------------------------
+
+/// 400 rows of two gyro columns: the first in deg/s, the second in rad/s.
+fn two_gyro_x(header: &str) -> Vec<u8> {
+    let mut t = format!("{header}\n");
+    for k in 0..400 {
+        t.push_str(&format!(
+            "{},{}\n",
+            (k % 7) as f64 - 3.0,
+            ((k % 5) as f64 - 2.0) * 0.017
+        ));
+    }
+    t.into_bytes()
+}
+
+#[test]
+fn two_columns_with_units_resolving_to_one_channel_are_refused() {
+    let dir = dir_with(&[("dup.csv", &two_gyro_x("gyro_x[deg/s],gyro_x[rad/s]"))]);
+    read_only(
+        &dir,
+        &["adev", "dup.csv", "--rate", "100", "--channels", "gyro_x"],
+    )
+    .expect(
+        1,
+        &["columns 1 ('gyro_x[deg/s]') and 2 ('gyro_x[rad/s]') resolve to one channel, gyro_x"],
+    );
+}
+
+#[test]
+fn two_columns_resolving_to_one_channel_are_refused_by_default() {
+    let dir = dir_with(&[("gx.csv", &two_gyro_x("gx,gyro_x"))]);
+    read_only(&dir, &["adev", "gx.csv", "--rate", "100"])
+        .expect(1, &["columns 1 ('gx') and 2 ('gyro_x')", "--channels 'gx'"]);
+}
+
+#[test]
+fn a_full_header_names_its_column_among_look_alikes() {
+    let dir = dir_with(&[("dup.csv", &two_gyro_x("gyro_x[deg/s],gyro_x[rad/s]"))]);
+    read_only(
+        &dir,
+        &["adev", "dup.csv", "--rate", "100", "--channels", "gyro_x[rad/s]"],
+    )
+    .expect(0, &["column 2 'gyro_x' [rad/s]"]);
+    let dir = dir_with(&[("gx.csv", &two_gyro_x("gx,gyro_x"))]);
+    read_only(&dir, &["adev", "gx.csv", "--rate", "100", "--channels", "gyro_x"])
+        .expect(0, &["column 2 'gyro_x'"]);
+}
+
+// ---- DataFlash -------------------------------------------------------------
+
+/// ArduPilot DataFlash logs (ArduPilot `libraries/AP_Logger/LogStructure.h`).
+mod dataflash {
+    fn fmt(ty: u8, length: u8, name: &str, format: &str, labels: &str) -> Vec<u8> {
+        let mut m = vec![0xA3, 0x95, 128, ty, length];
+        let pad = |s: &str, n: usize| {
+            let mut b = s.as_bytes().to_vec();
+            b.resize(n, 0);
+            b
+        };
+        m.extend(pad(name, 4));
+        m.extend(pad(format, 16));
+        m.extend(pad(labels, 64));
+        m
+    }
+
+    /// A log of `n` IMU messages at 400 Hz whose FMT gives IMU `length`
+    /// bytes (36 is right: 3 head bytes, `Q`, `B` and six `f`).
+    pub fn log(n: usize, length: u8) -> Vec<u8> {
+        let mut f = fmt(128, 89, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns");
+        f.extend(fmt(
+            129,
+            length,
+            "IMU",
+            "QBffffff",
+            "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ",
+        ));
+        for k in 0..n {
+            f.extend([0xA3, 0x95, 129]);
+            f.extend((1_000_000 + 2500 * k as u64).to_le_bytes());
+            f.push(0);
+            for axis in 0..6 {
+                f.extend((((k * 7 + axis * 3) % 11) as f32 * 1e-3).to_le_bytes());
+            }
+        }
+        f
+    }
+}
+
+#[test]
+fn dataflash_read_whole_without_a_problem() {
+    let dir = dir_with(&[("good.bin", &dataflash::log(400, 36))]);
+    read_only(&dir, &["info", "good.bin"]).expect(0, &["400 Hz", "problems     none"]);
+}
+
+#[test]
+fn dataflash_fmt_lying_about_a_length_is_named_and_its_losses_counted() {
+    let dir = dir_with(&[("lying.bin", &dataflash::log(400, 56))]);
+    let r = read_only(&dir, &["info", "lying.bin"]);
+    r.expect(
+        0,
+        &[
+            "the FMT of IMU (type 129)",
+            "gives a length of 56 bytes, but its fields take 36",
+            "% of the log",
+        ],
+    );
+    assert!(!r.stdout.contains("problems     none"), "{}", r.stdout);
+}
+
+// ---- models and streams ------------------------------------------------------
+
+#[test]
+fn model_in_furlongs_is_refused_before_it_touches_data() {
+    let dir = tempfile::tempdir().unwrap();
+    run(
+        dir.path(),
+        &[
+            "simulate",
+            "--profile",
+            "ramp:25:70:1200",
+            "--duration",
+            "20m",
+            "--rate",
+            "2",
+            "-o",
+            "ramp.txt",
+        ],
+    )
+    .expect(0, &[]);
+    run(
+        dir.path(),
+        &["tcal", "fit", "ramp.txt", "--order", "2", "-o", "model.json"],
+    )
+    .expect(0, &[]);
+    let text = std::fs::read_to_string(dir.path().join("model.json")).unwrap();
+    let spoilt = text.replacen("\"unit\": \"m/s^2\"", "\"unit\": \"furlong\"", 1);
+    assert_ne!(spoilt, text);
+    std::fs::write(dir.path().join("model.json"), spoilt).unwrap();
+    read_only(
+        &dir,
+        &["tcal", "apply", "model.json", "ramp.txt", "-o", "out.txt"],
+    )
+    .expect(1, &["channels[0].unit is 'furlong', not m/s^2"]);
+}

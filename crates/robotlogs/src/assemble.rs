@@ -129,6 +129,7 @@ fn choose(path: &Path, d: &Decoded, c: &Choice) -> Result<usize, LogError> {
                 path,
                 LogErrorKind::SeveralStreams {
                     count: many.len(),
+                    kind: "IMU",
                     flag,
                     list: many
                         .iter()
@@ -167,6 +168,7 @@ fn choose_temp<'a>(path: &Path, d: &'a Decoded, c: &Choice) -> Result<Option<&'a
                 path,
                 LogErrorKind::SeveralStreams {
                     count: d.temps.len(),
+                    kind: "temperature",
                     flag: "--temp-topic",
                     list: list(),
                 },

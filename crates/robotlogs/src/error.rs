@@ -42,11 +42,13 @@ pub enum LogErrorKind {
         "no IMU stream (sensor_msgs Imu topic, PX4 sensor_gyro/sensor_combined, ArduPilot IMU) in the log"
     )]
     NoImuStream,
-    /// Several IMU streams and none chosen.
-    #[error("{count} IMU streams; choose one with {flag}: {list}")]
+    /// Several IMU or temperature streams and none chosen.
+    #[error("{count} {kind} streams; choose one with {flag}: {list}")]
     SeveralStreams {
         /// How many.
         count: usize,
+        /// `IMU` or `temperature`.
+        kind: &'static str,
         /// `--topic` or `--instance`.
         flag: &'static str,
         /// Each with its rate.
