@@ -92,7 +92,7 @@ pub fn temperature(text: &str) -> Result<f64, String> {
     if v.is_finite() && (-273.15..=1000.0).contains(&v) {
         Ok(v)
     } else {
-        Err("expected a finite temperature in °C between absolute zero (-273.15) and 1000".to_string())
+        Err("expected a finite number of °C between absolute zero (-273.15) and 1000".to_string())
     }
 }
 

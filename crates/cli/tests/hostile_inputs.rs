@@ -139,7 +139,13 @@ fn dir_with(files: &[(&str, &[u8])]) -> tempfile::TempDir {
 fn read_only(dir: &tempfile::TempDir, args: &[&str]) -> Run {
     let before = snapshot(dir.path());
     let r = run(dir.path(), args);
-    assert_eq!(snapshot(dir.path()), before, "{args:?} changed the directory");
+    let after = snapshot(dir.path());
+    let changed: Vec<&PathBuf> = before
+        .keys()
+        .chain(after.keys())
+        .filter(|k| before.get(*k) != after.get(*k))
+        .collect();
+    assert!(changed.is_empty(), "{args:?} changed {changed:?}");
     r
 }
 
@@ -891,4 +897,237 @@ fn model_in_furlongs_is_refused_before_it_touches_data() {
         &["tcal", "apply", "model.json", "ramp.txt", "-o", "out.txt"],
     )
     .expect(1, &["channels[0].unit is 'furlong', not m/s^2"]);
+}
+
+// ---- more of each class --------------------------------------------------
+
+/// A fixture of the robotlogs crate: real logs from PX4 and ROS.
+fn fixture(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../robotlogs/tests/fixtures")
+        .join(path)
+}
+
+#[test]
+fn scratch_file_locked_by_a_running_writer_refuses_a_second() {
+    let dir = tempfile::tempdir().unwrap();
+    let other = dir.path().join("out.txt.0123456789abcdef.partial");
+    let held = std::fs::File::create(&other).unwrap();
+    held.lock().unwrap();
+    read_only(&dir, &["simulate", "--duration", "5", "-o", "out.txt"])
+        .expect(1, &["being written by another process"]);
+    drop(held);
+}
+
+#[test]
+fn mcap_chunk_inside_a_chunk_is_refused() {
+    let inner = mcap::record(0x06, &[0u8; 40]);
+    let dir = dir_with(&[("nested.mcap", &mcap::with_chunk(inner.len() as u64, "", &inner))]);
+    read_only(&dir, &["info", "nested.mcap"]).expect(1, &["a chunk inside a chunk"]);
+}
+
+#[test]
+fn mcap_record_running_past_its_chunk_is_refused() {
+    let mut inner = vec![0x03u8];
+    inner.extend(u64::MAX.to_le_bytes());
+    let dir = dir_with(&[("past.mcap", &mcap::with_chunk(inner.len() as u64, "", &inner))]);
+    read_only(&dir, &["info", "past.mcap"]).expect(1, &["runs past the end of its chunk"]);
+}
+
+#[test]
+fn bag_listing_an_absolute_path_is_refused() {
+    let yaml = b"rosbag2_bagfile_information:\n  relative_file_paths:\n    - /etc/passwd\n";
+    let dir = dir_with(&[("bag/metadata.yaml", yaml)]);
+    read_only(&dir, &["info", "bag"]).expect(1, &["/etc/passwd lies outside the bag directory"]);
+}
+
+#[test]
+fn bag_reads_its_listed_file_and_never_a_corrupt_stray_one() {
+    let bag = fixture("ros/bag_mcap");
+    let dir = dir_with(&[
+        (
+            "bag/metadata.yaml",
+            &std::fs::read(bag.join("metadata.yaml")).unwrap(),
+        ),
+        (
+            "bag/bag_mcap.mcap",
+            &std::fs::read(bag.join("bag_mcap.mcap")).unwrap(),
+        ),
+        ("bag/zz_stray.mcap", b"\x89MCAP0\r\n garbage"),
+    ]);
+    read_only(&dir, &["info", "bag"]).expect(0, &["problems     none"]);
+}
+
+#[test]
+fn bag_of_two_files_missing_its_second_is_refused() {
+    let bag = fixture("ros/bag_split");
+    let dir = dir_with(&[
+        (
+            "bag/metadata.yaml",
+            &std::fs::read(bag.join("metadata.yaml")).unwrap(),
+        ),
+        (
+            "bag/bag_split_0.mcap",
+            &std::fs::read(bag.join("bag_split_0.mcap")).unwrap(),
+        ),
+    ]);
+    read_only(&dir, &["info", "bag"]).expect(1, &["the storage file bag_split_1.mcap it lists is missing"]);
+}
+
+/// A log of sensor_combined whose timestamp is a double (µs), so that a
+/// stamp can be NaN.
+fn ulog_double_stamps(stamps: &[f64]) -> Vec<u8> {
+    let mut f = ulog::header();
+    let format = ulog::COMBINED.replace("uint64_t timestamp", "double timestamp");
+    f.extend(ulog::msg(b'F', format.as_bytes()));
+    f.extend(ulog::subscribe("sensor_combined"));
+    for (k, &t) in stamps.iter().enumerate() {
+        let mut d = ulog::sample(0, k);
+        d[5..13].copy_from_slice(&t.to_le_bytes());
+        f.extend(d);
+    }
+    f
+}
+
+#[test]
+fn ulog_stamps_all_nan_are_refused_and_called_nan() {
+    let dir = dir_with(&[("nan.ulg", &ulog_double_stamps(&[f64::NAN; 300]))]);
+    read_only(&dir, &["adev", "nan.ulg"])
+        .expect(1, &["cannot time it", "300 have a zero, negative or NaN stamp"]);
+}
+
+#[test]
+fn ulog_one_nan_stamp_is_a_problem_with_its_message_number() {
+    let mut t: Vec<f64> = (0..300).map(|k| 1e6 + 4000.0 * k as f64).collect();
+    t[41] = f64::NAN;
+    let dir = dir_with(&[("one_nan.ulg", &ulog_double_stamps(&t))]);
+    read_only(&dir, &["info", "one_nan.ulg"])
+        .expect(0, &["message 42 has no usable stamp (zero, negative or NaN)"]);
+}
+
+#[test]
+fn ulog_stamps_reversed_take_the_rate_given_and_say_so() {
+    let mut t = ulog::steady(300);
+    t.reverse();
+    let dir = dir_with(&[("reversed.ulg", &ulog::log(&t))]);
+    read_only(&dir, &["adev", "reversed.ulg", "--rate", "250"])
+        .expect(0, &["299 step back", "placed one per 1/250 s"]);
+}
+
+#[test]
+fn ulog_appended_offsets_out_of_order_are_refused() {
+    let mut f = ulog::header();
+    let mut bits = vec![0u8; 40];
+    bits[8] = 1;
+    bits[16..24].copy_from_slice(&5000u64.to_le_bytes());
+    bits[24..32].copy_from_slice(&4000u64.to_le_bytes());
+    f.extend(ulog::msg(b'B', &bits));
+    f.extend(ulog::log(&ulog::steady(300))[16..].to_vec());
+    let dir = dir_with(&[("order.ulg", &f)]);
+    read_only(&dir, &["info", "order.ulg"]).expect(
+        1,
+        &["appended-data offset (4000) points back to before byte 5000"],
+    );
+}
+
+#[test]
+fn ulog_garbage_with_no_sync_after_it_is_counted_to_the_end() {
+    let mut f = ulog::log(&ulog::steady(300));
+    let good = f.len();
+    f.extend([0xEEu8; 2000]);
+    let dir = dir_with(&[("tail.ulg", &f)]);
+    read_only(&dir, &["info", "tail.ulg"]).expect(
+        0,
+        &[
+            &format!("bytes {good}..{} (2000 bytes) skipped", good + 2000),
+            "with no sync message after it",
+        ],
+    );
+}
+
+#[test]
+fn ulog_real_px4_log_with_a_block_of_0xff_reports_what_it_skipped() {
+    let mut bytes = std::fs::read(fixture("px4/sample_log_small.ulg")).unwrap();
+    let middle = bytes.len() / 2;
+    bytes[middle..middle + 4096].fill(0xFF);
+    let dir = dir_with(&[("px4.ulg", &bytes)]);
+    let r = read_only(&dir, &["info", "px4.ulg"]);
+    r.expect(
+        0,
+        &["skipped: a message of unknown type 0xff, skipped to the next sync message"],
+    );
+    assert!(!r.stdout.contains("problems     none"), "{}", r.stdout);
+}
+
+#[test]
+fn tcal_reference_below_absolute_zero_is_a_usage_error() {
+    let dir = tempfile::tempdir().unwrap();
+    simulated(dir.path(), "run.txt");
+    read_only(&dir, &["tcal", "fit", "run.txt", "--tref=-300", "-o", "m.json"]).expect(2, &["--tref"]);
+}
+
+#[test]
+fn simulate_steps_beyond_physics_is_a_usage_error() {
+    let dir = tempfile::tempdir().unwrap();
+    read_only(
+        &dir,
+        &[
+            "simulate",
+            "--profile",
+            "steps:30,2000:60",
+            "--duration",
+            "5",
+            "-o",
+            "x.txt",
+        ],
+    )
+    .expect(2, &["profile.levels_c = 2000", "beyond physics"]);
+}
+
+#[test]
+fn simulate_cooling_from_1e308_is_a_usage_error() {
+    let dir = tempfile::tempdir().unwrap();
+    read_only(
+        &dir,
+        &[
+            "simulate",
+            "--profile",
+            "cooling:1e308:20:60",
+            "--duration",
+            "5",
+            "-o",
+            "x.txt",
+        ],
+    )
+    .expect(2, &["profile.start_c", "beyond physics"]);
+}
+
+#[test]
+fn model_in_degrees_per_second_is_refused_for_data_in_radians() {
+    let dir = tempfile::tempdir().unwrap();
+    run(
+        dir.path(),
+        &[
+            "simulate",
+            "--profile",
+            "ramp:25:70:1200",
+            "--duration",
+            "20m",
+            "--rate",
+            "2",
+            "-o",
+            "ramp.txt",
+        ],
+    )
+    .expect(0, &[]);
+    run(
+        dir.path(),
+        &["tcal", "fit", "ramp.txt", "--order", "2", "-o", "model.json"],
+    )
+    .expect(0, &[]);
+    let text = std::fs::read_to_string(dir.path().join("model.json")).unwrap();
+    let spoilt = text.replacen("\"unit\": \"rad/s\"", "\"unit\": \"deg/s\"", 1);
+    assert_ne!(spoilt, text);
+    std::fs::write(dir.path().join("model.json"), spoilt).unwrap();
+    read_only(&dir, &["tcal", "eval", "model.json", "ramp.txt"]).expect(1, &["is 'deg/s', not rad/s"]);
 }

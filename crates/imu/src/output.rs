@@ -420,9 +420,11 @@ fn another_writer(target: &Path, own: &Path) -> bool {
         return false;
     };
     entries.flatten().any(|entry| {
-        let path = entry.path();
+        // Beside the target, spelled as the target is (`out.txt` and
+        // `./out.txt.….partial` would compare as different directories).
+        let path = target.with_file_name(entry.file_name());
         if path.file_name() == own.file_name()
-            || !is_scratch_of(target, &dir.join(entry.file_name()))
+            || !is_scratch_of(target, &path)
             || !entry.file_type().is_ok_and(|t| t.is_file())
         {
             return false;
