@@ -1131,3 +1131,18 @@ fn model_in_degrees_per_second_is_refused_for_data_in_radians() {
     std::fs::write(dir.path().join("model.json"), spoilt).unwrap();
     read_only(&dir, &["tcal", "eval", "model.json", "ramp.txt"]).expect(1, &["is 'deg/s', not rad/s"]);
 }
+
+#[test]
+fn info_of_values_near_the_largest_double_names_the_overflow() {
+    let mut t = String::from("gyro_x\n");
+    for k in 0..40 {
+        t.push_str(if k % 2 == 0 { "1e308\n" } else { "-1e308\n" });
+    }
+    let dir = dir_with(&[("big.csv", t.as_bytes())]);
+    let r = read_only(&dir, &["info", "big.csv"]);
+    r.expect(
+        0,
+        &["gyro_x: its values (-1e308 to 1e308) overflow double precision"],
+    );
+    assert!(!r.stdout.contains("problems     none"), "{}", r.stdout);
+}
