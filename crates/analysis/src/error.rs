@@ -36,6 +36,14 @@ pub enum AnalysisError {
         /// The first column's header, for the example.
         first: String,
     },
+    /// A time column whose stamps give no clock, and no rate given.
+    #[error("{file}: the time column cannot time the samples: {detail}; give the sample rate with --rate HZ")]
+    NoClock {
+        /// The file.
+        file: PathBuf,
+        /// What the stamps are.
+        detail: String,
+    },
     /// The time column asked for as a channel.
     #[error("{file}: column {column} ({name}) is the time column, not a channel to analyse")]
     TimeColumn {

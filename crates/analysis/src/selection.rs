@@ -141,6 +141,15 @@ pub fn read_channels(
     let mut notes = reader_notes(file, &report, "the time column's clock");
     let rate_hz = match rec.rate_hz {
         Some(r) => r,
+        // A time column that times nothing (all zero, equal, running
+        // backwards) is not a file without a clock: 1 Hz would be a guess
+        // against what the file says.
+        None if rec.timestamps.as_ref().is_some_and(|t| t.len() > 1) => {
+            return Err(AnalysisError::NoClock {
+                file: file.to_path_buf(),
+                detail: describe_stamps(rec.timestamps.as_deref().unwrap_or_default()),
+            });
+        }
         None => {
             notes.push(format!(
                 "note: {}: no sample rate given (--rate), recorded (# sample_rate_hz:) or timed; assuming 1 Hz",
@@ -181,6 +190,18 @@ pub fn read_channels(
         ));
     }
     Ok(selection(&mut rec, out, rate_hz, notes))
+}
+
+/// What a time column's stamps are when they give no clock.
+fn describe_stamps(t: &[f64]) -> String {
+    let unusable = t.iter().filter(|v| !v.is_finite()).count();
+    let finite: Vec<f64> = t.iter().copied().filter(|v| v.is_finite()).collect();
+    let equal = finite.windows(2).filter(|w| w[1] == w[0]).count();
+    let back = finite.windows(2).filter(|w| w[1] < w[0]).count();
+    format!(
+        "of {} rows, {unusable} have no stamp, {equal} repeat the previous stamp and {back} step back",
+        t.len()
+    )
 }
 
 /// Refuses a selection holding two columns that resolve to one channel

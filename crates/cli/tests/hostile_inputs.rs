@@ -1146,3 +1146,53 @@ fn info_of_values_near_the_largest_double_names_the_overflow() {
     );
     assert!(!r.stdout.contains("problems     none"), "{}", r.stdout);
 }
+
+/// 300 rows of a gyro whose time column is `t(k)`.
+fn timed(t: impl Fn(usize) -> f64) -> Vec<u8> {
+    let mut s = String::from("time_s,gyro_x\n");
+    for k in 0..300 {
+        s.push_str(&format!("{},{}\n", t(k), (k % 7) as f64 * 0.01));
+    }
+    s.into_bytes()
+}
+
+#[test]
+fn table_time_column_all_zero_is_refused_not_taken_for_1_hz() {
+    let dir = dir_with(&[("zero.csv", &timed(|_| 0.0))]);
+    let r = read_only(&dir, &["adev", "zero.csv"]);
+    r.expect(
+        1,
+        &[
+            "the time column cannot time the samples",
+            "299 repeat the previous stamp",
+            "--rate HZ",
+        ],
+    );
+    assert!(!r.stderr.contains("assuming 1 Hz"), "{}", r.stderr);
+}
+
+#[test]
+fn table_time_column_running_backwards_is_refused_not_taken_for_1_hz() {
+    let dir = dir_with(&[("back.csv", &timed(|k| 300.0 - 0.01 * k as f64))]);
+    read_only(&dir, &["adev", "back.csv"])
+        .expect(1, &["the time column cannot time the samples", "299 step back"]);
+    read_only(&dir, &["adev", "back.csv", "--rate", "100"]).expect(0, &["at 100 Hz"]);
+}
+
+#[test]
+fn sqlite_bag_with_a_text_timestamp_names_the_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = rusqlite::Connection::open(dir.path().join("bag.db3")).unwrap();
+    db.execute_batch(
+        "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT, type TEXT, serialization_format TEXT);
+         CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER, timestamp INTEGER, data BLOB);
+         INSERT INTO topics VALUES (1, '/imu', 'sensor_msgs/msg/Imu', 'cdr');
+         INSERT INTO messages VALUES (1, 1, 'yesterday', x'00');",
+    )
+    .unwrap();
+    drop(db);
+    read_only(&dir, &["info", "bag.db3"]).expect(
+        1,
+        &["(message 1): SQLite: the timestamp column of the messages table holds Text, not INTEGER"],
+    );
+}
