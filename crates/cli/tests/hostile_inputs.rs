@@ -1196,3 +1196,18 @@ fn sqlite_bag_with_a_text_timestamp_names_the_column() {
         &["(message 1): SQLite: the timestamp column of the messages table holds Text, not INTEGER"],
     );
 }
+
+#[test]
+fn adev_of_values_near_the_largest_double_says_overflow() {
+    let mut t = String::from("gyro_x\n");
+    for k in 0..600 {
+        t.push_str(if k % 2 == 0 { "1e308\n" } else { "-1e308\n" });
+    }
+    let dir = dir_with(&[("big.csv", t.as_bytes())]);
+    let r = read_only(&dir, &["adev", "big.csv", "--rate", "100"]);
+    r.expect(
+        1,
+        &["column 1 (gyro_x): a value of 1e308 overflows double precision"],
+    );
+    assert!(!r.stderr.contains("no requested tau"), "{}", r.stderr);
+}
