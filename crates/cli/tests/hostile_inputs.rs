@@ -1211,3 +1211,15 @@ fn adev_of_values_near_the_largest_double_says_overflow() {
     );
     assert!(!r.stderr.contains("no requested tau"), "{}", r.stderr);
 }
+
+#[test]
+fn ulog_data_without_a_format_names_the_missing_format() {
+    let mut f = ulog::header();
+    f.extend(ulog::subscribe("sensor_combined"));
+    f.extend(ulog::sample(1_000_000, 0));
+    let dir = dir_with(&[("noformat.ulg", &f)]);
+    read_only(&dir, &["info", "noformat.ulg"]).expect(
+        1,
+        &["sensor_combined has data but no format (F message) before it"],
+    );
+}

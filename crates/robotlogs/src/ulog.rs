@@ -228,7 +228,9 @@ fn layout(topic: &str, formats: &HashMap<String, Vec<Field>>) -> Result<Layout, 
     let mut sizes = Sizes::new(formats);
     let mut out = Layout::default();
     let mut offset = 0usize;
-    let fields = formats.get(topic).map(Vec::as_slice).unwrap_or_default();
+    let Some(fields) = formats.get(topic) else {
+        return Ok(out);
+    };
     sizes.open.push(topic.to_string());
     for f in fields {
         let Some(size) = sizes.of(&f.ty)? else {
@@ -460,11 +462,14 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
                 let get = |f: &str, i: usize| lay.slots.get(f).and_then(|s| s.get(data, i));
                 let short = || {
                     let what = match lay.size {
-                        Some(size) => format!(
+                        None if lay.slots.is_empty() => {
+                            format!("{name} has data but no format (F message) before it describing them")
+                        }
+                        Some(size) if data.len() < size => format!(
                             "a {name} message of {} bytes is shorter than its format's {size} bytes",
                             data.len()
                         ),
-                        None => format!("a {name} message of {} bytes is cut short", data.len()),
+                        _ => format!("a {name} message of {} bytes is cut short", data.len()),
                     };
                     malformed(path, "ULog", what).at(format!("byte {at}"))
                 };
