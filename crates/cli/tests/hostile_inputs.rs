@@ -1223,3 +1223,25 @@ fn ulog_data_without_a_format_names_the_missing_format() {
         &["sensor_combined has data but no format (F message) before it"],
     );
 }
+
+#[test]
+fn ulog_empty_per_sensor_topics_never_hide_the_stream_with_data() {
+    // sensor_gyro instances subscribed, one message each, and
+    // sensor_combined holding the data: read without a choice.
+    let gyro = "sensor_gyro:uint64_t timestamp;uint64_t timestamp_sample;uint32_t device_id;float x;float y;float z;float temperature;";
+    let mut f = ulog::log(&ulog::steady(300));
+    f.extend(ulog::msg(b'F', gyro.as_bytes()));
+    for i in 0..3u8 {
+        let mut sub = vec![i, 1 + i, 0];
+        sub.extend_from_slice(b"sensor_gyro");
+        f.extend(ulog::msg(b'A', &sub));
+        let mut d = vec![1 + i, 0];
+        d.extend(2_000_000u64.to_le_bytes());
+        d.extend(2_000_000u64.to_le_bytes());
+        d.extend([0u8; 4 + 16]);
+        f.extend(ulog::msg(b'D', &d));
+    }
+    let dir = dir_with(&[("empty_gyros.ulg", &f)]);
+    let r = read_only(&dir, &["adev", "empty_gyros.ulg", "--json"]);
+    r.expect(0, &["\"samples\":300", "(250 Hz, jitter"]);
+}

@@ -52,12 +52,15 @@ pub struct StreamInfo {
 /// full rate, or `sensor_combined` beside full-rate per-sensor topics).
 pub(crate) fn is_default_candidate(s: &ImuStream, all: &[ImuStream]) -> bool {
     let combined = all.iter().find(|x| x.name == "sensor_combined");
+    // A per-sensor topic subscribed but (almost) never written holds no
+    // data to offer: it must not hide the stream that does.
     let per_sensor: Vec<&ImuStream> = all
         .iter()
-        .filter(|x| x.name.starts_with("sensor_gyro/"))
+        .filter(|x| x.name.starts_with("sensor_gyro/") && !x.is_empty())
         .collect();
     let full_rate = |g: &ImuStream| match (g.mean_rate_hz(), combined.and_then(ImuStream::mean_rate_hz)) {
         (Some(a), Some(b)) => a >= 0.9 * b,
+        (None, Some(_)) => false,
         _ => true,
     };
     if s.name == "sensor_combined" {
