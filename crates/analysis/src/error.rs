@@ -21,6 +21,29 @@ pub enum AnalysisError {
         /// The file's columns, comma-separated.
         columns: String,
     },
+    /// Several columns resolve to one channel, and none was named by its
+    /// full header.
+    #[error(
+        "{file}: columns {columns} resolve to one channel, {channel}: name one by its full header with --channels (e.g. --channels '{first}')"
+    )]
+    AmbiguousChannel {
+        /// The file.
+        file: PathBuf,
+        /// The channel they resolve to.
+        channel: String,
+        /// The columns, numbered and named.
+        columns: String,
+        /// The first column's header, for the example.
+        first: String,
+    },
+    /// A time column whose stamps give no clock, and no rate given.
+    #[error("{file}: the time column cannot time the samples: {detail}; give the sample rate with --rate HZ")]
+    NoClock {
+        /// The file.
+        file: PathBuf,
+        /// What the stamps are.
+        detail: String,
+    },
     /// The time column asked for as a channel.
     #[error("{file}: column {column} ({name}) is the time column, not a channel to analyse")]
     TimeColumn {

@@ -80,6 +80,8 @@ pub fn read_channels(
             .collect()
     };
     let mut select: Vec<usize> = Vec::new();
+    // Columns the user named by their full header.
+    let mut by_header: Vec<usize> = Vec::new();
     if wanted.is_empty() {
         select = if inertial.is_empty() {
             (0..kinds.len())
@@ -110,10 +112,27 @@ pub fn read_channels(
                     columns: headers.join(", "),
                 });
             }
-            None => match kinds.iter().position(|k| k.name.eq_ignore_ascii_case(w.trim())) {
-                Some(i) => vec![i],
-                None => vec![reader.column_index(w)?],
-            },
+            None => {
+                let w = w.trim();
+                // A full header names its column, whatever else resolves
+                // to the same channel.
+                match headers.iter().position(|h| h == w) {
+                    Some(i) => {
+                        by_header.push(i);
+                        vec![i]
+                    }
+                    None => {
+                        let same: Vec<usize> = (0..kinds.len())
+                            .filter(|&i| kinds[i].name.eq_ignore_ascii_case(w))
+                            .collect();
+                        if same.is_empty() {
+                            vec![reader.column_index(w)?]
+                        } else {
+                            same
+                        }
+                    }
+                }
+            }
         };
         for i in found {
             if !select.contains(&i) {
@@ -121,11 +140,21 @@ pub fn read_channels(
             }
         }
     }
+    refuse_ambiguity(file, &headers, &kinds, &select, &by_header)?;
     // The same reader goes on to the body: a pipe or `-` is read once.
     let (mut rec, report) = read_recording_from(reader, read)?;
     let mut notes = reader_notes(file, &report, "the time column's clock");
     let rate_hz = match rec.rate_hz {
         Some(r) => r,
+        // A time column that times nothing (all zero, equal, running
+        // backwards) is not a file without a clock: 1 Hz would be a guess
+        // against what the file says.
+        None if rec.timestamps.as_ref().is_some_and(|t| t.len() > 1) => {
+            return Err(AnalysisError::NoClock {
+                file: file.to_path_buf(),
+                detail: describe_stamps(rec.timestamps.as_deref().unwrap_or_default()),
+            });
+        }
         None => {
             notes.push(format!(
                 "note: {}: no sample rate given (--rate), recorded (# sample_rate_hz:) or timed; assuming 1 Hz",
@@ -136,8 +165,22 @@ pub fn read_channels(
     };
     let checks = checked(file, &rec, &mut notes);
     let mut out = Vec::with_capacity(select.len());
-    for idx in select {
-        let Some(pos) = rec.channels.iter().position(|c| c.source_name == headers[idx]) else {
+    // Each header looked up once: a table of 200 000 columns is read in
+    // time linear in its columns, not their square.
+    let position: std::collections::HashMap<&str, usize> = rec
+        .channels
+        .iter()
+        .enumerate()
+        .rev()
+        .map(|(k, c)| (c.source_name.as_str(), k))
+        .collect();
+    let positions: Vec<Option<usize>> = select
+        .iter()
+        .map(|&idx| position.get(headers[idx].as_str()).copied())
+        .collect();
+    drop(position);
+    for (idx, pos) in select.into_iter().zip(positions) {
+        let Some(pos) = pos else {
             return Err(AnalysisError::TimeColumn {
                 file: file.to_path_buf(),
                 column: idx + 1,
@@ -153,6 +196,52 @@ pub fn read_channels(
         ));
     }
     Ok(selection(&mut rec, out, rate_hz, notes, checks))
+}
+
+/// What a time column's stamps are when they give no clock.
+fn describe_stamps(t: &[f64]) -> String {
+    let unusable = t.iter().filter(|v| !v.is_finite()).count();
+    let finite: Vec<f64> = t.iter().copied().filter(|v| v.is_finite()).collect();
+    let equal = finite.windows(2).filter(|w| w[1] == w[0]).count();
+    let back = finite.windows(2).filter(|w| w[1] < w[0]).count();
+    format!(
+        "of {} rows, {unusable} have no stamp, {equal} repeat the previous stamp and {back} step back",
+        t.len()
+    )
+}
+
+/// Refuses a selection holding two columns that resolve to one channel
+/// (`gx` and `gyro_x`, `gyro_x[deg/s]` and `gyro_x[rad/s]`): analysing one
+/// of them under the channel's name would be a silent guess. Columns named
+/// by their full header are the user's choice and stand.
+fn refuse_ambiguity(
+    file: &Path,
+    headers: &[String],
+    kinds: &[ColumnKind],
+    select: &[usize],
+    by_header: &[usize],
+) -> Result<(), AnalysisError> {
+    let mut seen: std::collections::HashMap<String, Vec<usize>> = std::collections::HashMap::new();
+    for &i in select.iter().filter(|i| !by_header.contains(i)) {
+        seen.entry(kinds[i].name.to_ascii_lowercase())
+            .or_default()
+            .push(i);
+    }
+    let mut clashes: Vec<&Vec<usize>> = seen.values().filter(|v| v.len() > 1).collect();
+    clashes.sort();
+    match clashes.first() {
+        None => Ok(()),
+        Some(cols) => Err(AnalysisError::AmbiguousChannel {
+            file: file.to_path_buf(),
+            channel: kinds[cols[0]].name.clone(),
+            columns: cols
+                .iter()
+                .map(|&i| format!("{} ('{}')", i + 1, headers[i]))
+                .collect::<Vec<_>>()
+                .join(" and "),
+            first: headers[cols[0]].clone(),
+        }),
+    }
 }
 
 /// What the reader found and did, one line each (`warning: …`, `note: …`):

@@ -448,7 +448,7 @@ pub struct TcalFitArgs {
     pub order: Order,
 
     /// Reference temperature, °C (default: the middle of the fitted range).
-    #[arg(long, value_name = "C", value_parser = flags::finite)]
+    #[arg(long, value_name = "C", value_parser = flags::temperature)]
     pub tref: Option<f64>,
 
     /// Also fit a term in dT/dt (thermal lag: heating against cooling).

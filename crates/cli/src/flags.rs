@@ -85,13 +85,14 @@ pub fn positive(text: &str) -> Result<f64, String> {
     }
 }
 
-/// A finite number (a reference temperature).
-pub fn finite(text: &str) -> Result<f64, String> {
+/// A temperature in °C: finite, not below absolute zero, and below 1000 °C
+/// (far beyond any IMU's survival), so that a typo is a usage error.
+pub fn temperature(text: &str) -> Result<f64, String> {
     let v = number(text)?;
-    if v.is_finite() {
+    if v.is_finite() && (-273.15..=1000.0).contains(&v) {
         Ok(v)
     } else {
-        Err("expected a finite number".to_string())
+        Err("expected a finite number of °C between absolute zero (-273.15) and 1000".to_string())
     }
 }
 

@@ -39,7 +39,17 @@ fn simulate_refuses_an_existing_file_unless_overwrite() {
             .unwrap()
             .starts_with("# format: imutherm-log/1")
     );
-    assert!(!dir.path().join("run.txt.partial").exists());
+    let scratch = std::fs::read_dir(dir.path())
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .ends_with(".partial")
+        })
+        .count();
+    assert_eq!(scratch, 0, "scratch files left beside run.txt");
 }
 
 #[test]

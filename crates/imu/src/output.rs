@@ -6,12 +6,20 @@
 //! - a file that is one of the command's own inputs — by any path: a
 //!   symlink, a hard link, `./x` for `x` — is refused even then, since
 //!   replacing it would destroy the data being read;
-//! - the data go to `FILE.partial` beside the target, which is synced and
+//! - the data go to a scratch file beside the target, which is synced and
 //!   renamed onto the target only once complete, so a full disk, an error
 //!   or a kill leaves the previous file as it was;
-//! - the `.partial` file is locked while written (`flock`), so two writers
-//!   never share one output: the second is refused. A `.partial` left by a
-//!   killed run holds no lock and is reused.
+//! - the scratch file is this run's own: created under a name no file has
+//!   (`FILE.<16 hex digits>.partial`, `O_CREAT|O_EXCL`, which never follows
+//!   a link), so a file or link already there under any scratch name — the
+//!   user's own, an input, a link to something else — is never opened,
+//!   truncated or removed; only the scratch file the run created is
+//!   removed when the run fails;
+//! - the scratch file is locked while written (`flock`), and a writer that
+//!   finds another scratch file of the same target locked is refused, so
+//!   two writers never share one output. Two writers starting at the same
+//!   instant may both be refused; neither writes. A scratch file left by a
+//!   killed run holds no lock: it is left alone, never reused.
 //!
 //! Devices and pipes (`/dev/null`, a FIFO) are written in place: renaming
 //! onto them would replace them.
@@ -181,22 +189,23 @@ fn is_same_file(target: &Path, meta: &std::fs::Metadata, input: &Path) -> bool {
     }
 }
 
-/// An output being written: to `FILE.partial`, renamed onto `FILE` by
-/// [`AtomicFile::commit`]. Dropped without a commit, it removes the
-/// `.partial` file and leaves `FILE` as it was.
+/// An output being written: to a scratch file of its own beside `FILE`,
+/// renamed onto `FILE` by [`AtomicFile::commit`]. Dropped without a commit,
+/// it removes the scratch file it created and leaves `FILE` as it was.
 #[derive(Debug)]
 pub struct AtomicFile {
     target: PathBuf,
-    /// The `.partial` file, or `None` for a device or pipe written in place.
+    /// The scratch file, or `None` for a device or pipe written in place.
     temp: Option<PathBuf>,
     out: BufWriter<File>,
     committed: bool,
 }
 
 impl AtomicFile {
-    /// Checks `target` under `policy` ([`check_output`]) and opens its
-    /// `.partial` file, locked. A symlink is followed: the file it points
-    /// to is replaced, the link kept.
+    /// Checks `target` under `policy` ([`check_output`]) and creates its
+    /// scratch file, locked. A symlink at `target` is followed: the file it
+    /// points to is replaced, the link kept. Scratch files are never
+    /// followed.
     pub fn create(target: &Path, policy: &OutputPolicy<'_>) -> Result<AtomicFile, WriteError> {
         check_output(target, policy)?;
         let special = std::fs::metadata(target).is_ok_and(|m| !m.is_file());
@@ -218,12 +227,15 @@ impl AtomicFile {
             }
             _ => target.to_path_buf(),
         };
-        let temp = partial_path(&real);
-        let file = open_locked(&temp, true).map_err(|e| match e {
-            LockedOpenError::Busy => WriteError::Busy {
+        let (file, temp) = create_scratch(&real, policy.inputs).map_err(|e| match e {
+            ScratchError::Busy => WriteError::Busy {
                 path: target.to_path_buf(),
             },
-            LockedOpenError::Io(e) => WriteError::io("creating", &temp, e),
+            ScratchError::IsInput(input) => WriteError::IsInput {
+                path: target.to_path_buf(),
+                input,
+            },
+            ScratchError::Io(path, e) => WriteError::io("creating", &path, e),
         })?;
         // A replaced file keeps its permissions (a shared log stays shared).
         if let Ok(m) = std::fs::metadata(&real) {
@@ -242,10 +254,10 @@ impl AtomicFile {
         &self.target
     }
 
-    /// Flushes, syncs and renames the `.partial` file onto the target. On
+    /// Flushes, syncs and renames the scratch file onto the target. On
     /// error the target is left as it was.
     pub fn commit(mut self) -> Result<(), WriteError> {
-        // Errors name the file the user asked for, not its `.partial`.
+        // Errors name the file the user asked for, not its scratch file.
         let target = self.target.clone();
         self.out
             .flush()
@@ -305,11 +317,129 @@ impl Drop for AtomicFile {
     }
 }
 
-/// `FILE.partial`, beside `FILE`.
-pub fn partial_path(target: &Path) -> PathBuf {
+/// Whether `name` is a scratch file name of the output `target`:
+/// `FILE.<16 hex digits>.partial` in the same directory.
+pub fn is_scratch_of(target: &Path, name: &Path) -> bool {
+    let (Some(file), Some(candidate)) = (target.file_name(), name.file_name()) else {
+        return false;
+    };
+    if target.parent() != name.parent() {
+        return false;
+    }
+    let (file, candidate) = (file.as_encoded_bytes(), candidate.as_encoded_bytes());
+    candidate.len() == file.len() + 1 + TAG_DIGITS + SCRATCH_SUFFIX.len()
+        && candidate.starts_with(file)
+        && candidate[file.len()] == b'.'
+        && candidate[file.len() + 1..file.len() + 1 + TAG_DIGITS]
+            .iter()
+            .all(u8::is_ascii_hexdigit)
+        && candidate.ends_with(SCRATCH_SUFFIX.as_bytes())
+}
+
+const TAG_DIGITS: usize = 16;
+const SCRATCH_SUFFIX: &str = ".partial";
+
+/// A fresh scratch name for `target`: random, so that a name planted in
+/// advance is unlikely to be hit, and harmless when it is (the creation
+/// fails and another name is drawn).
+fn scratch_name(target: &Path, attempt: u32) -> PathBuf {
+    use std::hash::{BuildHasher, Hasher};
+    // `RandomState` is seeded from the system's randomness once per
+    // process; the time, the process and the attempt vary it further.
+    let mut h = std::collections::hash_map::RandomState::new().build_hasher();
+    h.write_u32(std::process::id());
+    h.write_u32(attempt);
+    if let Ok(t) = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH) {
+        h.write_u128(t.as_nanos());
+    }
     let mut name = target.as_os_str().to_os_string();
-    name.push(".partial");
+    name.push(format!(".{:016x}{SCRATCH_SUFFIX}", h.finish()));
     PathBuf::from(name)
+}
+
+enum ScratchError {
+    Busy,
+    IsInput(PathBuf),
+    Io(PathBuf, io::Error),
+}
+
+/// Creates a scratch file for `target` that no one else has: exclusively
+/// (`O_CREAT|O_EXCL`: an existing name, a link included, is never opened),
+/// locked, and checked against the inputs like the output itself. Refused
+/// as busy when another writer holds the lock of a scratch file of the same
+/// target.
+fn create_scratch(target: &Path, inputs: &[PathBuf]) -> Result<(File, PathBuf), ScratchError> {
+    let mut attempt = 0;
+    let (file, temp) = loop {
+        let temp = scratch_name(target, attempt);
+        let mut options = OpenOptions::new();
+        options.write(true).create_new(true);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::OpenOptionsExt;
+            options.custom_flags(libc::O_NOFOLLOW);
+        }
+        match options.open(&temp) {
+            Ok(f) => break (f, temp),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists && attempt < 16 => attempt += 1,
+            Err(e) => return Err(ScratchError::Io(temp, e)),
+        }
+    };
+    // From here on the file is the run's own: removed on every error.
+    let refuse = |e: ScratchError| {
+        let _ = std::fs::remove_file(&temp);
+        Err(e)
+    };
+    match file.try_lock() {
+        Ok(()) => {}
+        Err(std::fs::TryLockError::WouldBlock) => return refuse(ScratchError::Busy),
+        Err(std::fs::TryLockError::Error(e)) => return refuse(ScratchError::Io(temp.clone(), e)),
+    }
+    let meta = match file.metadata() {
+        Ok(m) => m,
+        Err(e) => return refuse(ScratchError::Io(temp.clone(), e)),
+    };
+    if let Some(input) = inputs.iter().find(|i| is_same_file(&temp, &meta, i)) {
+        return refuse(ScratchError::IsInput(input.clone()));
+    }
+    if another_writer(target, &temp) {
+        return refuse(ScratchError::Busy);
+    }
+    Ok((file, temp))
+}
+
+/// Whether a scratch file of `target` other than `own` is locked by a
+/// running writer. Candidates are only looked at: opened read-only, never
+/// through a link, never blocking, never changed.
+fn another_writer(target: &Path, own: &Path) -> bool {
+    let dir = match target.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return false;
+    };
+    entries.flatten().any(|entry| {
+        // Beside the target, spelled as the target is (`out.txt` and
+        // `./out.txt.….partial` would compare as different directories).
+        let path = target.with_file_name(entry.file_name());
+        if path.file_name() == own.file_name()
+            || !is_scratch_of(target, &path)
+            || !entry.file_type().is_ok_and(|t| t.is_file())
+        {
+            return false;
+        }
+        let mut options = OpenOptions::new();
+        options.read(true);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::OpenOptionsExt;
+            options.custom_flags(libc::O_NOFOLLOW | libc::O_NONBLOCK);
+        }
+        options
+            .open(&path)
+            .is_ok_and(|f| matches!(f.try_lock_shared(), Err(std::fs::TryLockError::WouldBlock)))
+    })
 }
 
 enum LockedOpenError {
@@ -419,7 +549,17 @@ mod tests {
         assert_eq!(std::fs::read(&p).unwrap(), b"first\n");
         write_file(&p, b"second\n", &policy(true, &[])).unwrap();
         assert_eq!(std::fs::read(&p).unwrap(), b"second\n");
-        assert!(!partial_path(&p).exists());
+        assert_eq!(scratch_files(&p), Vec::<PathBuf>::new());
+    }
+
+    /// The scratch files of `target` in its directory.
+    fn scratch_files(target: &Path) -> Vec<PathBuf> {
+        let dir = target.parent().unwrap();
+        std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| dir.join(e.unwrap().file_name()))
+            .filter(|p| is_scratch_of(target, p))
+            .collect()
     }
 
     #[test]
@@ -467,7 +607,7 @@ mod tests {
             // Dropped without commit: an error in the middle.
         }
         assert_eq!(std::fs::read(&p).unwrap(), b"old");
-        assert!(!partial_path(&p).exists());
+        assert_eq!(scratch_files(&p), Vec::<PathBuf>::new());
     }
 
     #[test]
@@ -495,16 +635,48 @@ mod tests {
     }
 
     #[test]
-    fn a_stale_partial_file_from_a_killed_run_is_reused() {
+    fn files_under_scratch_names_are_never_touched() {
         let dir = tempfile::tempdir().unwrap();
         let p = dir.path().join("out.txt");
-        std::fs::write(
-            partial_path(&p),
-            b"left by a killed run, longer than the new data",
-        )
-        .unwrap();
+        // The old fixed scratch name, a link under it, and a scratch file
+        // left by a killed run: all someone else's, all left as they were.
+        let victim = dir.path().join("victim.txt");
+        std::fs::write(&victim, b"victim").unwrap();
+        let old_name = dir.path().join("out.txt.partial");
+        std::os::unix::fs::symlink(&victim, &old_name).unwrap();
+        let hard = dir.path().join("out.txt.00000000000000ff.partial");
+        std::fs::hard_link(&victim, &hard).unwrap();
+        let stale = dir.path().join("out.txt.0123456789abcdef.partial");
+        std::fs::write(&stale, b"left by a killed run").unwrap();
         write_file(&p, b"new", &policy(false, &[])).unwrap();
         assert_eq!(std::fs::read(&p).unwrap(), b"new");
+        assert_eq!(std::fs::read(&victim).unwrap(), b"victim");
+        assert_eq!(std::fs::read(&stale).unwrap(), b"left by a killed run");
+        assert!(
+            std::fs::symlink_metadata(&old_name)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        let mut left = scratch_files(&p);
+        left.sort();
+        assert_eq!(left, vec![hard, stale]);
+    }
+
+    #[test]
+    fn a_scratch_name_is_the_targets_own() {
+        let t = Path::new("d/run.txt");
+        assert!(is_scratch_of(t, &scratch_name(t, 0)));
+        assert_ne!(scratch_name(t, 0), scratch_name(t, 1));
+        for other in [
+            "d/run.txt.partial",
+            "run.txt.0123456789abcdef.partial",
+            "d/run.txt.0123456789abcdeg.partial",
+            "d/xrun.txt.0123456789abcdef.partial",
+            "d/run.txt.0123456789abcdef.partial.png",
+        ] {
+            assert!(!is_scratch_of(t, Path::new(other)), "{other}");
+        }
     }
 
     #[test]

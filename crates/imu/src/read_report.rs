@@ -28,6 +28,11 @@ pub enum ProblemKind {
     BackwardsTime,
     /// A metadata line whose value cannot be used; it is ignored.
     BadMetadata,
+    /// A message of a binary log without a usable stamp (zero, negative
+    /// or NaN).
+    NoStamp,
+    /// A stretch of a binary log skipped as undecodable.
+    SkippedData,
 }
 
 impl ProblemKind {
@@ -42,6 +47,8 @@ impl ProblemKind {
             ProblemKind::DuplicateTime => "duplicate_time",
             ProblemKind::BackwardsTime => "backwards_time",
             ProblemKind::BadMetadata => "bad_metadata",
+            ProblemKind::NoStamp => "no_stamp",
+            ProblemKind::SkippedData => "skipped_data",
         }
     }
 }

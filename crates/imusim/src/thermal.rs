@@ -64,6 +64,12 @@ pub enum Profile {
     },
 }
 
+/// Absolute zero, °C.
+const ABSOLUTE_ZERO_C: f64 = -273.15;
+/// The highest temperature a profile may reach, °C: far above any IMU's
+/// survival (MEMS parts are rated to 125 or 150 °C, solder melts near 220).
+const MAX_TEMPERATURE_C: f64 = 1000.0;
+
 fn default_fluctuation_tau() -> f64 {
     60.0
 }
@@ -155,15 +161,24 @@ impl Profile {
 
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), SimError> {
+        // A temperature is finite, above absolute zero, and below where
+        // any IMU (or its solder) survives: beyond that it is a typo, and
+        // a run at 1e308 °C would be written as if it were an experiment.
         let finite = |name: &str, v: f64| {
-            if v.is_finite() {
-                Ok(())
-            } else {
+            if !v.is_finite() {
                 Err(SimError::InvalidParameter {
                     name: format!("profile.{name}"),
                     value: v,
                     why: "must be a finite number",
                 })
+            } else if !(ABSOLUTE_ZERO_C..=MAX_TEMPERATURE_C).contains(&v) {
+                Err(SimError::InvalidParameter {
+                    name: format!("profile.{name}"),
+                    value: v,
+                    why: "is beyond physics: a temperature lies between absolute zero (-273.15 °C) and 1000 °C",
+                })
+            } else {
+                Ok(())
             }
         };
         let positive = |name: &str, v: f64| {
@@ -184,7 +199,7 @@ impl Profile {
                 fluctuation_tau_s,
             } => {
                 finite("temp_c", *temp_c)?;
-                if !(fluctuation_c.is_finite() && *fluctuation_c >= 0.0) {
+                if !(fluctuation_c.is_finite() && (0.0..=MAX_TEMPERATURE_C).contains(fluctuation_c)) {
                     return Err(SimError::InvalidParameter {
                         name: "profile.fluctuation_c".into(),
                         value: *fluctuation_c,

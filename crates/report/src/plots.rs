@@ -120,28 +120,41 @@ pub(crate) fn to_png(
     size: (u32, u32),
     draw: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> Result<(), PlotError>,
 ) -> Result<(), PlotError> {
-    // Drawn beside the file and renamed onto it once complete, so a
-    // failed or interrupted plot never leaves a broken PNG under the
-    // name of the previous one. The name keeps `.png` last: the backend
-    // picks the format from it.
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let temp = path.with_file_name(format!("{stem}.partial.png"));
-    let drawn = (|| {
-        let root = BitMapBackend::new(&temp, size).into_drawing_area();
+    // Drawn in memory and written through imutherm's own output files
+    // (`imu::output`): a scratch file of the run's own, renamed onto the
+    // path once complete, so a failed or interrupted plot never leaves a
+    // broken PNG under the name of the previous one, and no file or link
+    // already beside it is ever opened.
+    let mut pixels = vec![0u8; size.0 as usize * size.1 as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut pixels, size).into_drawing_area();
         draw(&root)?;
-        root.present().map_err(err)
-    })();
-    let done = drawn.and_then(|()| {
-        std::fs::rename(&temp, path)
-            .map_err(|e| PlotError(format!("renaming {} to {}: {e}", temp.display(), path.display())))
-    });
-    if done.is_err() {
-        let _ = std::fs::remove_file(&temp);
+        root.present().map_err(err)?;
     }
-    done
+    let mut png = Vec::new();
+    image::ImageEncoder::write_image(
+        image::codecs::png::PngEncoder::new(&mut png),
+        &pixels,
+        size.0,
+        size.1,
+        image::ColorType::Rgb8,
+    )
+    .map_err(|e| PlotError(format!("encoding {}: {e}", path.display())))?;
+    // The figures are the report's own files: replaced on every run.
+    let policy = imu::output::OutputPolicy {
+        overwrite: true,
+        inputs: &[],
+    };
+    imu::output::write_file(path, &png, &policy).map_err(|e| {
+        // The error and its causes on one line: the system's reason too.
+        let mut text = e.to_string();
+        let mut cause = std::error::Error::source(&e);
+        while let Some(c) = cause {
+            text = format!("{text}: {c}");
+            cause = c.source();
+        }
+        PlotError(text)
+    })
 }
 
 /// Where a plot is drawn.

@@ -52,12 +52,15 @@ pub struct StreamInfo {
 /// full rate, or `sensor_combined` beside full-rate per-sensor topics).
 pub(crate) fn is_default_candidate(s: &ImuStream, all: &[ImuStream]) -> bool {
     let combined = all.iter().find(|x| x.name == "sensor_combined");
+    // A per-sensor topic subscribed but (almost) never written holds no
+    // data to offer: it must not hide the stream that does.
     let per_sensor: Vec<&ImuStream> = all
         .iter()
-        .filter(|x| x.name.starts_with("sensor_gyro/"))
+        .filter(|x| x.name.starts_with("sensor_gyro/") && !x.is_empty())
         .collect();
     let full_rate = |g: &ImuStream| match (g.mean_rate_hz(), combined.and_then(ImuStream::mean_rate_hz)) {
         (Some(a), Some(b)) => a >= 0.9 * b,
+        (None, Some(_)) => false,
         _ => true,
     };
     if s.name == "sensor_combined" {
@@ -129,6 +132,7 @@ fn choose(path: &Path, d: &Decoded, c: &Choice) -> Result<usize, LogError> {
                 path,
                 LogErrorKind::SeveralStreams {
                     count: many.len(),
+                    kind: "IMU",
                     flag,
                     list: many
                         .iter()
@@ -167,6 +171,7 @@ fn choose_temp<'a>(path: &Path, d: &'a Decoded, c: &Choice) -> Result<Option<&'a
                 path,
                 LogErrorKind::SeveralStreams {
                     count: d.temps.len(),
+                    kind: "temperature",
                     flag: "--temp-topic",
                     list: list(),
                 },
@@ -177,6 +182,7 @@ fn choose_temp<'a>(path: &Path, d: &'a Decoded, c: &Choice) -> Result<Option<&'a
 
 /// The times to use, which they are, and why.
 fn time_source(s: &mut ImuStream) -> (Vec<f64>, bool, String) {
+    // Readers mark a stamp that is zero, negative or NaN as NaN.
     let zero = s.stamp.iter().filter(|v| !v.is_finite()).count();
     if zero == 0 && !s.stamp.is_empty() {
         (
@@ -189,7 +195,7 @@ fn time_source(s: &mut ImuStream) -> (Vec<f64>, bool, String) {
             std::mem::take(&mut s.log_time),
             false,
             format!(
-                "{}: the {} is zero in every message",
+                "{}: the {} is zero, negative or NaN in every message",
                 s.log_time_name, s.stamp_name
             ),
         )
@@ -198,13 +204,69 @@ fn time_source(s: &mut ImuStream) -> (Vec<f64>, bool, String) {
             std::mem::take(&mut s.log_time),
             false,
             format!(
-                "{}: the {} is zero in {zero} of {} messages, and one clock must time them all",
+                "{}: the {} is zero, negative or NaN in {zero} of {} messages, and one clock must time them all",
                 s.log_time_name,
                 s.stamp_name,
                 s.stamp.len()
             ),
         )
     }
+}
+
+/// Above this share of the log skipped, a loss says so in its message.
+const LOSS_SHARE: f64 = 0.01;
+
+/// Each stretch of the log skipped as a problem with its byte offsets:
+/// data dropped is never "problems none".
+fn losses(path: &Path, losses: &[crate::streams::Loss], report: &mut ReadReport) {
+    let size = std::fs::metadata(path)
+        .ok()
+        .filter(|m| m.is_file())
+        .map(|m| m.len());
+    let total: u64 = losses.iter().map(|l| l.bytes).sum();
+    let share = size.filter(|&s| s > 0).map(|s| total as f64 / s as f64);
+    for (k, l) in losses.iter().enumerate() {
+        if k >= imu::read_report::MAX_LISTED {
+            report.unlisted += 1;
+            continue;
+        }
+        let of_log = match share {
+            Some(f) if k == 0 && f > LOSS_SHARE => format!(
+                "; {} stretch{} skipped, {total} bytes in all, {:.1} % of the log",
+                losses.len(),
+                if losses.len() == 1 { "" } else { "es" },
+                100.0 * f
+            ),
+            _ => String::new(),
+        };
+        report.problems.push(Problem {
+            kind: ProblemKind::SkippedData,
+            line: None,
+            column: None,
+            channel: None,
+            count: 1,
+            message: format!(
+                "bytes {}..{} ({} bytes) skipped: {}{of_log}",
+                l.offset,
+                l.offset + l.bytes,
+                l.bytes,
+                l.why
+            ),
+        });
+    }
+}
+
+/// What a stream's stamps are, for a clock that cannot be fitted: how many
+/// are unusable, repeat the previous one or step back.
+fn describe_stamps(t: &[f64]) -> String {
+    let unusable = t.iter().filter(|v| !v.is_finite()).count();
+    let finite: Vec<f64> = t.iter().copied().filter(|v| v.is_finite()).collect();
+    let equal = finite.windows(2).filter(|w| w[1] == w[0]).count();
+    let back = finite.windows(2).filter(|w| w[1] < w[0]).count();
+    format!(
+        "of {} messages, {unusable} have a zero, negative or NaN stamp, {equal} repeat the previous stamp and {back} step back",
+        t.len()
+    )
 }
 
 /// Value of (t, v) at `at`, linear between neighbours; the end values
@@ -303,6 +365,7 @@ pub fn assemble(
         ..ReadReport::default()
     };
     report.notes.extend(d.notes.iter().cloned());
+    losses(path, &d.losses, &mut report);
     report.notes.push(format!("time source: {why}"));
 
     let (temp, temp_source) = match (temp_topic.map(|k| &d.temps[k]), s.temp.take()) {
@@ -327,7 +390,42 @@ pub fn assemble(
     columns.extend(std::mem::take(&mut s.accel));
     columns.extend(std::mem::take(&mut s.gyro));
     columns.extend(temp);
-    let timing = analyze_timestamps(&t);
+    let mut timing = analyze_timestamps(&t);
+    if timing.is_none() && messages > 1 {
+        // No two stamps step forward: nothing to fit a clock to. Without
+        // a rate this is refused, never a silent 1 Hz; with one, the
+        // samples take its period in the order of the log, said loudly.
+        let detail = describe_stamps(&t);
+        let Some(r) = c.rate_hz else {
+            return Err(LogError::new(
+                path,
+                LogErrorKind::NoClock {
+                    stream: s.name.clone(),
+                    detail,
+                },
+            ));
+        };
+        report.notes.push(format!(
+            "the stamps of {} cannot time it ({detail}): its {messages} samples are placed one per 1/{r} s (--rate {r}) in the order of the log",
+            s.name
+        ));
+        t = (0..messages).map(|k| k as f64 / r).collect();
+        timing = analyze_timestamps(&t);
+    }
+    for (k, _) in t.iter().enumerate().filter(|(_, v)| !v.is_finite()) {
+        if report.problems.len() >= imu::read_report::MAX_LISTED {
+            report.unlisted += 1;
+            continue;
+        }
+        report.problems.push(Problem {
+            kind: ProblemKind::NoStamp,
+            line: None,
+            column: None,
+            channel: None,
+            count: 1,
+            message: format!("message {} has no usable stamp (zero, negative or NaN)", k + 1),
+        });
+    }
     let rate = c.rate_hz.or(timing.as_ref().map(|tm| tm.rate_hz));
     // On its own clock without a gap or a repeated stamp, every message
     // already sits in its slot: the grid is the columns as they are.
@@ -468,6 +566,61 @@ pub fn assemble(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A log of one stream whose stamps and log times are `t`.
+    fn log_of(t: &[f64]) -> Decoded {
+        let mut d = Decoded::default();
+        let s = d.imu_mut("imu", "sensor_msgs/msg/Imu");
+        s.stamp_name = "header.stamp";
+        s.log_time_name = "bag time";
+        for (k, &v) in t.iter().enumerate() {
+            s.push(v, v, [k as f64; 3], [0.0; 3], None);
+        }
+        d
+    }
+
+    #[test]
+    fn stamps_without_a_clock_are_refused_unless_a_rate_is_given() {
+        for (t, says) in [
+            (vec![0.0; 5], "0 have a zero, negative or NaN stamp, 4 repeat"),
+            (vec![f64::NAN; 5], "5 have a zero, negative or NaN stamp"),
+            (vec![4.0, 3.0, 2.0, 1.0, 0.0], "4 step back"),
+        ] {
+            let e = assemble(Path::new("x.bag"), "ROS 1 bag", log_of(&t), &Choice::default()).unwrap_err();
+            let text = e.to_string();
+            assert!(matches!(e.kind, LogErrorKind::NoClock { .. }), "{text}");
+            assert!(text.contains(says) && text.contains("--rate"), "{text}");
+            let rated = Choice {
+                rate_hz: Some(100.0),
+                ..Choice::default()
+            };
+            let (rec, report, _) = assemble(Path::new("x.bag"), "ROS 1 bag", log_of(&t), &rated).unwrap();
+            assert_eq!(rec.rate_hz, Some(100.0));
+            assert!(
+                report
+                    .notes
+                    .iter()
+                    .any(|n| n.contains("cannot time it") && n.contains("--rate 100")),
+                "{:?}",
+                report.notes
+            );
+        }
+    }
+
+    #[test]
+    fn a_message_without_a_stamp_is_a_problem_with_its_number() {
+        let mut t: Vec<f64> = (0..50).map(|k| k as f64 * 0.01).collect();
+        t[7] = f64::NAN;
+        let (_, report, _) =
+            assemble(Path::new("x.bag"), "ROS 1 bag", log_of(&t), &Choice::default()).unwrap();
+        let p: Vec<&Problem> = report
+            .problems
+            .iter()
+            .filter(|p| p.kind == ProblemKind::NoStamp)
+            .collect();
+        assert_eq!(p.len(), 1, "{:?}", report.problems);
+        assert!(p[0].message.contains("message 8 "), "{}", p[0].message);
+    }
 
     #[test]
     fn temperature_is_interpolated_and_not_extended_past_a_step() {

@@ -13,7 +13,7 @@ use std::io::{BufReader, Read};
 use std::path::Path;
 
 use crate::error::{LogError, malformed};
-use crate::streams::Decoded;
+use crate::streams::{Decoded, Loss};
 
 /// The two bytes before each message.
 pub const HEAD: [u8; 2] = [0xA3, 0x95];
@@ -96,6 +96,8 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
     let mut formats: HashMap<u8, Format> = HashMap::new();
     let mut pos: u64 = 0;
     let mut skipped: u64 = 0;
+    // The stretch of bytes being skipped: its offset and length.
+    let mut stretch: Option<(u64, u64)> = None;
     let mut body = Vec::with_capacity(256);
     let mut prev = None;
     let io = |e: std::io::Error| LogError::new(path, e.into());
@@ -107,11 +109,23 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
         if !(prev == Some(HEAD[0]) && b == HEAD[1]) {
             if prev.is_some() {
                 skipped += 1;
+                // The byte `prev`, at pos - 2, belongs to no message.
+                match &mut stretch {
+                    Some((_, len)) => *len += 1,
+                    None => stretch = Some((pos - 2, 1)),
+                }
             }
             prev = Some(b);
             continue;
         }
         prev = None;
+        if let Some((offset, bytes)) = stretch.take() {
+            out.losses.push(Loss {
+                offset,
+                bytes,
+                why: "bytes outside any message (a corrupt block, or a message longer or shorter than its FMT says)".into(),
+            });
+        }
         let at = pos - 2;
         let Some(ty) = bytes.next() else { break };
         let ty = ty.map_err(io)?;
@@ -156,6 +170,23 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
         if ty == FMT_TYPE {
             match parse_fmt(&body) {
                 Some((t, f)) => {
+                    let fields_end = f
+                        .fields
+                        .last()
+                        .and_then(|&(_, o, c)| Some(o + char_size(c)?))
+                        .unwrap_or(0);
+                    if fields_end + 3 != f.length {
+                        // The length decides where the next message
+                        // starts (pymavlink's DFReader reads by it too);
+                        // a wrong one shows as bytes skipped after each
+                        // such message, counted as losses.
+                        out.notes.push(format!(
+                            "the FMT of {} (type {t}) at byte {at} gives a length of {} bytes, but its fields take {}",
+                            f.name,
+                            f.length,
+                            fields_end + 3
+                        ));
+                    }
                     formats.insert(t, f);
                 }
                 None => {
@@ -218,6 +249,14 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
         s.log_time_name = time_name;
         s.axis_fields = Some([["AccX", "AccY", "AccZ"], ["GyrX", "GyrY", "GyrZ"]]);
         s.push(t_us * 1e-6, t_us * 1e-6, [gx, gy, gz], [ax, ay, az], temp);
+    }
+    if let Some((offset, _)) = stretch {
+        // Up to the end of the file, the last byte read included.
+        out.losses.push(Loss {
+            offset,
+            bytes: pos - offset,
+            why: "bytes outside any message, up to the end of the log".into(),
+        });
     }
     if skipped > 0 {
         out.notes

@@ -42,11 +42,13 @@ pub enum LogErrorKind {
         "no IMU stream (sensor_msgs Imu topic, PX4 sensor_gyro/sensor_combined, ArduPilot IMU) in the log"
     )]
     NoImuStream,
-    /// Several IMU streams and none chosen.
-    #[error("{count} IMU streams; choose one with {flag}: {list}")]
+    /// Several IMU or temperature streams and none chosen.
+    #[error("{count} {kind} streams; choose one with {flag}: {list}")]
     SeveralStreams {
         /// How many.
         count: usize,
+        /// `IMU` or `temperature`.
+        kind: &'static str,
         /// `--topic` or `--instance`.
         flag: &'static str,
         /// Each with its rate.
@@ -63,6 +65,17 @@ pub enum LogErrorKind {
     /// A stream choice given for a text log.
     #[error("{0} applies to robot logs (bags, ULog, DataFlash) only")]
     NotARobotLog(&'static str),
+    /// The stamps give no clock at all (every one zero, NaN, equal or
+    /// running backwards) and no rate was given.
+    #[error(
+        "the stamps of {stream} cannot time it: {detail}; give the nominal rate with --rate HZ to place the samples one per period in the log's order"
+    )]
+    NoClock {
+        /// The stream.
+        stream: String,
+        /// What the stamps are.
+        detail: String,
+    },
     /// The samples cannot be placed on a grid (stamps far apart).
     #[error("the stamps of {0} span far more time than its samples fill: they cannot be placed on a clock")]
     BadClock(String),

@@ -4,6 +4,8 @@ use std::fs::File;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
+use crate::error::{LogError, malformed};
+
 /// The robot-log formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Format {
@@ -84,30 +86,63 @@ pub fn detect(path: &Path) -> Option<Format> {
 
 /// The storage files of a ROS 2 bag directory, in order: those listed
 /// under `relative_file_paths` in `metadata.yaml` (rosbag2's
-/// `BagMetadata`), or failing that every `.mcap`/`.db3` file in it, sorted.
-pub fn bag_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
-    let meta = std::fs::read_to_string(dir.join("metadata.yaml"))?;
+/// `BagMetadata`), and only those. The list is the bag's contract: a
+/// listed file that is missing is an error (reading the rest would
+/// silently lose its part of the data), a file it does not list is never
+/// read, and a listed path leaving the directory is refused.
+pub fn bag_files(dir: &Path) -> Result<Vec<PathBuf>, LogError> {
+    let yaml = dir.join("metadata.yaml");
+    let meta = std::fs::read_to_string(&yaml).map_err(|e| LogError::new(&yaml, e.into()))?;
     let mut listed = Vec::new();
     let mut inside = false;
-    for line in meta.lines() {
+    for (number, line) in meta.lines().enumerate() {
         let t = line.trim();
         if t.starts_with("relative_file_paths:") {
             inside = true;
             continue;
         }
         if inside {
-            match t.strip_prefix("- ") {
-                Some(p) => listed.push(dir.join(p.trim().trim_matches(['"', '\'']))),
-                None => inside = false,
+            let Some(p) = t.strip_prefix("- ") else {
+                inside = false;
+                continue;
+            };
+            let name = Path::new(p.trim().trim_matches(['"', '\'']));
+            let plain = name
+                .components()
+                .all(|c| matches!(c, std::path::Component::Normal(_)));
+            if !plain {
+                return Err(malformed(
+                    &yaml,
+                    "ROS 2 bag",
+                    format!(
+                        "the storage file {} lies outside the bag directory",
+                        name.display()
+                    ),
+                )
+                .at(format!("line {}", number + 1)));
             }
+            listed.push(dir.join(name));
         }
     }
-    if listed.is_empty() || !listed.iter().all(|p| p.is_file()) {
-        listed = std::fs::read_dir(dir)?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("mcap" | "db3")))
-            .collect();
-        listed.sort();
+    if listed.is_empty() {
+        return Err(malformed(
+            &yaml,
+            "ROS 2 bag",
+            "relative_file_paths lists no storage file",
+        ));
+    }
+    if let Some(missing) = listed.iter().find(|p| !p.is_file()) {
+        return Err(malformed(
+            &yaml,
+            "ROS 2 bag",
+            format!(
+                "the storage file {} it lists is missing: the bag is incomplete",
+                missing
+                    .file_name()
+                    .map(|n| n.to_string_lossy())
+                    .unwrap_or_default()
+            ),
+        ));
     }
     Ok(listed)
 }
@@ -140,5 +175,40 @@ mod tests {
         }
         // Opening a FIFO without a writer would block: detect must return.
         assert_eq!(detect(&fifo), None);
+    }
+
+    fn bag(yaml: &str, files: &[&str]) -> tempfile::TempDir {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("metadata.yaml"), yaml).unwrap();
+        for f in files {
+            std::fs::write(dir.path().join(f), b"").unwrap();
+        }
+        dir
+    }
+
+    #[test]
+    fn a_bag_is_its_listed_files_all_of_them_and_only_them() {
+        let yaml = "rosbag2_bagfile_information:\n  relative_file_paths:\n    - a_0.mcap\n    - a_1.mcap\n  duration: 1\n";
+        let dir = bag(yaml, &["a_0.mcap", "a_1.mcap", "stray.mcap"]);
+        let files = bag_files(dir.path()).unwrap();
+        assert_eq!(
+            files,
+            vec![dir.path().join("a_0.mcap"), dir.path().join("a_1.mcap")]
+        );
+
+        let dir = bag(yaml, &["a_0.mcap", "stray.mcap"]);
+        let e = bag_files(dir.path()).unwrap_err().to_string();
+        assert!(e.contains("a_1.mcap it lists is missing"), "{e}");
+
+        let dir = bag("relative_file_paths:\n  - ../x.mcap\n", &[]);
+        let e = bag_files(dir.path()).unwrap_err().to_string();
+        assert!(
+            e.contains("outside the bag directory") && e.contains("line 2"),
+            "{e}"
+        );
+
+        let dir = bag("storage_identifier: mcap\n", &["stray.mcap"]);
+        let e = bag_files(dir.path()).unwrap_err().to_string();
+        assert!(e.contains("lists no storage file"), "{e}");
     }
 }

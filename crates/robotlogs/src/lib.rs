@@ -17,6 +17,7 @@ pub mod assemble;
 pub mod dataflash;
 pub mod error;
 pub mod format;
+pub mod inflate;
 pub mod mcap_file;
 pub mod ros1_bag;
 pub mod ros_msgs;
@@ -61,7 +62,7 @@ pub fn decode(path: &Path, format: Format) -> Result<streams::Decoded, LogError>
     let mut d = streams::Decoded::default();
     match format {
         Format::Ros2BagDir => {
-            let files = format::bag_files(path).map_err(|e| LogError::new(path, e.into()))?;
+            let files = format::bag_files(path)?;
             for f in files {
                 match format::detect(&f) {
                     Some(Format::Mcap) => mcap_file::read(&f, &mut d)?,

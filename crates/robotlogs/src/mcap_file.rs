@@ -1,5 +1,8 @@
 //! MCAP files (mcap.dev/spec), read record by record through the `mcap`
 //! crate's sans-io reader, so that a chunk at a time is held, not the file.
+//! Chunks are unpacked here rather than by the library, under
+//! [`crate::inflate`]'s bound: a chunk may unpack to no more than it
+//! declares, and declare no more than the limit.
 
 use std::collections::HashMap;
 use std::fs::File;
@@ -9,9 +12,21 @@ use std::path::Path;
 use mcap::records::Record;
 use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
 
-use crate::error::{LogError, LogErrorKind};
+use crate::error::{LogError, LogErrorKind, malformed};
 use crate::ros_msgs::{self, Kind};
 use crate::streams::Decoded;
+
+/// The MCAP chunk record's opcode (spec: "Chunk (op=0x06)").
+const OP_CHUNK: u8 = 0x06;
+
+/// What the records read so far have declared.
+struct State<'p> {
+    path: &'p Path,
+    schemas: HashMap<u16, String>,
+    /// channel id → (topic, type, kind)
+    channels: HashMap<u16, (String, String, Option<Kind>)>,
+    messages: u64,
+}
 
 /// Reads the IMU and temperature messages of one MCAP file into `out`.
 pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
@@ -21,13 +36,18 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
     // a record claiming 2.5e18 bytes aborted the process).
     let size = file.metadata().map_err(|e| LogError::new(path, e.into()))?.len();
     let limit = usize::try_from(size).unwrap_or(usize::MAX).max(1);
-    let mut reader =
-        LinearReader::new_with_options(LinearReaderOptions::default().with_record_length_limit(limit));
-    let mut schemas: HashMap<u16, String> = HashMap::new();
-    // channel id → (topic, type, kind)
-    let mut channels: HashMap<u16, (String, String, Option<Kind>)> = HashMap::new();
+    let mut reader = LinearReader::new_with_options(
+        LinearReaderOptions::default()
+            .with_record_length_limit(limit)
+            .with_emit_chunks(true),
+    );
+    let mut state = State {
+        path,
+        schemas: HashMap::new(),
+        channels: HashMap::new(),
+        messages: 0,
+    };
     let mut offset: u64 = 0;
-    let mut messages: u64 = 0;
     let mcap_err = |e: mcap::McapError, offset: u64| {
         LogError::new(path, LogErrorKind::Mcap(e.to_string())).at(format!("near byte {offset}"))
     };
@@ -40,33 +60,97 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
                 offset += got as u64;
             }
             LinearReadEvent::Record { data, opcode } => {
-                match mcap::parse_record(opcode, data).map_err(|e| mcap_err(e, offset))? {
-                    Record::Schema { header, .. } => {
-                        schemas.insert(header.id, header.name);
-                    }
-                    Record::Channel(ch) => {
-                        let ty = schemas.get(&ch.schema_id).cloned().unwrap_or_default();
-                        let kind = if ch.message_encoding == "cdr" {
-                            ros_msgs::kind_of(&ty)
-                        } else {
-                            None
-                        };
-                        channels.insert(ch.id, (ch.topic, ty, kind));
-                    }
-                    Record::Message { header, data } => {
-                        messages += 1;
-                        if let Some((topic, ty, Some(kind))) = channels.get(&header.channel_id) {
-                            ros_msgs::add(out, *kind, topic, ty, &data, header.log_time as f64 * 1e-9, false)
-                                .map_err(|what| {
-                                    crate::error::malformed(path, "CDR message", what)
-                                        .at(format!("message {messages} on {topic}"))
-                                })?;
-                        }
-                    }
-                    _ => {}
+                let record = mcap::parse_record(opcode, data).map_err(|e| mcap_err(e, offset))?;
+                if let Record::Chunk { header, data } = record {
+                    let plain = unpack(&header.compression, &data, header.uncompressed_size)
+                        .map_err(|w| malformed(path, "MCAP", w).at(format!("chunk near byte {offset}")))?;
+                    chunk_records(&mut state, out, &plain)
+                        .map_err(|e| e.at(format!("chunk near byte {offset}")))?;
+                } else {
+                    handle(&mut state, out, record)?;
                 }
             }
         }
+    }
+    Ok(())
+}
+
+/// A chunk's records, unpacked under the bound.
+fn unpack(compression: &str, data: &[u8], declared: u64) -> Result<Vec<u8>, String> {
+    match compression {
+        "" => Ok(data.to_vec()),
+        "zstd" => {
+            let decoder = zstd::stream::read::Decoder::new(data)
+                .map_err(|e| format!("a zstd chunk does not decompress: {e}"))?;
+            crate::inflate::bounded(decoder, declared, "zstd")
+        }
+        "lz4" => crate::inflate::bounded(lz4_flex::frame::FrameDecoder::new(data), declared, "lz4"),
+        other => Err(format!(
+            "a chunk compressed with '{other}', which MCAP readers do not know"
+        )),
+    }
+}
+
+/// The records of an unpacked chunk: `opcode u8, length u64, body`.
+fn chunk_records(state: &mut State<'_>, out: &mut Decoded, mut rest: &[u8]) -> Result<(), LogError> {
+    let path = state.path;
+    while !rest.is_empty() {
+        let (Some(&opcode), Some(len)) = (rest.first(), rest.get(1..9)) else {
+            return Err(malformed(
+                path,
+                "MCAP",
+                "a record's opcode and length cut short by the end of its chunk",
+            ));
+        };
+        let len = u64::from_le_bytes(len.try_into().unwrap_or_default());
+        let body = usize::try_from(len)
+            .ok()
+            .and_then(|len| rest.get(9..9usize.checked_add(len)?))
+            .ok_or_else(|| {
+                malformed(
+                    path,
+                    "MCAP",
+                    format!("a record of {len} bytes runs past the end of its chunk"),
+                )
+            })?;
+        if opcode == OP_CHUNK {
+            return Err(malformed(path, "MCAP", "a chunk inside a chunk"));
+        }
+        let record = mcap::parse_record(opcode, body)
+            .map_err(|e| LogError::new(path, LogErrorKind::Mcap(e.to_string())))?;
+        handle(state, out, record)?;
+        rest = &rest[9 + body.len()..];
+    }
+    Ok(())
+}
+
+/// One record outside or inside a chunk.
+fn handle(state: &mut State<'_>, out: &mut Decoded, record: Record<'_>) -> Result<(), LogError> {
+    match record {
+        Record::Schema { header, .. } => {
+            state.schemas.insert(header.id, header.name);
+        }
+        Record::Channel(ch) => {
+            let ty = state.schemas.get(&ch.schema_id).cloned().unwrap_or_default();
+            let kind = if ch.message_encoding == "cdr" {
+                ros_msgs::kind_of(&ty)
+            } else {
+                None
+            };
+            state.channels.insert(ch.id, (ch.topic, ty, kind));
+        }
+        Record::Message { header, data } => {
+            state.messages += 1;
+            if let Some((topic, ty, Some(kind))) = state.channels.get(&header.channel_id) {
+                ros_msgs::add(out, *kind, topic, ty, &data, header.log_time as f64 * 1e-9, false).map_err(
+                    |what| {
+                        malformed(state.path, "CDR message", what)
+                            .at(format!("message {} on {topic}", state.messages))
+                    },
+                )?;
+            }
+        }
+        _ => {}
     }
     Ok(())
 }

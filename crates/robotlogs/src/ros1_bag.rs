@@ -55,7 +55,7 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
         let op = field(&fields, "op").and_then(|v| v.first().copied());
         if op == Some(OP_CHUNK) {
             let compression = field(&fields, "compression").unwrap_or(b"none");
-            let size = field(&fields, "size").and_then(le_u32).unwrap_or(0) as usize;
+            let size = field(&fields, "size").and_then(le_u32);
             let plain = decompress(path, compression, &data, size)
                 .map_err(|e| e.at(format!("chunk at byte {at}")))?;
             let mut inner = plain.as_slice();
@@ -72,29 +72,25 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
     Ok(())
 }
 
-fn decompress(path: &Path, compression: &[u8], data: &[u8], size: usize) -> Result<Vec<u8>, LogError> {
-    let mut plain = Vec::with_capacity(size.min(MAX_RECORD));
-    let io = |e: std::io::Error| malformed(path, "ROS 1 bag chunk", e.to_string());
-    match compression {
-        b"none" => return Ok(data.to_vec()),
-        b"bz2" => {
-            bzip2::read::BzDecoder::new(data)
-                .read_to_end(&mut plain)
-                .map_err(io)?;
-        }
-        b"lz4" => {
-            lz4_flex::frame::FrameDecoder::new(data)
-                .read_to_end(&mut plain)
-                .map_err(io)?;
-        }
-        other => {
-            return Err(LogError::new(
-                path,
-                LogErrorKind::Compression(String::from_utf8_lossy(other).into_owned()),
-            ));
-        }
+fn decompress(path: &Path, compression: &[u8], data: &[u8], size: Option<u32>) -> Result<Vec<u8>, LogError> {
+    if compression == b"none" {
+        return Ok(data.to_vec());
     }
-    Ok(plain)
+    // rosbag writes the unpacked size of every chunk (`size`): without
+    // it a chunk could unpack to anything.
+    let size =
+        size.ok_or_else(|| malformed(path, "ROS 1 bag", "a compressed chunk without its size field"))?;
+    let bounded = |stream: &mut dyn Read, codec: &str| {
+        crate::inflate::bounded(stream, u64::from(size), codec).map_err(|w| malformed(path, "ROS 1 bag", w))
+    };
+    match compression {
+        b"bz2" => bounded(&mut bzip2::read::BzDecoder::new(data), "bz2"),
+        b"lz4" => bounded(&mut lz4_flex::frame::FrameDecoder::new(data), "lz4"),
+        other => Err(LogError::new(
+            path,
+            LogErrorKind::Compression(String::from_utf8_lossy(other).into_owned()),
+        )),
+    }
 }
 
 fn handle(

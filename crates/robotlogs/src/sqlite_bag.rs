@@ -53,13 +53,31 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
     let mut n = 0u64;
     while let Some(row) = rows.next().map_err(sql)? {
         n += 1;
-        let id: i64 = row.get(0).map_err(sql)?;
-        let t: i64 = row.get(1).map_err(sql)?;
-        let data = row
-            .get_ref(2)
-            .map_err(sql)?
-            .as_blob()
-            .map_err(|e| sql(e.into()))?;
+        // Each value's column and type named: "Invalid type" alone says
+        // nothing of where.
+        let column =
+            |k: usize, name: &str, wanted: &str| -> Result<rusqlite::types::ValueRef<'_>, LogError> {
+                let v = row.get_ref(k).map_err(sql)?;
+                let ok = match wanted {
+                    "INTEGER" => matches!(v, rusqlite::types::ValueRef::Integer(_)),
+                    _ => matches!(v, rusqlite::types::ValueRef::Blob(_)),
+                };
+                if ok {
+                    Ok(v)
+                } else {
+                    Err(LogError::new(
+                        path,
+                        LogErrorKind::Sqlite(format!(
+                            "the {name} column of the messages table holds {:?}, not {wanted}",
+                            v.data_type()
+                        )),
+                    )
+                    .at(format!("message {n}")))
+                }
+            };
+        let id = column(0, "topic_id", "INTEGER")?.as_i64().unwrap_or_default();
+        let t = column(1, "timestamp", "INTEGER")?.as_i64().unwrap_or_default();
+        let data = column(2, "data", "BLOB")?.as_blob().unwrap_or_default();
         if let Some((_, name, ty, kind)) = topics.iter().find(|t| t.0 == id) {
             ros_msgs::add(out, *kind, name, ty, data, t as f64 * 1e-9, false).map_err(|what| {
                 crate::error::malformed(path, "CDR message", what).at(format!("message {n} on {name}"))

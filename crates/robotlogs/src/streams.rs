@@ -136,6 +136,19 @@ pub struct Decoded {
     /// Things found wrong that did not stop the reading (a message too
     /// short, a dropout), for the report.
     pub notes: Vec<String>,
+    /// Stretches of the log skipped because they could not be decoded.
+    pub losses: Vec<Loss>,
+}
+
+/// A stretch of a log skipped as undecodable: where, and how much.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Loss {
+    /// The byte offset where the stretch starts.
+    pub offset: u64,
+    /// Its length in bytes.
+    pub bytes: u64,
+    /// Why it was skipped.
+    pub why: String,
 }
 
 impl Decoded {

@@ -17,7 +17,7 @@ use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
 
 use crate::error::{LogError, malformed};
-use crate::streams::Decoded;
+use crate::streams::{Decoded, Loss};
 
 /// The first bytes of a ULog file.
 pub const MAGIC: &[u8] = b"ULog\x01\x12\x35";
@@ -93,38 +93,173 @@ impl Slot {
     }
 }
 
-/// The size of a type, nested formats included (depth-limited: a format
-/// naming itself is corrupt).
-fn size_of(ty: &str, formats: &HashMap<String, Vec<Field>>, depth: usize) -> Option<usize> {
-    if let (_, Some(s)) = prim(ty) {
-        return Some(s);
+/// The message types of the ULog format (docs.px4.io, "ULog File Format":
+/// flag bits, format, info, multi info, parameter, default parameter, add
+/// and remove subscription, data, logging, tagged logging, sync, dropout).
+const MESSAGE_TYPES: &[u8] = b"BFIMPQARDLCSO";
+
+/// The sync message's magic bytes (the same page, "Synchronization").
+const SYNC_MAGIC: [u8; 8] = [0x2F, 0x73, 0x13, 0x20, 0x25, 0x0C, 0xBB, 0x12];
+
+/// The offset of the next sync message's header at or after `from`, read
+/// a block at a time; `None` when there is none.
+fn find_sync<R: Read + Seek>(r: &mut R, from: u64) -> std::io::Result<Option<u64>> {
+    r.seek(SeekFrom::Start(from))?;
+    let mut block = vec![0u8; 1 << 16];
+    // Bytes carried over from the last block, so that a magic across two
+    // blocks is found; `base` is the offset of `block[0]`.
+    let mut kept = 0usize;
+    let mut base = from;
+    loop {
+        let n = r.read(&mut block[kept..])?;
+        if n == 0 {
+            return Ok(None);
+        }
+        let filled = kept + n;
+        // The header (u16 size, b'S') sits just before the magic.
+        let found = block[..filled]
+            .windows(SYNC_MAGIC.len())
+            .enumerate()
+            .filter(|(_, w)| *w == SYNC_MAGIC)
+            .map(|(i, _)| base + i as u64)
+            .find(|&magic_at| magic_at >= from + 3);
+        if let Some(magic_at) = found {
+            return Ok(Some(magic_at - 3));
+        }
+        kept = (SYNC_MAGIC.len() - 1).min(filled);
+        block.copy_within(filled - kept..filled, 0);
+        base += (filled - kept) as u64;
     }
-    if depth > 16 {
-        return None;
-    }
-    formats.get(ty)?.iter().try_fold(0usize, |acc, f| {
-        acc.checked_add(size_of(&f.ty, formats, depth + 1)?.checked_mul(f.count)?)
-    })
 }
 
-/// The slot of each top-level field of `topic`.
-fn layout(topic: &str, formats: &HashMap<String, Vec<Field>>) -> HashMap<String, Slot> {
-    let mut out = HashMap::new();
-    let mut offset = 0usize;
-    for f in formats.get(topic).into_iter().flatten() {
-        let Some(size) = size_of(&f.ty, formats, 0) else {
-            break;
+/// Formats nested deeper than this are corrupt: PX4's messages nest a few
+/// levels at most.
+const MAX_NESTING: usize = 32;
+
+/// Why a topic's format cannot be laid out.
+#[derive(Debug, Clone, PartialEq)]
+enum FormatFault {
+    /// The format contains itself, directly or through others.
+    Contains(String),
+    /// Formats nested deeper than [`MAX_NESTING`].
+    TooDeep(String),
+    /// Sizes beyond any message (a u16 bounds a message's size).
+    TooLarge(String),
+}
+
+impl std::fmt::Display for FormatFault {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FormatFault::Contains(t) => write!(f, "the format '{t}' contains itself"),
+            FormatFault::TooDeep(t) => {
+                write!(f, "the format '{t}' nests formats more than {MAX_NESTING} deep")
+            }
+            FormatFault::TooLarge(t) => write!(f, "the format '{t}' is larger than any message"),
+        }
+    }
+}
+
+/// The sizes of formats, each computed once: nested formats are walked in
+/// time linear in their fields, however they repeat one another.
+struct Sizes<'a> {
+    formats: &'a HashMap<String, Vec<Field>>,
+    known: HashMap<String, Option<usize>>,
+    open: Vec<String>,
+}
+
+impl<'a> Sizes<'a> {
+    fn new(formats: &'a HashMap<String, Vec<Field>>) -> Sizes<'a> {
+        Sizes {
+            formats,
+            known: HashMap::new(),
+            open: Vec::new(),
+        }
+    }
+
+    /// The size of `ty`; `None` for a type no format describes.
+    fn of(&mut self, ty: &str) -> Result<Option<usize>, FormatFault> {
+        if let (_, Some(s)) = prim(ty) {
+            return Ok(Some(s));
+        }
+        if let Some(&s) = self.known.get(ty) {
+            return Ok(s);
+        }
+        if self.open.iter().any(|o| o == ty) {
+            return Err(FormatFault::Contains(ty.to_string()));
+        }
+        if self.open.len() >= MAX_NESTING {
+            return Err(FormatFault::TooDeep(self.open[0].clone()));
+        }
+        let Some(fields) = self.formats.get(ty) else {
+            return Ok(None);
         };
-        out.insert(
+        self.open.push(ty.to_string());
+        let mut total = Some(0usize);
+        for f in fields {
+            let Some(size) = self.of(&f.ty)? else {
+                total = None;
+                break;
+            };
+            total = size
+                .checked_mul(f.count)
+                .and_then(|s| total?.checked_add(s))
+                .filter(|&t| t <= u16::MAX as usize);
+            if total.is_none() {
+                return Err(FormatFault::TooLarge(ty.to_string()));
+            }
+        }
+        self.open.pop();
+        self.known.insert(ty.to_string(), total);
+        Ok(total)
+    }
+}
+
+/// A topic's fields, each with its slot, and the size of its data when
+/// every field's type is known.
+#[derive(Debug, Clone, Default)]
+struct Layout {
+    slots: HashMap<String, Slot>,
+    size: Option<usize>,
+}
+
+/// The slot of each top-level field of `topic`. A field of a type no
+/// format describes ends the layout: what follows cannot be placed.
+fn layout(topic: &str, formats: &HashMap<String, Vec<Field>>) -> Result<Layout, FormatFault> {
+    let mut sizes = Sizes::new(formats);
+    let mut out = Layout::default();
+    let mut offset = 0usize;
+    let Some(fields) = formats.get(topic) else {
+        return Ok(out);
+    };
+    sizes.open.push(topic.to_string());
+    for f in fields {
+        let Some(size) = sizes.of(&f.ty)? else {
+            return Ok(out);
+        };
+        out.slots.insert(
             f.name.clone(),
             Slot {
                 offset,
                 ty: prim(&f.ty).0,
             },
         );
-        offset += size * f.count;
+        offset = size
+            .checked_mul(f.count)
+            .and_then(|s| offset.checked_add(s))
+            .filter(|&t| t <= u16::MAX as usize)
+            .ok_or_else(|| FormatFault::TooLarge(topic.to_string()))?;
     }
-    out
+    out.size = Some(offset);
+    Ok(out)
+}
+
+/// The fields each decoded topic must have, by the PX4 messages.
+fn required_fields(topic: &str) -> &'static [&'static str] {
+    match topic {
+        "sensor_gyro" | "sensor_accel" => &["timestamp", "x", "y", "z"],
+        "sensor_combined" => &["timestamp", "gyro_rad", "accelerometer_m_s2"],
+        _ => &[],
+    }
 }
 
 /// `name:type field;type[n] field;…`
@@ -170,7 +305,7 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
     }
     let mut formats: HashMap<String, Vec<Field>> = HashMap::new();
     // msg_id → (topic, multi_id, layout)
-    let mut subs: HashMap<u16, (String, u8, HashMap<String, Slot>)> = HashMap::new();
+    let mut subs: HashMap<u16, (String, u8, Layout)> = HashMap::new();
     let mut gyro: HashMap<u8, Sensor> = HashMap::new();
     let mut accel: HashMap<u8, Sensor> = HashMap::new();
     // sensor_combined: the gyroscope in `xyz`, the accelerometer's three
@@ -182,16 +317,12 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
     let mut dropouts = (0usize, 0u64);
     let mut buf = Vec::with_capacity(1024);
     loop {
-        // The main section ends where appended data begins.
+        // The main section ends where appended data begins. Offsets only
+        // ever move forward (checked when read), so reading ends.
         if let Some(&next) = appended.first()
             && pos >= next
         {
             appended.remove(0);
-            if pos > next {
-                r.seek(SeekFrom::Start(next))
-                    .map_err(|e| LogError::new(path, e.into()))?;
-                pos = next;
-            }
         }
         let mut h = [0u8; 3];
         match r.read_exact(&mut h) {
@@ -201,6 +332,34 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
         }
         let size = u16::from_le_bytes([h[0], h[1]]) as usize;
         let ty = h[2];
+        if !MESSAGE_TYPES.contains(&ty) {
+            // Not a message: corrupt bytes. Reading resumes at the next
+            // sync message, as pyulog does (`ULog._find_sync`), and the
+            // stretch skipped is counted.
+            let resume = find_sync(&mut r, pos + 1).map_err(|e| LogError::new(path, e.into()))?;
+            let end = match resume {
+                Some(at) => at,
+                None => r
+                    .seek(SeekFrom::End(0))
+                    .map_err(|e| LogError::new(path, e.into()))?,
+            };
+            out.losses.push(Loss {
+                offset: pos,
+                bytes: end - pos,
+                why: format!(
+                    "a message of unknown type 0x{ty:02x}{}",
+                    if resume.is_some() {
+                        ", skipped to the next sync message"
+                    } else {
+                        ", with no sync message after it"
+                    }
+                ),
+            });
+            r.seek(SeekFrom::Start(end))
+                .map_err(|e| LogError::new(path, e.into()))?;
+            pos = end;
+            continue;
+        }
         if let Some(&next) = appended.first()
             && pos + 3 + size as u64 > next
         {
@@ -226,6 +385,20 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
                     .map(|k| u64::from_le_bytes(buf[16 + 8 * k..24 + 8 * k].try_into().unwrap_or_default()))
                     .filter(|&o| o > 0)
                     .collect();
+                // Each offset lies ahead of the last: one pointing back
+                // would read the same bytes for ever.
+                let mut from = pos;
+                for &o in &appended {
+                    if o < from {
+                        return Err(malformed(
+                            path,
+                            "ULog",
+                            format!("an appended-data offset ({o}) points back to before byte {from}"),
+                        )
+                        .at(format!("byte {at}")));
+                    }
+                    from = o;
+                }
             }
             b'F' => {
                 if let Some((name, fields)) = parse_format(&String::from_utf8_lossy(&buf)) {
@@ -253,7 +426,27 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
                 let name = String::from_utf8_lossy(&buf[3..])
                     .trim_end_matches('\0')
                     .to_string();
-                let lay = layout(&name, &formats);
+                let needed = required_fields(&name);
+                let lay = match layout(&name, &formats) {
+                    Ok(lay) => lay,
+                    // A topic imutherm does not decode may be laid out
+                    // however it likes; one it decodes must make sense.
+                    Err(_) if needed.is_empty() => Layout::default(),
+                    Err(fault) => {
+                        return Err(malformed(path, "ULog", format!("the format of {name}: {fault}"))
+                            .at(format!("byte {at}")));
+                    }
+                };
+                if let Some(missing) = needed.iter().find(|f| !lay.slots.contains_key(**f))
+                    && formats.contains_key(&name)
+                {
+                    return Err(malformed(
+                        path,
+                        "ULog",
+                        format!("the format of {name} has no field '{missing}' (or one of a type no format describes before it)"),
+                    )
+                    .at(format!("byte {at}")));
+                }
                 subs.insert(id, (name, multi, lay));
             }
             b'O' if buf.len() >= 2 => {
@@ -266,14 +459,19 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
                     continue;
                 };
                 let data = &buf[2..];
-                let get = |f: &str, i: usize| lay.get(f).and_then(|s| s.get(data, i));
+                let get = |f: &str, i: usize| lay.slots.get(f).and_then(|s| s.get(data, i));
                 let short = || {
-                    malformed(
-                        path,
-                        "ULog",
-                        format!("a {name} message of {} bytes is cut short", data.len()),
-                    )
-                    .at(format!("byte {at}"))
+                    let what = match lay.size {
+                        None if lay.slots.is_empty() => {
+                            format!("{name} has data but no format (F message) before it describing them")
+                        }
+                        Some(size) if data.len() < size => format!(
+                            "a {name} message of {} bytes is shorter than its format's {size} bytes",
+                            data.len()
+                        ),
+                        _ => format!("a {name} message of {} bytes is cut short", data.len()),
+                    };
+                    malformed(path, "ULog", what).at(format!("byte {at}"))
                 };
                 match name.as_str() {
                     "sensor_gyro" | "sensor_accel" => {
@@ -410,13 +608,48 @@ mod tests {
         f.insert(n, v);
         let (n, v) = parse_format("outer:uint64_t timestamp;inner[2] c;float x;").unwrap();
         f.insert(n, v);
-        let l = layout("outer", &f);
-        assert_eq!(l["timestamp"].offset, 0);
-        assert_eq!(l["c"].offset, 8);
-        assert_eq!(l["x"].offset, 8 + 2 * 10);
-        let mut self_ref = HashMap::new();
-        let (n, v) = parse_format("loop:loop a;").unwrap();
-        self_ref.insert(n, v);
-        assert!(size_of("loop", &self_ref, 0).is_none());
+        let l = layout("outer", &f).unwrap();
+        assert_eq!(l.slots["timestamp"].offset, 0);
+        assert_eq!(l.slots["c"].offset, 8);
+        assert_eq!(l.slots["x"].offset, 8 + 2 * 10);
+        assert_eq!(l.size, Some(8 + 2 * 10 + 4));
+    }
+
+    fn formats(lines: &[&str]) -> HashMap<String, Vec<Field>> {
+        lines.iter().map(|l| parse_format(l).unwrap()).collect()
+    }
+
+    #[test]
+    fn a_format_containing_itself_is_refused() {
+        let f = formats(&["loop:uint64_t timestamp;loop a;"]);
+        assert_eq!(
+            layout("loop", &f).unwrap_err(),
+            FormatFault::Contains("loop".into())
+        );
+        let f = formats(&["a:uint8_t x;b y;", "b:a z;", "t:a w;"]);
+        assert!(matches!(layout("t", &f), Err(FormatFault::Contains(_))));
+    }
+
+    #[test]
+    fn nested_formats_are_laid_out_once_each() {
+        // Twenty levels of formats each holding the next three times:
+        // walked field by field this is 3^20 visits; each size is
+        // computed once.
+        let mut lines: Vec<String> = (0..20)
+            .map(|k| format!("n{k}:n{} a;n{} b;n{} c;", k + 1, k + 1, k + 1))
+            .collect();
+        lines.push("n20:uint8_t x;".into());
+        let refs: Vec<&str> = lines.iter().map(String::as_str).collect();
+        let f = formats(&refs);
+        let started = std::time::Instant::now();
+        // 3^20 bytes: larger than any message.
+        assert!(matches!(layout("n0", &f), Err(FormatFault::TooLarge(_))));
+        assert!(started.elapsed() < std::time::Duration::from_secs(1));
+        let deep: Vec<String> = (0..40).map(|k| format!("d{k}:d{} a;", k + 1)).collect();
+        let refs: Vec<&str> = deep.iter().map(String::as_str).collect();
+        assert!(matches!(
+            layout("d0", &formats(&refs)),
+            Err(FormatFault::TooDeep(_))
+        ));
     }
 }

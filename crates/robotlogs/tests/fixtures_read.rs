@@ -106,7 +106,7 @@ fn zero_stamps_fall_back_to_the_bag_time_and_say_so() {
             .meta
             .get("time_source_reason")
             .unwrap()
-            .contains("zero in every message")
+            .contains("zero, negative or NaN in every message")
     );
     assert!(close(r.recording.rate_hz.unwrap(), 200.0, 1e-6));
 }
@@ -290,4 +290,57 @@ fn truncated_and_corrupt_logs_are_errors_naming_the_file_not_panics() {
             }
         }
     }
+}
+
+#[test]
+fn a_block_of_0xff_in_a_ulog_loses_only_itself_and_is_counted() {
+    // PX4's sample log with 4 KiB of 0xFF written over its middle: the
+    // reader resumes at the next sync message, as pyulog does, and the
+    // stretch skipped is a problem naming its bytes.
+    let src = fixture("px4/sample_log_small.ulg");
+    let mut bytes = std::fs::read(&src).unwrap();
+    let middle = bytes.len() / 2;
+    bytes[middle..middle + 4096].fill(0xFF);
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("ff.ulg");
+    std::fs::write(&p, &bytes).unwrap();
+    let whole = read("px4/sample_log_small.ulg", &Choice::default());
+    let hit = robotlogs::read(&p, &RecordingOptions::default(), &Choice::default()).unwrap();
+    let count = |r: &robotlogs::Read| {
+        r.streams
+            .iter()
+            .find(|s| s.name == "sensor_combined")
+            .unwrap()
+            .messages
+    };
+    let (before, after) = (count(&whole), count(&hit));
+    // This log has a sync message every 70 KB or so: what lies between
+    // the block and the next one is lost (about 6 % here), the rest read.
+    assert!(
+        after < before && after as f64 > 0.9 * before as f64,
+        "{after} of {before}"
+    );
+    let magic = [0x2F, 0x73, 0x13, 0x20, 0x25, 0x0C, 0xBB, 0x12];
+    let next_sync = middle
+        + 4096
+        + bytes[middle + 4096..]
+            .windows(8)
+            .position(|w| w == magic)
+            .unwrap()
+        - 3;
+    let skipped: Vec<&imu::Problem> = hit
+        .report
+        .problems
+        .iter()
+        .filter(|p| p.kind == ProblemKind::SkippedData)
+        .collect();
+    assert!(!skipped.is_empty());
+    let m = &skipped[0].message;
+    let start: usize = m["bytes ".len()..m.find("..").unwrap()].parse().unwrap();
+    assert!((middle..middle + 4096).contains(&start), "{m}");
+    assert!(m.starts_with(&format!("bytes {start}..{next_sync} ")), "{m}");
+    assert!(
+        m.contains("unknown type 0xff, skipped to the next sync message"),
+        "{m}"
+    );
 }

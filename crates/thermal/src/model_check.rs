@@ -106,6 +106,20 @@ pub enum ModelError {
         /// Index of its first occurrence.
         first: usize,
     },
+    /// A unit that is not the one the channel's data are compensated in:
+    /// the recording is read in SI, so a model in any other unit (or in
+    /// none imutherm knows) would correct by the wrong amount.
+    #[error("{field} is '{unit}', not {expected}, the unit {name} is read and compensated in")]
+    Unit {
+        /// `channels[i].unit`.
+        field: String,
+        /// The unit given.
+        unit: String,
+        /// The channel.
+        name: String,
+        /// The SI unit expected.
+        expected: &'static str,
+    },
     /// Coefficients that do not match the order.
     #[error("{field} has {len} coefficients, order {order} needs {}", order + 1)]
     CoefficientCount {
@@ -232,6 +246,16 @@ impl Model {
                     first,
                 });
             }
+            let in_si = imu::units::parse_unit(&c.unit)
+                .is_some_and(|u| u.quantity == kind.quantity && u.is_identity());
+            if !in_si {
+                return Err(ModelError::Unit {
+                    field: format!("channels[{i}].unit"),
+                    unit: c.unit.clone(),
+                    name: c.name.clone(),
+                    expected: kind.quantity.si_unit(),
+                });
+            }
             if c.coefficients.len() != c.order + 1 {
                 return Err(ModelError::CoefficientCount {
                     field: format!("channels[{i}].coefficients"),
@@ -288,9 +312,9 @@ mod tests {
     use crate::tcal::ChannelModel;
 
     fn model() -> Model {
-        let ch = |name: &str| ChannelModel {
+        let ch = |name: &str, unit: &str| ChannelModel {
             name: name.to_string(),
-            unit: "rad/s".into(),
+            unit: unit.into(),
             order: 1,
             coefficients: vec![1e-3, 2e-4],
             rate_coefficient: None,
@@ -310,7 +334,7 @@ mod tests {
             fitted_on_digests: Vec::new(),
             dtdt_range_c_per_s: None,
             device_id: None,
-            channels: vec![ch("gyro_x"), ch("accel_z")],
+            channels: vec![ch("gyro_x", "rad/s"), ch("accel_z", "m/s^2")],
         }
     }
 
@@ -369,6 +393,18 @@ mod tests {
                 "dtdt_range_c_per_s [0.1, -0.1] has its lower end above its upper end",
             ),
             (|m| m.schema = "other/1".into(), "schema is 'other/1'"),
+            (
+                |m| m.channels[0].unit = "furlong".into(),
+                "channels[0].unit is 'furlong', not rad/s, the unit gyro_x is read and compensated in",
+            ),
+            (
+                |m| m.channels[0].unit = "deg/s".into(),
+                "channels[0].unit is 'deg/s', not rad/s",
+            ),
+            (
+                |m| m.channels[1].unit = "rad/s".into(),
+                "channels[1].unit is 'rad/s', not m/s^2",
+            ),
         ];
         for (spoil, expected) in cases {
             let mut m = model();

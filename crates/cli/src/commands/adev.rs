@@ -2,7 +2,7 @@
 
 use std::io::{IsTerminal, Write};
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -25,6 +25,20 @@ pub fn run(a: &AdevArgs) -> Result<()> {
     let mut channels: Vec<SelectedChannel> = Vec::new();
     for file in &a.files {
         channels.extend(read_channels(file, &a.channels, &read)?.channels);
+    }
+    // Differences of values beyond √MAX/2 square past the largest double:
+    // the deviations would be infinite or silently dropped, so say
+    // overflow rather than anything about taus.
+    let limit = f64::MAX.sqrt() / 2.0;
+    for ch in &channels {
+        if let Some(v) = ch.data.iter().copied().find(|v| v.is_finite() && v.abs() > limit) {
+            bail!(
+                "{}: column {} ({}): a value of {v:e} overflows double precision in the statistics (values must stay within ±{limit:.1e})",
+                ch.file.display(),
+                ch.column,
+                ch.name
+            );
+        }
     }
     // The samples are handed over and turned into phase in place.
     let data: Vec<Vec<f64>> = channels.iter_mut().map(|c| std::mem::take(&mut c.data)).collect();

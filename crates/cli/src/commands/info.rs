@@ -123,6 +123,32 @@ fn describe(data: &[f64]) -> (Option<(f64, f64, f64, f64)>, usize) {
     (Some((mean, std, lo, hi)), nan)
 }
 
+/// A problem for each channel whose values are finite but whose mean or
+/// standard deviation is not: sums of values near ±1.8e308 overflow f64,
+/// and a NaN statistic must not pass for a clean file.
+fn overflows(channels: &[ChannelInfo]) -> Vec<ProblemInfo> {
+    channels
+        .iter()
+        .filter(|c| {
+            let finite = |v: Option<f64>| v.is_some_and(f64::is_finite);
+            finite(c.min) && finite(c.max) && !(finite(c.mean) && finite(c.std))
+        })
+        .map(|c| ProblemInfo {
+            kind: "overflow",
+            line: None,
+            column: None,
+            channel: Some(c.name.clone()),
+            count: 1,
+            message: format!(
+                "{}: its values ({:e} to {:e}) overflow double precision: the mean and standard deviation cannot be computed",
+                c.name,
+                c.min.unwrap_or(f64::NAN),
+                c.max.unwrap_or(f64::NAN)
+            ),
+        })
+        .collect()
+}
+
 fn file_info(
     path: &Path,
     rec: &Recording,
@@ -144,7 +170,7 @@ fn file_info(
     } else {
         "unknown"
     };
-    let channels = rec
+    let channels: Vec<ChannelInfo> = rec
         .channels
         .iter()
         .map(|c| {
@@ -168,6 +194,7 @@ fn file_info(
         let (d, _) = describe(&t.data);
         d.map(|(mean, _, min, max)| Range { min, mean, max })
     });
+    let overflow = overflows(&channels);
     FileInfo {
         file: path.display().to_string(),
         format,
@@ -204,6 +231,7 @@ fn file_info(
                 message: p.message.clone(),
             })
             .chain(checks.findings.iter().map(check_problem))
+            .chain(overflow)
             .collect(),
         problems_unlisted: report.unlisted,
         checks,

@@ -94,6 +94,18 @@ pub fn run(a: &InsArgs) -> Result<()> {
     for file in &a.files {
         let sel = read_channels(file, &[], &read)?;
         let rate = sel.rate_hz;
+        // Levelling averages the samples of the alignment window: one
+        // shorter than a sample holds none.
+        if a.align * rate < 1.0 {
+            return Err(crate::flags::UsageError(format!(
+                "--align {} s is shorter than one sample of {} ({} Hz, {} s a sample)",
+                a.align,
+                file.display(),
+                rate,
+                1.0 / rate
+            ))
+            .into());
+        }
         let mut noted = Vec::new();
         let navigated = raw_and_compensated(file, &sel, model.as_ref(), &plan, &mut noted);
         notes(&noted);

@@ -42,7 +42,8 @@ fn configuration(a: &SimulateArgs) -> Result<(SimConfig, String)> {
         }
     };
     if let Some(p) = &a.profile {
-        cfg.profile = Profile::parse(p)?;
+        // A profile on the command line is a flag: a bad one is a usage error.
+        cfg.profile = Profile::parse(p).map_err(|e| UsageError(format!("--profile: {e}")))?;
     }
     if let Some(d) = a.duration {
         cfg.duration_s = d;
@@ -104,7 +105,7 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
     if let Profile::File { path } = &sim.config().profile {
         inputs.push(path.clone());
     }
-    // Written under FILE.partial and renamed at the end, so that an
+    // Written to a scratch file of its own and renamed at the end, so that an
     // interrupted run never leaves a log that looks complete.
     let mut file = AtomicFile::create(
         out,
