@@ -5,6 +5,7 @@ import json
 import os
 
 from . import _imutherm
+from ._errors import in_python_words
 
 
 READ_FLAGS = ("rate", "units", "topic", "instance", "temp_topic")
@@ -45,6 +46,7 @@ def _units(units):
     return list(units or [])
 
 
+@in_python_words(path_arg=(0, "runs"))
 def tcal_fit(runs, channels=None, order="auto", tref=None, bin_width=1.0, rate_term=False,
              firmware=None, rate=None, units=None, topic=None, instance=None, temp_topic=None):
     """Fits the bias over temperature of the runs, as ``imutherm tcal fit``:
@@ -166,6 +168,7 @@ class TcalModel:
             ("temperature_compensated_with", self.name or "model")]
         return out
 
+    @in_python_words(path_arg=(1, "runs"))
     def evaluate(self, runs, export=None, params=None, rate=None, units=None, topic=None,
                  instance=None, temp_topic=None):
         """What ``imutherm tcal eval --json MODEL RUNS [--export FW]
