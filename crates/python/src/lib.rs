@@ -46,6 +46,9 @@ fn _imutherm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(curve::noise_terms, m)?)?;
     m.add_function(wrap_pyfunction!(curve::time_library, m)?)?;
     m.add_function(wrap_pyfunction!(estimates::estimates, m)?)?;
+    m.add_function(wrap_pyfunction!(estimates::chi2_quantile, m)?)?;
+    m.add_function(wrap_pyfunction!(estimates::greenhall_edf, m)?)?;
+    m.add_function(wrap_pyfunction!(estimates::edf_for, m)?)?;
     m.add_function(wrap_pyfunction!(recording::read, m)?)?;
     m.add_function(wrap_pyfunction!(simulation::simulate, m)?)?;
     for f in [
