@@ -435,18 +435,33 @@ def mtie(data, rate=1.0, data_type="phase", taus=None):
     return remove_small_ns(taus_used, devs, devs / np.sqrt(ns), ns)
 
 
+def mtie_rolling_window(a, window):
+    """A read-only view of the windows of ``window`` consecutive samples of
+    ``a`` along its last axis (one row per start). ``ValueError`` when
+    ``window`` is below 1 or longer than ``a``."""
+    if window < 1:
+        raise ValueError("`window` must be at least 1.")
+    if window > a.shape[-1]:
+        raise ValueError("`window` is too long.")
+    return np.lib.stride_tricks.sliding_window_view(a, window, axis=-1)
+
+
 def mtie_phase_fast(phase, rate=1.0, data_type="phase", taus=None):
-    """MTIE on the first 2^k samples at windows of 2^j + 1 samples
-    (j = 1 ... k - 1), by the doubling table of Bregni ("Fast algorithms for
-    TVAR and MTIE computation", IEEE Trans. Instrum. Meas. 1997). Returns
-    ``(taus, devs, errs, ns)`` with taus in samples, as AllanTools does."""
+    """MTIE of the first 2^K samples over windows of 2^k samples
+    (k = 1 ... K), by the doubling table of Bregni ("Fast algorithms for
+    TVAR and MTIE computation", IEEE Trans. Instrum. Meas. 46, 1997): the
+    extremes of a window of 2^k samples are those of its two halves.
+    ``rate``, ``data_type`` and ``taus`` are ignored, and the window of
+    2^k samples is labelled tau = 2^(k-1) samples, as in AllanTools, whose
+    own test marks this function unfinished; :func:`mtie` is the reference.
+    Returns ``(taus, devs, errs, ns)``, errs 0."""
     phase = np.asarray(phase, dtype=np.float64)
     k_max = int(np.floor(np.log2(len(phase))))
     phase = phase[:2 ** k_max]
-    widths = [2 ** k + 1 for k in range(1, k_max + 1) if 2 ** k + 1 <= len(phase)]
+    widths = [2 ** k for k in range(1, k_max + 1)]
     devs = _window_extremes(phase, widths)
-    taus_used = np.array([2.0 ** k for k in range(len(devs))])
-    ns = np.array([len(phase) - 2 ** (k + 1) + 1 for k in range(len(devs))], dtype=np.float64)
+    taus_used = np.array([2.0 ** (k - 1) for k in range(1, k_max + 1)])
+    ns = np.array([len(phase) - w + 1 for w in widths], dtype=np.float64)
     return remove_small_ns(taus_used, devs, np.zeros(len(devs)), ns)
 
 
