@@ -244,3 +244,37 @@ def test_same_as_info_json(which, text_log):
         assert c["min"] == finite.min() and c["max"] == finite.max()
         assert c["mean"] == pytest.approx(finite.mean(), rel=1e-12, abs=1e-15)
         assert c["std"] == pytest.approx(finite.std(ddof=1), rel=1e-9, abs=1e-15)
+
+
+def write_stamped(path, rows):
+    with open(path, "w") as f:
+        f.write("time,gyro_x\n")
+        for t, g in rows:
+            f.write(f"{float(t)!r},{float(g)!r}\n")
+    return path
+
+
+def test_to_pandas_leaves_out_a_row_the_reader_dropped(tmp_path):
+    pytest.importorskip("pandas")
+    t = np.arange(100) / 100.0
+    g = np.random.default_rng(3).standard_normal(100)
+    rows = list(zip(t, g))
+    rec = imutherm.read(write_stamped(tmp_path / "twice.csv", rows[:50] + [rows[49]] + rows[50:]))
+    assert rec.dropped_samples == 1 and len(rec.timestamps) == 101 and len(rec) == 100
+    assert list(rec.timestamp_slots[48:53]) == [48, 49, -1, 50, 51]
+    df = rec.to_pandas()
+    np.testing.assert_array_equal(df["gyro_x"].to_numpy(), g)
+    np.testing.assert_array_equal(df["timestamp_s"].to_numpy(), t)
+
+
+def test_to_pandas_refuses_stamps_it_cannot_place(tmp_path):
+    # A repeated row (dropped) and a repeated stamp with new values (kept):
+    # which of the repeated stamps lost its row is not in the stamps.
+    t = np.arange(100) / 100.0
+    g = np.random.default_rng(4).standard_normal(100)
+    rows = list(zip(t, g))
+    rows = rows[:30] + [(t[29], 5.0)] + rows[30:50] + [rows[49]] + rows[50:]
+    rec = imutherm.read(write_stamped(tmp_path / "mixed.csv", rows))
+    assert rec.timestamp_slots is None
+    with pytest.raises(ValueError, match="102 time stamps for 101 samples"):
+        rec.to_pandas()
