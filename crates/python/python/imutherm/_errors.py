@@ -21,9 +21,19 @@ _FLAG_VALUE = [
     (re.compile(r"--topic (\S+?)( in the log|:|;|$)"), r"topic='\1'\2"),
     (re.compile(r"--temp-topic (\S+?)( in the log|:|;|$)"), r"temp_topic='\1'\2"),
     (re.compile(r"--instance (\d+)"), r"instance=\1"),
+    # The temperature compensation (crates/analysis/src/error.rs and
+    # compensation.rs; crates/thermal/src/firmware/mod.rs and px4.rs).
+    (re.compile(r"`imutherm tcal fit --for (\w+)`"), r"`imutherm.tcal_fit(..., firmware='\1')`"),
+    (re.compile(r"--order (\d+) or auto"), r"order=\1 or 'auto'"),
+    (re.compile(r"--order (\d+)"), r"order=\1"),
+    (re.compile(r"--for (\w+)"), r"firmware='\1'"),
+    (re.compile(r"--bin-width (\S+?):"), r"bin_width=\1:"),
+    (re.compile(r"--export (\w+)"), r"export='\1'"),
+    (re.compile(r"without --rate-term"), r"with rate_term=False"),
 ]
 _FLAG = [("--temp-topic", "temp_topic"), ("--topic", "topic"), ("--instance", "instance"),
-         ("--rate", "rate"), ("--unit", "units")]
+         ("--rate-term", "rate_term"), ("--rate", "rate"), ("--unit", "units"),
+         ("--device-id", "device_id"), ("--order", "order"), ("--for", "firmware")]
 
 
 def python_words(message):

@@ -5,7 +5,7 @@ import json
 import os
 
 from . import _imutherm
-from ._errors import in_python_words
+from ._errors import in_python_words, python_words
 
 
 READ_FLAGS = ("rate", "units", "topic", "instance", "temp_topic")
@@ -100,7 +100,7 @@ class TcalModel:
         self._doc = json.loads(text)
         #: What ``tcal eval`` and ``tcal export`` call the model in their output.
         self.name = name
-        self.warnings = list(warnings)
+        self.warnings = [python_words(w) for w in warnings]
 
     @classmethod
     def load(cls, path):
@@ -139,6 +139,7 @@ class TcalModel:
     def channels(self):
         return {c["name"]: c for c in self._doc["channels"]}
 
+    @in_python_words()
     def apply(self, recording):
         """A copy of ``recording`` with every modelled channel compensated,
         as ``imutherm tcal apply`` writes it: x - (p(T) - p(T_ref)) with T
@@ -185,6 +186,7 @@ class TcalModel:
                                       None if params is None else os.fspath(params), reading)
         return json.loads(text)
 
+    @in_python_words()
     def export(self, firmware, instance=None, device_id=None):
         """The parameter file ``imutherm tcal export MODEL --firmware
         FIRMWARE [--instance N] [--device-id ID]`` writes (``"px4"``: a
@@ -193,7 +195,7 @@ class TcalModel:
         text, warnings = _imutherm.tcal_export(self._text, self.name or "model", str(firmware),
                                                None if instance is None else int(instance),
                                                None if device_id is None else int(device_id))
-        self.export_warnings = warnings
+        self.export_warnings = [python_words(w) for w in warnings]
         return text
 
     def __repr__(self):
