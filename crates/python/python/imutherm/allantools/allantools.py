@@ -45,10 +45,17 @@ def tau_generator(data, rate, taus=None, v=False, even=False, maximum_m=-1):
     factors below 1, at or beyond ``len(data)`` or beyond ``maximum_m`` are
     left out, duplicates merged, and with ``even`` only even factors kept
     (Theo1). A ``rate`` of 0 raises ``RuntimeError``, as in AllanTools."""
+    data = np.asarray(data)
+    m = _factors(len(data), rate, taus, even=even, maximum_m=maximum_m)
+    if v:
+        print("tau_generator:", m)
+    return data, m, m / float(rate)
+
+
+def _factors(length, rate, taus, even=False, maximum_m=-1):
+    """:func:`tau_generator`'s averaging factors on ``length`` samples."""
     if rate == 0:
         raise RuntimeError("rate is 0: the sample rate must be positive")
-    data = np.asarray(data)
-    length = len(data)
     tau0 = 1.0 / rate
     if taus is None or (isinstance(taus, list) and len(taus) == 0):
         taus = "octave"
@@ -67,18 +74,15 @@ def tau_generator(data, rate, taus=None, v=False, even=False, maximum_m=-1):
         else:
             raise ValueError(f"taus: unknown grid {taus!r} (expected octave, decade, all, log10 "
                              "or seconds)")
-    rate = float(rate)
-    m = np.round(np.atleast_1d(np.asarray(taus, dtype=np.float64)) * rate)
+    m = np.round(np.atleast_1d(np.asarray(taus, dtype=np.float64)) * float(rate))
     limit = length if maximum_m == -1 else maximum_m
     m = np.unique(m[(m < length) & (m > 0) & (m <= limit)])
-    if v:
-        print("tau_generator:", m)
     if len(m) == 0:
         warnings.warn(f"no tau of {taus!r} fits {length} samples at {rate} Hz", RuntimeWarning,
-                      stacklevel=2)
+                      stacklevel=3)
     if even:
         m = m[m % 2 == 0]
-    return data, m, m / rate
+    return m
 
 
 def tau_reduction(ms, rate, n_per_decade):
@@ -169,27 +173,33 @@ def _engine_grid(stat, n_phase, rate, taus):
     """AllanTools' grid for ``stat`` on a phase series of ``n_phase``
     points (for HTOTDEV, on the frequency series)."""
     if stat == "htotdev":
-        n_freq = n_phase - 1
-        return tau_generator(np.empty(n_freq), rate, taus, maximum_m=n_freq / 3.0)[1]
+        return _factors(n_phase - 1, rate, taus, maximum_m=(n_phase - 1) / 3.0)
     if stat in ("mtotdev", "ttotdev"):
-        return tau_generator(np.empty(n_phase), rate, taus, maximum_m=n_phase / 3.0)[1]
-    return tau_generator(np.empty(n_phase), rate, taus, even=(stat == "theo1"))[1]
+        return _factors(n_phase, rate, taus, maximum_m=n_phase / 3.0)
+    return _factors(n_phase, rate, taus, even=(stat == "theo1"))
 
 
 def _deviation(stat, data, rate, data_type, taus):
     rate = _check(data_type, rate)
     y = as_samples(data, "data")
-    infinite = np.isinf(y)
-    if infinite.any():
-        warnings.warn(f"data: {int(infinite.sum())} infinite samples (first at {int(np.argmax(infinite))}):"
-                      " the deviations are NaN", RuntimeWarning, stacklevel=3)
-        y = np.where(infinite, 0.0, y)
     n_phase = len(y) + 1 if data_type == "freq" else len(y)
     m = _engine_grid(stat, n_phase, rate, taus)
-    devs, ns = _imutherm.estimates(stat, y, rate, data_type, m.astype(np.int64).tolist())
+    factors = m.astype(np.int64).tolist()
+    try:
+        devs, ns = _imutherm.estimates(stat, y, rate, data_type, factors)
+    except _imutherm.ImuthermError as e:
+        # The engine refuses an infinite sample; AllanTools' arithmetic turns
+        # it into NaN (or inf) deviations. Found on the refusal rather than
+        # by a scan of every call's data, which would cost a pass.
+        if "is infinite" not in str(e):
+            raise
+        infinite = np.isinf(y)
+        warnings.warn(f"data: {int(infinite.sum())} infinite samples (first at "
+                      f"{int(np.argmax(infinite))}): the deviations are NaN", RuntimeWarning,
+                      stacklevel=3)
+        _, ns = _imutherm.estimates(stat, np.where(infinite, 0.0, y), rate, data_type, factors)
+        devs = np.full(len(factors), np.nan)
     ns = ns.astype(np.float64)
-    if infinite.any():
-        devs = np.full_like(devs, np.nan)
     if stat == "theo1":
         errs = devs / np.sqrt(n_phase - m)
     else:
