@@ -60,7 +60,7 @@ def test_statistics_written_here(stat, data_type, taus):
     same(want, getattr(ours, stat)(data, rate=2.0, data_type=data_type, taus=taus))
 
 
-def test_mtie_phase_fast_and_the_one_point_helpers():
+def test_mtie_phase_fast_and_the_one_point_functions():
     same(quiet(real.mtie_phase_fast, PHASE[:512]), ours.mtie_phase_fast(PHASE[:512]))
     for stride in (1, 3):
         same(real.calc_hdev_phase(PHASE, 1.0, 3, stride), ours.calc_hdev_phase(PHASE, 1.0, 3, stride))
@@ -104,7 +104,7 @@ def test_conversions():
 
 
 @pytest.mark.parametrize("taus", ["octave", "decade", "all", "log10", [0.5, 1, 3.3, 1e9], None, []])
-def test_tau_helpers(taus):
+def test_tau_grid_functions(taus):
     same(quiet(real.tau_generator, PHASE, 2.0, taus)[1:], ours.tau_generator(PHASE, 2.0, taus)[1:])
     same(real.tau_generator(PHASE, 2.0, "all", even=True, maximum_m=300)[1:],
          ours.tau_generator(PHASE, 2.0, "all", even=True, maximum_m=300)[1:])

@@ -1,5 +1,5 @@
 """AllanTools 2024.6's ``allantools.allantools`` module: the statistics,
-the conversions and the tau helpers.
+the conversions and the tau grid functions.
 
 The eleven statistics imutherm computes (adev, oadev, mdev, tdev, hdev,
 ohdev, totdev, mtotdev, ttotdev, htotdev, theo1) run on imutherm's engine,
@@ -16,7 +16,7 @@ NaN deviations. An infinite sample gives NaN deviations, as in AllanTools,
 with a warning.
 
 The other names (PDEV, GRADEV, MTIE, TIE rms, the Groslambert codeviation,
-the three-cornered hat, psd2allan, the conversions and the tau helpers) are
+the three-cornered hat, psd2allan, the conversions and the tau grid functions) are
 computed here from their published definitions, cited at each function.
 """
 
