@@ -5,6 +5,7 @@ part, the test says why."""
 
 import contextlib
 import io
+import math
 
 import allantools as real
 import numpy as np
@@ -33,13 +34,6 @@ def quiet(f, *args, **kwargs):
         return f(*args, **kwargs)
 
 
-# The steps inside Greenhall's EDF algorithm, which AllanTools' ci module
-# exposes as functions: the engine computes the EDF whole
-# (crates/allan/src/edf.rs), and these are not offered one by one.
-GREENHALL_STEPS = {"edf_greenhall_simple", "greenhall_BasicSum", "greenhall_sz", "greenhall_sx",
-                   "greenhall_sw", "greenhall_table1", "greenhall_table2", "greenhall_table3"}
-
-
 def test_the_names_are_allantools_names():
     assert ours.__all__ == real.__all__
     for name in real.__all__:
@@ -48,7 +42,7 @@ def test_the_names_are_allantools_names():
         mine, theirs = getattr(ours, sub), getattr(real, sub)
         public = [n for n in dir(theirs) if not n.startswith("_") and callable(getattr(theirs, n))
                   and getattr(getattr(theirs, n), "__module__", "").startswith("allantools")]
-        assert [n for n in public if not hasattr(mine, n) and n not in GREENHALL_STEPS] == [], sub
+        assert [n for n in public if not hasattr(mine, n)] == [], sub
 
 
 @pytest.mark.parametrize("stat", ["pdev", "mtie", "tierms"])
@@ -299,3 +293,41 @@ def test_infinite_sample_gives_nan_like_allantools():
     with pytest.warns(RuntimeWarning, match="infinite"):
         got = ours.oadev(x)
     assert np.isnan(got[1]).all() and not np.isfinite(real.oadev(x)[1]).any()
+
+
+@pytest.mark.parametrize("alpha", range(-4, 3))
+def test_greenhall_steps(alpha):
+    # s_w's sign for alpha = -1 and -2 is the paper's, AllanTools' the other
+    # (greenhall_sw); the squares, and so BasicSum and every EDF, agree.
+    sign = -1.0 if alpha in (-1, -2) else 1.0
+    for t in (-2.5, -1.0, 0.0, 0.3, 1.0, 2.0, 7.5):
+        same(sign * real.ci.greenhall_sw(t, alpha), ours.ci.greenhall_sw(t, alpha))
+        for f in (1, 3):
+            same(sign * real.ci.greenhall_sx(t, f, alpha), ours.ci.greenhall_sx(t, f, alpha))
+            for d in (1, 2, 3):
+                want, got = real.ci.greenhall_sz(t, f, alpha, d), ours.ci.greenhall_sz(t, f, alpha, d)
+                # s_z sums 2d + 1 terms that can cancel to nearly 0: two
+                # summation orders part by a few ulps of the terms' sum.
+                terms = sum(math.comb(2 * d, d + k) * abs(ours.ci.greenhall_sx(t + k, f, alpha))
+                            for k in range(-d, d + 1))
+                np.testing.assert_allclose(got, sign * want, rtol=1e-9,
+                                           atol=64 * np.finfo(float).eps * terms)
+    for d in (1, 2, 3):
+        for name in ("greenhall_table1", "greenhall_table2", "greenhall_table3"):
+            try:
+                want = getattr(real.ci, name)(alpha, d)
+            except AssertionError:
+                if name == "greenhall_table2" and alpha == -4:
+                    continue  # the paper's row, which AllanTools' lookup refuses
+                with pytest.raises(AssertionError):
+                    getattr(ours.ci, name)(alpha, d)
+                continue
+            same(want, getattr(ours.ci, name)(alpha, d))
+        if alpha + 2 * d <= 1:
+            continue
+        for s_, f in ((1, 1), (4, 4), (3, 1), (16, 16)):
+            same(real.ci.greenhall_BasicSum(5, 20, s_, f, alpha, d),
+                 ours.ci.greenhall_BasicSum(5, 20, s_, f, alpha, d))
+            same(real.ci.edf_greenhall_simple(alpha, d, 4, s_, f, 1000),
+                 ours.ci.edf_greenhall_simple(alpha, d, 4, s_, f, 1000))
+    assert ours.ci.greenhall_table2(-4, 3) == (1.302, 0.535)

@@ -241,3 +241,118 @@ def b1_boundary(b_hi, N):
     lo = b1_theory(N, b_to_mu(b_hi - 1))
     hi = b1_theory(N, b_to_mu(b_hi))
     return np.sqrt(lo * hi) if lo >= -4 else 0.5 * (lo + hi)
+
+
+# The steps of Greenhall & Riley's EDF algorithm, one function each as
+# AllanTools offers them. They are the engine's (crates/allan/src/edf.rs:
+# sw, sx, sz, basic_sum, table1-3) written again for NumPy scalars, so that
+# the pieces can be looked at; edf_greenhall itself runs on the engine.
+
+# Rows alpha = 2 ... -4, columns d = 1, 2, 3; None where the paper has no
+# entry (the variance does not converge, or the case is not tabulated).
+_TABLE1 = [[(2.0 / 3.0, 1.0 / 3.0), (7.0 / 9.0, 0.5), (22.0 / 25.0, 2.0 / 3.0)],
+           [(0.840, 0.345), (0.997, 0.616), (1.141, 0.843)],
+           [(1.079, 0.368), (1.033, 0.607), (1.184, 0.848)],
+           [None, (1.048, 0.534), (1.180, 0.816)],
+           [None, (1.302, 0.535), (1.175, 0.777)],
+           [None, None, (1.194, 0.703)],
+           [None, None, (1.489, 0.702)]]
+_TABLE2 = [[(1.5, 0.5), (35.0 / 18.0, 1.0), (231.0 / 100.0, 1.5)],
+           [(78.6, 25.2), (790.0, 410.0), (9950.0, 6520.0)],
+           [(2.0 / 3.0, 1.0 / 6.0), (2.0 / 3.0, 1.0 / 3.0), (7.0 / 9.0, 0.5)],
+           [None, (0.852, 0.375), (0.997, 0.617)],
+           [None, (1.079, 0.368), (1.033, 0.607)],
+           [None, None, (1.053, 0.553)],
+           [None, None, (1.302, 0.535)]]
+_TABLE3 = {1: (6.0, 4.0), 2: (15.23, 12.0), 3: (47.8, 40.0)}
+
+
+def _table(table, alpha, d, name):
+    if alpha not in range(-4, 3) or d not in (1, 2, 3):
+        raise AssertionError(f"{name}: alpha = {alpha} outside +2 ... -4 or d = {d} outside 1 ... 3")
+    entry = table[2 - alpha][d - 1]
+    # (-1, -1) where the paper has no entry, as AllanTools marks it.
+    return (-1, -1) if entry is None else entry
+
+
+def greenhall_table1(alpha, d):
+    """(a0, a1) of Greenhall & Riley 2003 Table 1 (modified variances);
+    (-1, -1) where the table has no entry."""
+    return _table(_TABLE1, alpha, d, "greenhall_table1")
+
+
+def greenhall_table2(alpha, d):
+    """(a0, a1) of Greenhall & Riley 2003 Table 2 (unmodified variances);
+    (-1, -1) where the table has no entry. Its alpha = -4 row, which
+    AllanTools' lookup refuses, is the paper's."""
+    return _table(_TABLE2, alpha, d, "greenhall_table2")
+
+
+def greenhall_table3(alpha, d):
+    """(b0, b1) of Greenhall & Riley 2003 Table 3, s_z(0) ~ b0 + b1 ln m for
+    flicker PM (``alpha`` must be 1)."""
+    if alpha != 1 or d not in _TABLE3:
+        raise AssertionError(f"greenhall_table3: flicker PM (alpha = 1) only, d in 1 ... 3; got "
+                             f"alpha = {alpha}, d = {d}")
+    return _TABLE3[d]
+
+
+def greenhall_sw(t, alpha):
+    """The generalized autocovariance s_w(t) of power-law noise alpha
+    (Greenhall & Riley 2003, eq. 7): -|t|, t^2 ln|t|, |t|^3, -t^4 ln|t|,
+    -|t|^5, t^6 ln|t|, |t|^7 for alpha = 2 ... -4 (0 at t = 0): the sign
+    alternates with the order of the generalized covariance (that of
+    Brownian motion is -|t|/2). AllanTools 2024.6 gives alpha = -1 and -2
+    the other sign; every EDF is a ratio of squares of s_z, which the sign
+    leaves alone."""
+    t = abs(t)
+    if alpha not in range(-4, 3):
+        raise AssertionError(f"greenhall_sw: alpha = {alpha} outside +2 ... -4")
+    if alpha in (1, -1, -3):
+        if t == 0:
+            return 0
+        power = {1: 2, -1: 4, -3: 6}[alpha]
+        return (-1.0 if alpha == -1 else 1.0) * t ** power * np.log(t)
+    return {2: -t, 0: t ** 3, -2: -t ** 5, -4: t ** 7}[alpha]
+
+
+def greenhall_sx(t, F, alpha):
+    """s_x(t) after the pre-filter of factor F (eq. 8):
+    F^2 (2 s_w(t) - s_w(t - 1/F) - s_w(t + 1/F)); F infinite gives
+    s_w(t; alpha + 2)."""
+    if np.isinf(F):
+        return greenhall_sw(t, alpha + 2)
+    h = 1.0 / F
+    return F * F * (2.0 * greenhall_sw(t, alpha) - greenhall_sw(t - h, alpha)
+                    - greenhall_sw(t + h, alpha))
+
+
+def greenhall_sz(t, F, alpha, d):
+    """s_z(t) of the d-th difference (eq. 9):
+    sum_{k=-d..d} (-1)^k C(2d, d + k) s_x(t + k)."""
+    if d not in (1, 2, 3):
+        raise AssertionError(f"greenhall_sz: d = {d} outside 1 ... 3")
+    total = math.comb(2 * d, d) * greenhall_sx(t, F, alpha)
+    for k in range(1, d + 1):
+        total += ((-1) ** k * math.comb(2 * d, d - k)
+                  * (greenhall_sx(t - k, F, alpha) + greenhall_sx(t + k, F, alpha)))
+    return total
+
+
+def greenhall_BasicSum(J, M, S, F, alpha, d):
+    """BasicSum of eq. (10): s_z(0)^2 + (1 - J/M) s_z(J/S)^2
+    + 2 sum_{j=1}^{J-1} (1 - j/M) s_z(j/S)^2."""
+    total = greenhall_sz(0, F, alpha, d) ** 2 + (1.0 - J / M) * greenhall_sz(J / S, F, alpha, d) ** 2
+    for j in range(1, int(J)):
+        total += 2.0 * (1.0 - j / M) * greenhall_sz(j / S, F, alpha, d) ** 2
+    return total
+
+
+def edf_greenhall_simple(alpha, d, m, S, F, N):
+    """The EDF by the exact sum (eq. 13): L = m/F + m d, M = 1 + floor(S (N -
+    L) / m), J = min(M, (d + 1) S), 1/edf = BasicSum / (s_z(0)^2 M)."""
+    L = m / F + m * d
+    M = 1 + np.floor(S * (N - L) / m)
+    J = min(M, (d + 1) * S)
+    inverse = greenhall_BasicSum(J, M, S, F, alpha, d) / (greenhall_sz(0, F, alpha, d) ** 2 * M)
+    return 1.0 / inverse
