@@ -54,3 +54,37 @@ pub fn estimates<'py>(
     let ns: Vec<u64> = found.iter().map(|e| e.map_or(0, |e| e.n as u64)).collect();
     Ok((devs.into_pyarray(py), ns.into_pyarray(py)))
 }
+
+/// The `p` quantile of the chi-squared distribution with `k` degrees of
+/// freedom (k need not be whole), as the engine's intervals use it.
+#[pyfunction]
+pub fn chi2_quantile(p: f64, k: f64) -> PyResult<f64> {
+    if !(p > 0.0 && p < 1.0 && k.is_finite() && k > 0.0) {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "chi2 quantile: p = {p} must lie in (0, 1) and k = {k} be positive"
+        )));
+    }
+    Ok(allan::confidence::chi2_quantile(p, k))
+}
+
+/// Greenhall and Riley's EDF of a difference-based variance
+/// ([`allan::edf::greenhall_edf`]); None where the variance does not
+/// converge for the noise or the record holds no term.
+#[pyfunction]
+pub fn greenhall_edf(
+    alpha: i32,
+    d: u32,
+    m: usize,
+    n: usize,
+    overlapping: bool,
+    modified: bool,
+) -> Option<f64> {
+    allan::edf::greenhall_edf(alpha, d, m, n, overlapping, modified)
+}
+
+/// The EDF the engine's intervals use for `stat` ([`allan::edf::edf_for`]).
+#[pyfunction]
+pub fn edf_for(stat: &str, alpha: i32, m: usize, n: usize) -> PyResult<Option<f64>> {
+    let stat: Stat = stat.parse().map_err(to_py_err)?;
+    Ok(allan::edf::edf_for(stat, alpha, m, n))
+}

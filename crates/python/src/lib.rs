@@ -16,6 +16,7 @@ mod errors;
 mod estimates;
 mod recording;
 mod simulation;
+mod stamps;
 mod tcal;
 
 create_exception!(
@@ -40,10 +41,14 @@ pub(crate) fn samples<'a>(y: &'a numpy::PyReadonlyArray1<'_, f64>) -> PyResult<&
 #[pymodule]
 fn _imutherm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ImuthermError", m.py().get_type::<ImuthermError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(curve::analyze, m)?)?;
     m.add_function(wrap_pyfunction!(curve::noise_terms, m)?)?;
     m.add_function(wrap_pyfunction!(curve::time_library, m)?)?;
     m.add_function(wrap_pyfunction!(estimates::estimates, m)?)?;
+    m.add_function(wrap_pyfunction!(estimates::chi2_quantile, m)?)?;
+    m.add_function(wrap_pyfunction!(estimates::greenhall_edf, m)?)?;
+    m.add_function(wrap_pyfunction!(estimates::edf_for, m)?)?;
     m.add_function(wrap_pyfunction!(recording::read, m)?)?;
     m.add_function(wrap_pyfunction!(simulation::simulate, m)?)?;
     for f in [

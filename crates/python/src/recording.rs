@@ -14,6 +14,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use crate::errors::analysis_err;
+use crate::stamps::stamp_slots;
 
 /// Reads `path` as `imutherm info` does (with several IMU streams and none
 /// chosen, `info` summarises the first; here, as in every analysis, the
@@ -58,8 +59,13 @@ pub fn read(
     };
     // Checked before the samples move into NumPy.
     let checks = analysis::channel_checks::check(&rec);
+    let slots = rec
+        .timestamps
+        .as_ref()
+        .map(|t| stamp_slots(t, rec.rate_hz, rec.len(), report.dropped_samples).map(|s| s.into_pyarray(py)));
     let d = recording_dict(py, rec)?;
     put_checks(py, &d, &checks)?;
+    d.set_item("timestamp_slots", slots.flatten())?;
     d.set_item("file", path.display().to_string())?;
     d.set_item("format", format)?;
     d.set_item("rate_source", rate_source)?;

@@ -94,7 +94,7 @@ def test_dataflash_fixture_as_dfreader_reads_it(instance):
 
 
 def test_several_streams_and_none_chosen_is_refused_naming_them():
-    with pytest.raises(imutherm.ImuthermError, match="choose one with --topic: /imu0/data"):
+    with pytest.raises(imutherm.ImuthermError, match="choose one with topic: /imu0/data"):
         imutherm.read(FIXTURES / "two_imus.mcap")
     rec = imutherm.read(FIXTURES / "two_imus.mcap", topic="/imu1/data")
     assert len(rec) == 200
@@ -108,11 +108,28 @@ def test_missing_file_is_an_os_error_with_the_command_line_message(tmp_path):
         imutherm.read(tmp_path)
 
 
-def test_bad_option_is_a_value_error():
-    with pytest.raises(ValueError, match="--rate -1: the sample rate must be a positive number"):
+def test_bad_option_is_a_value_error_naming_the_keyword():
+    with pytest.raises(ValueError, match="^rate=-1: the sample rate must be a positive number"):
         imutherm.read(FIXTURES / "imu_zstd.mcap", rate=-1)
-    with pytest.raises(ValueError, match="unknown unit 'furlong'"):
+    with pytest.raises(ValueError, match="^units entry 'gyro_x=furlong': unknown unit 'furlong'"):
         imutherm.read(FIXTURES / "imu_zstd.mcap", units=["gyro_x=furlong"])
+    with pytest.raises(ValueError, match="no stream topic='nope' in the log; streams: /imu/data"):
+        imutherm.read(FIXTURES / "imu_zstd.mcap", topic="nope")
+    with pytest.raises(ValueError, match="no stream instance=7 in the log"):
+        imutherm.read(FIXTURES / "imu_zstd.mcap", instance=7)
+    with pytest.raises(ValueError) as refused:
+        imutherm.read(FIXTURES / "arducopter_imu.bin")
+    assert "--" not in str(refused.value) and "choose one with instance: IMU/0" in str(refused.value)
+
+
+def test_os_errors_carry_the_file_name(tmp_path):
+    missing = tmp_path / "none.csv"
+    with pytest.raises(FileNotFoundError) as e:
+        imutherm.read(missing)
+    assert e.value.filename == str(missing)
+    with pytest.raises(FileNotFoundError) as e:
+        imutherm.tcal_fit([FIXTURES / "imu_zstd.mcap", missing])
+    assert e.value.filename == str(missing)
 
 
 def test_to_pandas_and_repr(text_log):
@@ -125,6 +142,73 @@ def test_to_pandas_and_repr(text_log):
     assert df.index[1] == pytest.approx(1 / 50.0)
     assert df.attrs["units"]["gyro_x"] == "rad/s"
     assert "500 samples at 50 Hz" in repr(rec) and "gyro_x" in repr(rec)
+
+
+# Every robot-log fixture, with the stream to read where it holds several.
+ROBOT_LOGS = [("imu_zstd.mcap", {}), ("imu_lz4_big_endian.mcap", {}), ("imu_zero_stamps.mcap", {}),
+              ("two_imus.mcap", {"topic": "/imu1/data"}), ("imu_bz2.bag", {}), ("imu_lz4.bag", {}),
+              ("imu_none.bag", {}), ("gap.bag", {}), ("bag_mcap/bag_mcap.mcap", {}),
+              ("bag_split/bag_split_0.mcap", {}), ("bag_sqlite3/bag_sqlite3.db3", {}),
+              ("arducopter_imu.bin", {"instance": 0}), ("arducopter_imu.bin", {"instance": 1}),
+              ("../px4/sample_log_small.ulg", {}), ("../px4/sample_appended_multiple.ulg", {}),
+              ("../px4/sample_logging_tagged_and_default_params.ulg", {})]
+
+
+def gap_samples(rec):
+    return sum(p["count"] for p in rec.problems if p["kind"] == "time_gap")
+
+
+@pytest.mark.parametrize("which,options", ROBOT_LOGS, ids=[f"{w}{o}" for w, o in ROBOT_LOGS])
+def test_to_pandas_puts_every_robot_log_on_its_clock(which, options):
+    pytest.importorskip("pandas")
+    rec = imutherm.read(FIXTURES / which, **options)
+    df = rec.to_pandas()
+    # One row per slot of the clock, every channel's samples as read.
+    assert len(df) == len(rec)
+    for name, data in rec.channels.items():
+        np.testing.assert_array_equal(df[name].to_numpy(), data)
+    assert df.index[1] - df.index[0] == pytest.approx(1 / rec.rate)
+    # Each stamp read sits in one slot, in order; the other slots are the
+    # filled gaps (with problems listed in full, their counts add up).
+    stamps = df["timestamp_s"].to_numpy()
+    placed = stamps[np.isfinite(stamps)]
+    assert len(placed) == np.isfinite(rec.timestamps).sum() - rec.dropped_samples
+    assert np.all(np.diff(placed) > 0) or rec.clock["duplicate_stamps"] + rec.clock["backward_stamps"]
+    if not rec.problems_unlisted:
+        assert np.isnan(stamps).sum() == gap_samples(rec) + (~np.isfinite(rec.timestamps)).sum()
+
+
+@pytest.mark.parametrize("which", ["gap.bag", "../px4/sample_logging_tagged_and_default_params.ulg"])
+def test_to_pandas_stamps_sit_in_their_slots_on_a_steady_clock(which):
+    # Logs whose clock is steady (jitter far below a period): each stamp is
+    # within half a period of its slot's time.
+    pytest.importorskip("pandas")
+    rec = imutherm.read(FIXTURES / which)
+    assert gap_samples(rec) > 0
+    df = rec.to_pandas()
+    off = (df["timestamp_s"] - df.index.to_numpy()).abs().max()
+    assert off < 0.5 / rec.rate
+
+
+def test_to_pandas_on_a_csv_with_rows_removed(tmp_path):
+    pd = pytest.importorskip("pandas")
+    rng = np.random.default_rng(37)
+    n, rate = 300, 100.0
+    t = np.arange(n) / rate
+    gyro = 1e-3 * rng.standard_normal(n)
+    removed = np.r_[50:60, 200:210]  # 20 rows in two gaps
+    keep = np.setdiff1d(np.arange(n), removed)
+    path = tmp_path / "gapped.csv"
+    write_csv(path, {"time": t[keep], "gyro_x": gyro[keep]}, rate)
+    rec = imutherm.read(path)
+    assert len(rec) == n and len(rec.timestamps) == n - 20
+    df = rec.to_pandas()
+    assert isinstance(df, pd.DataFrame) and len(df) == n
+    np.testing.assert_allclose(df.index.to_numpy(), t, atol=1e-12)
+    assert np.isnan(df["gyro_x"].to_numpy()[removed]).all()
+    np.testing.assert_array_equal(df["gyro_x"].to_numpy()[keep], gyro[keep])
+    np.testing.assert_array_equal(df["timestamp_s"].to_numpy()[keep], t[keep])
+    assert np.isnan(df["timestamp_s"].to_numpy()[removed]).all()
 
 
 def cli_info(path):
@@ -175,3 +259,37 @@ def test_a_dead_gyro_is_among_the_checks(tmp_path):
     stuck = [c for c in rec.checks if c["kind"] == "stuck"]
     assert [(c["channel"], c["value"], c["samples"], c["of"]) for c in stuck] == [("gyro_x", 0.0, 500, 500)]
     assert "stuck at zero" in stuck[0]["message"]
+
+
+def write_stamped(path, rows):
+    with open(path, "w") as f:
+        f.write("time,gyro_x\n")
+        for t, g in rows:
+            f.write(f"{float(t)!r},{float(g)!r}\n")
+    return path
+
+
+def test_to_pandas_leaves_out_a_row_the_reader_dropped(tmp_path):
+    pytest.importorskip("pandas")
+    t = np.arange(100) / 100.0
+    g = np.random.default_rng(3).standard_normal(100)
+    rows = list(zip(t, g))
+    rec = imutherm.read(write_stamped(tmp_path / "twice.csv", rows[:50] + [rows[49]] + rows[50:]))
+    assert rec.dropped_samples == 1 and len(rec.timestamps) == 101 and len(rec) == 100
+    assert list(rec.timestamp_slots[48:53]) == [48, 49, -1, 50, 51]
+    df = rec.to_pandas()
+    np.testing.assert_array_equal(df["gyro_x"].to_numpy(), g)
+    np.testing.assert_array_equal(df["timestamp_s"].to_numpy(), t)
+
+
+def test_to_pandas_refuses_stamps_it_cannot_place(tmp_path):
+    # A repeated row (dropped) and a repeated stamp with new values (kept):
+    # which of the repeated stamps lost its row is not in the stamps.
+    t = np.arange(100) / 100.0
+    g = np.random.default_rng(4).standard_normal(100)
+    rows = list(zip(t, g))
+    rows = rows[:30] + [(t[29], 5.0)] + rows[30:50] + [rows[49]] + rows[50:]
+    rec = imutherm.read(write_stamped(tmp_path / "mixed.csv", rows))
+    assert rec.timestamp_slots is None
+    with pytest.raises(ValueError, match="102 time stamps for 101 samples"):
+        rec.to_pandas()

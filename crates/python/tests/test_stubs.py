@@ -16,6 +16,9 @@ def stub_definitions():
     for node in tree.body:
         if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
             defs[node.name] = node
+        elif isinstance(node, ast.ImportFrom):
+            for alias in node.names:
+                defs[alias.asname or alias.name] = node
         elif isinstance(node, (ast.Assign, ast.AnnAssign)):
             targets = node.targets if isinstance(node, ast.Assign) else [node.target]
             for t in targets:

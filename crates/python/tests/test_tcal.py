@@ -120,16 +120,17 @@ def test_fit_recovers_a_known_bias(synthetic):
     assert row["bias_rms_after"] < 1e-2 * row["bias_rms_before"]
 
 
-def test_refusals_carry_the_command_line_messages(synthetic):
+def test_refusals_carry_the_command_line_messages_naming_keywords(synthetic):
     path = synthetic[0]
-    with pytest.raises(imutherm.ImuthermError, match=r"--order 4 --for px4: PX4 evaluates a cubic"):
+    with pytest.raises(imutherm.ImuthermError,
+                       match=r"^order=4 firmware='px4': PX4 evaluates a cubic at most \(order=3 or 'auto'\)"):
         imutherm.tcal_fit(path, order=4, firmware="px4")
     with pytest.raises(imutherm.ImuthermError, match="are the same recording: give each run once"):
         imutherm.tcal_fit([path, path])
     model = imutherm.tcal_fit(path, order=2)
-    with pytest.raises(imutherm.ImuthermError, match="--instance 7: PX4 has calibration instances 0 to 3"):
+    with pytest.raises(imutherm.ImuthermError, match="^instance=7: PX4 has calibration instances 0 to 3"):
         model.export("px4", instance=7)
-    with pytest.raises(imutherm.ImuthermError, match=r"--bin-width 0.001: bins over"):
+    with pytest.raises(imutherm.ImuthermError, match=r"^bin_width=0.001: bins over"):
         imutherm.tcal_fit(path, bin_width=0.001)
     with pytest.raises(FileNotFoundError):
         imutherm.tcal_fit(path.parent / "missing.csv")

@@ -26,15 +26,20 @@ from . import _imutherm
 from ._curve import Curve
 from ._recording import Channel, Recording
 from ._tcal import TcalModel, tcal_fit
-from ._samples import as_samples, as_taus
+from ._errors import in_python_words
+from ._samples import as_samples, as_taus, in_samples
+from . import allantools  # noqa: E402  (imutherm.allantools after a plain import imutherm)
 
 ImuthermError = _imutherm.ImuthermError
+
+#: The version of imutherm this package was built from.
+__version__ = _imutherm.__version__
 
 #: Every statistic, as the command line names them.
 STATISTICS = ("adev", "oadev", "mdev", "tdev", "hdev", "ohdev",
               "totdev", "mtotdev", "ttotdev", "htotdev", "theo1")
 
-__all__ = ["Channel", "Curve", "ImuthermError", "Recording", "STATISTICS", "analyze", "noise_terms",
+__all__ = ["__version__", "allantools", "Channel", "Curve", "ImuthermError", "Recording", "STATISTICS", "analyze", "noise_terms",
            "read", "simulate", "TcalModel", "tcal_fit", *STATISTICS]
 
 
@@ -59,8 +64,11 @@ def analyze(stat, y, rate=1.0, taus="octave", data_type="freq", confidence=0.683
     array([ 1.,  2.,  4.,  8., 16.])
     """
     data = as_samples(y)
-    fields = _imutherm.analyze(str(stat), data, float(rate), as_taus(taus), str(data_type),
-                               float(confidence))
+    try:
+        fields = _imutherm.analyze(str(stat), data, float(rate), as_taus(taus), str(data_type),
+                                   float(confidence))
+    except ImuthermError as e:
+        raise ImuthermError(in_samples(str(e), data_type)) from None
     curve = Curve(fields)
     if curve.nan_samples:
         warnings.warn(f"{curve.nan_samples} NaN samples treated as gaps (terms across them skipped)",
@@ -99,6 +107,7 @@ htotdev = _statistic("htotdev", "Hadamard total deviation (NIST SP 1065 eq. 29),
 theo1 = _statistic("theo1", "Theo1 deviation (NIST SP 1065 eq. 30) at tau = 0.75 m/rate, no bias correction.")
 
 
+@in_python_words()
 def noise_terms(y, rate=1.0, confidence=0.95):
     """The IEEE Std 952 noise terms of rate samples ``y`` at ``rate`` Hz, as
     ``imutherm noise`` reads them: by the slope method and by the fit, each
@@ -122,6 +131,7 @@ def noise_terms(y, rate=1.0, confidence=0.95):
     return fields
 
 
+@in_python_words(path_arg=(0, "path"))
 def read(path, rate=None, units=None, topic=None, instance=None, temp_topic=None):
     """Reads a recording as every ``imutherm`` command does: imutherm's log,
     CSV or whitespace text logs, ROS 2 (MCAP, SQLite) and ROS 1 bags, PX4
@@ -155,6 +165,7 @@ def read(path, rate=None, units=None, topic=None, instance=None, temp_topic=None
     return rec
 
 
+@in_python_words()
 def simulate(preset="mpu9250-thesis", duration=None, rate=None, profile=None, seed=None):
     """The recording ``imutherm simulate`` writes with the same arguments,
     sample for sample, in memory: ``preset`` (``"mpu9250-thesis"`` or

@@ -6,15 +6,22 @@ import numpy.typing as npt
 
 from . import allantools as allantools
 
+__all__ = ["__version__", "allantools", "Channel", "Curve", "ImuthermError", "Recording", "STATISTICS",
+           "analyze", "noise_terms", "read", "simulate", "TcalModel", "tcal_fit", "adev", "oadev", "mdev",
+           "tdev", "hdev", "ohdev", "totdev", "mtotdev", "ttotdev", "htotdev", "theo1"]
+
+__version__: str
+
 class ImuthermError(ValueError): ...
 
 STATISTICS: tuple[str, ...]
 
-Taus = Union[Literal["octave", "decade", "all", "many"], Sequence[float], npt.NDArray[np.floating]]
-DataType = Literal["freq", "phase"]
-Samples = npt.ArrayLike
+_Taus = Union[Literal["octave", "decade", "all", "many"], Sequence[float], npt.NDArray[np.floating]]
+_DataType = Literal["freq", "phase"]
+_Samples = npt.ArrayLike
 
 class Curve:
+    def __init__(self, fields: dict[str, Any]) -> None: ...
     taus: npt.NDArray[np.float64]
     devs: npt.NDArray[np.float64]
     lo: npt.NDArray[np.float64]
@@ -35,45 +42,46 @@ class Curve:
 
 def analyze(
     stat: str,
-    y: Samples,
+    y: _Samples,
     rate: float = 1.0,
-    taus: Taus = "octave",
-    data_type: DataType = "freq",
+    taus: _Taus = "octave",
+    data_type: _DataType = "freq",
     confidence: float = 0.683,
 ) -> Curve: ...
-def adev(y: Samples, rate: float = 1.0, taus: Taus = "octave", data_type: DataType = "freq", confidence: float = 0.683) -> Curve: ...
-def oadev(y: Samples, rate: float = 1.0, taus: Taus = "octave", data_type: DataType = "freq", confidence: float = 0.683) -> Curve: ...
-def mdev(y: Samples, rate: float = 1.0, taus: Taus = "octave", data_type: DataType = "freq", confidence: float = 0.683) -> Curve: ...
-def tdev(y: Samples, rate: float = 1.0, taus: Taus = "octave", data_type: DataType = "freq", confidence: float = 0.683) -> Curve: ...
-def hdev(y: Samples, rate: float = 1.0, taus: Taus = "octave", data_type: DataType = "freq", confidence: float = 0.683) -> Curve: ...
-def ohdev(y: Samples, rate: float = 1.0, taus: Taus = "octave", data_type: DataType = "freq", confidence: float = 0.683) -> Curve: ...
-def totdev(y: Samples, rate: float = 1.0, taus: Taus = "octave", data_type: DataType = "freq", confidence: float = 0.683) -> Curve: ...
-def mtotdev(y: Samples, rate: float = 1.0, taus: Taus = "octave", data_type: DataType = "freq", confidence: float = 0.683) -> Curve: ...
-def ttotdev(y: Samples, rate: float = 1.0, taus: Taus = "octave", data_type: DataType = "freq", confidence: float = 0.683) -> Curve: ...
-def htotdev(y: Samples, rate: float = 1.0, taus: Taus = "octave", data_type: DataType = "freq", confidence: float = 0.683) -> Curve: ...
-def theo1(y: Samples, rate: float = 1.0, taus: Taus = "octave", data_type: DataType = "freq", confidence: float = 0.683) -> Curve: ...
+def adev(y: _Samples, rate: float = 1.0, taus: _Taus = "octave", data_type: _DataType = "freq", confidence: float = 0.683) -> Curve: ...
+def oadev(y: _Samples, rate: float = 1.0, taus: _Taus = "octave", data_type: _DataType = "freq", confidence: float = 0.683) -> Curve: ...
+def mdev(y: _Samples, rate: float = 1.0, taus: _Taus = "octave", data_type: _DataType = "freq", confidence: float = 0.683) -> Curve: ...
+def tdev(y: _Samples, rate: float = 1.0, taus: _Taus = "octave", data_type: _DataType = "freq", confidence: float = 0.683) -> Curve: ...
+def hdev(y: _Samples, rate: float = 1.0, taus: _Taus = "octave", data_type: _DataType = "freq", confidence: float = 0.683) -> Curve: ...
+def ohdev(y: _Samples, rate: float = 1.0, taus: _Taus = "octave", data_type: _DataType = "freq", confidence: float = 0.683) -> Curve: ...
+def totdev(y: _Samples, rate: float = 1.0, taus: _Taus = "octave", data_type: _DataType = "freq", confidence: float = 0.683) -> Curve: ...
+def mtotdev(y: _Samples, rate: float = 1.0, taus: _Taus = "octave", data_type: _DataType = "freq", confidence: float = 0.683) -> Curve: ...
+def ttotdev(y: _Samples, rate: float = 1.0, taus: _Taus = "octave", data_type: _DataType = "freq", confidence: float = 0.683) -> Curve: ...
+def htotdev(y: _Samples, rate: float = 1.0, taus: _Taus = "octave", data_type: _DataType = "freq", confidence: float = 0.683) -> Curve: ...
+def theo1(y: _Samples, rate: float = 1.0, taus: _Taus = "octave", data_type: _DataType = "freq", confidence: float = 0.683) -> Curve: ...
 
-class TermEstimate(TypedDict, total=False):
+class _TermEstimate(TypedDict, total=False):
     value: float | None
     lo: float
     hi: float
     reason: str
 
-class TermReading(TypedDict):
+class _TermReading(TypedDict):
     symbol: str
-    slope: TermEstimate
-    fit: TermEstimate
+    slope: _TermEstimate
+    fit: _TermEstimate
     value: float | None
     how: Literal["fit", "slope", "upper_bound", "none"]
     note: str | None
 
-class NoiseTerms(TypedDict):
+class _NoiseTerms(TypedDict):
     curve: dict[str, Any]
-    terms: dict[str, TermReading]
+    terms: dict[str, _TermReading]
 
-def noise_terms(y: Samples, rate: float = 1.0, confidence: float = 0.95) -> NoiseTerms: ...
+def noise_terms(y: _Samples, rate: float = 1.0, confidence: float = 0.95) -> _NoiseTerms: ...
 
 class Channel:
+    def __init__(self, fields: dict[str, Any]) -> None: ...
     name: str
     source: str
     quantity: str
@@ -81,7 +89,7 @@ class Channel:
     unit_source: str
     data: npt.NDArray[np.float64]
 
-class Problem(TypedDict):
+class _Problem(TypedDict):
     kind: str
     line: int | None
     column: int | None
@@ -90,16 +98,18 @@ class Problem(TypedDict):
     message: str
 
 class Recording:
+    def __init__(self, fields: dict[str, Any]) -> None: ...
     channels: dict[str, npt.NDArray[np.float64]]
     rate: float | None
     rate_source: str
     timestamps: npt.NDArray[np.float64] | None
+    timestamp_slots: npt.NDArray[np.int64] | None
     metadata: dict[str, Any]
     file: str | None
     format: str
     lines: int | None
     notes: list[str]
-    problems: list[Problem]
+    problems: list[_Problem]
     problems_unlisted: int
     dropped_samples: int
     clock: dict[str, Any] | None
@@ -117,13 +127,13 @@ class Recording:
     def duration(self) -> float | None: ...
     def to_pandas(self) -> Any: ...
 
-PathLike = Union[str, "os.PathLike[str]"]
-Units = Union[dict[str, str], Sequence[str], str, None]
+_PathLike = Union[str, "os.PathLike[str]"]
+_Units = Union[dict[str, str], Sequence[str], str, None]
 
 def read(
-    path: PathLike,
+    path: _PathLike,
     rate: float | None = None,
-    units: Units = None,
+    units: _Units = None,
     topic: str | None = None,
     instance: int | None = None,
     temp_topic: str | None = None,
@@ -136,8 +146,8 @@ def simulate(
     seed: int | None = None,
 ) -> Recording: ...
 
-Firmware = Literal["px4", "ardupilot"]
-Runs = Union[PathLike, Recording, Sequence[Union[PathLike, Recording]]]
+_Firmware = Literal["px4", "ardupilot"]
+_Runs = Union[_PathLike, Recording, Sequence[Union[_PathLike, Recording]]]
 
 class TcalModel:
     name: str | None
@@ -145,9 +155,9 @@ class TcalModel:
     export_warnings: list[str]
     def __init__(self, text: str, name: str | None = None, warnings: Sequence[str] = ()) -> None: ...
     @classmethod
-    def load(cls, path: PathLike) -> TcalModel: ...
+    def load(cls, path: _PathLike) -> TcalModel: ...
     def to_json(self) -> str: ...
-    def save(self, path: PathLike) -> None: ...
+    def save(self, path: _PathLike) -> None: ...
     @property
     def t_ref(self) -> float: ...
     @property
@@ -159,27 +169,27 @@ class TcalModel:
     def apply(self, recording: Recording) -> Recording: ...
     def evaluate(
         self,
-        runs: Runs,
-        export: Firmware | None = None,
-        params: PathLike | None = None,
+        runs: _Runs,
+        export: _Firmware | None = None,
+        params: _PathLike | None = None,
         rate: float | None = None,
-        units: Units = None,
+        units: _Units = None,
         topic: str | None = None,
         instance: int | None = None,
         temp_topic: str | None = None,
     ) -> dict[str, Any]: ...
-    def export(self, firmware: Firmware, instance: int | None = None, device_id: int | None = None) -> str: ...
+    def export(self, firmware: _Firmware, instance: int | None = None, device_id: int | None = None) -> str: ...
 
 def tcal_fit(
-    runs: Runs,
+    runs: _Runs,
     channels: Sequence[str] | str | None = None,
     order: int | Literal["auto"] = "auto",
     tref: float | None = None,
     bin_width: float = 1.0,
     rate_term: bool = False,
-    firmware: Firmware | None = None,
+    firmware: _Firmware | None = None,
     rate: float | None = None,
-    units: Units = None,
+    units: _Units = None,
     topic: str | None = None,
     instance: int | None = None,
     temp_topic: str | None = None,

@@ -33,7 +33,10 @@ class Recording:
     * ``rate`` -- the sample rate in Hz (None when nothing gives it),
       ``rate_source`` where it came from (as ``imutherm info`` says);
     * ``temperature`` -- the temperature channel in degrees C, or None;
-    * ``timestamps`` -- seconds from the start on the sample clock, or None;
+    * ``timestamps`` -- the file's stamps in seconds from the first one, one
+      per row read (not per slot: a time gap leaves slots without a stamp),
+      or None; ``timestamp_slots`` gives each stamp's slot on the clock (-1
+      for a row dropped as a repeat of the previous one), or None;
     * ``metadata`` -- ``device``, ``start_time`` and the file's ``entries``
       (key, value pairs);
     * ``file``, ``format``, ``lines``, ``notes`` (what the reader guessed or
@@ -67,6 +70,12 @@ class Recording:
         self.clock = fields.get("clock")
         self.streams = fields.get("streams", [])
         self.checks = fields.get("checks", [])
+        self.timestamp_slots = fields.get("timestamp_slots")
+        # Set by TcalModel.apply: samples compensated at the edge of the
+        # fitted temperature range.
+        self.out_of_range = 0
+        # The options imutherm.read was given (empty for a simulation).
+        self.read_options = {}
 
     def __len__(self):
         return len(self._channels[0].data) if self._channels else 0
@@ -98,9 +107,12 @@ class Recording:
         return len(self) / self.rate if self.rate else None
 
     def to_pandas(self):
-        """The channels as a ``pandas.DataFrame`` indexed by time in seconds
-        (the sample index when the rate is unknown); units and metadata in
-        ``attrs`` (needs pandas).
+        """The channels as a ``pandas.DataFrame``, one row per slot of the
+        sample clock, indexed by time in seconds (``time_s``: the first
+        stamp plus slot / rate; the sample index when the rate is unknown).
+        A time gap the reader filled is a run of NaN rows. With stamps in the
+        file, the column ``timestamp_s`` holds each row's real stamp (NaN in
+        a gap). Units and metadata in ``attrs`` (needs pandas).
 
         >>> df = imutherm.simulate(preset="white", duration=1, rate=10, seed=1).to_pandas()
         >>> df.index.name, df.shape
@@ -110,16 +122,40 @@ class Recording:
             import pandas as pd
         except ImportError as e:  # pragma: no cover - depends on the environment
             raise ImportError("Recording.to_pandas() needs pandas: pip install pandas") from e
-        if self.timestamps is not None:
-            index = pd.Index(self.timestamps, name="time_s")
-        elif self.rate:
-            index = pd.Index(np.arange(len(self)) / self.rate, name="time_s")
+        stamps = self._stamps_on_clock()
+        if self.rate:
+            start = 0.0
+            if stamps is not None and np.isfinite(stamps).any():
+                first = int(np.flatnonzero(np.isfinite(stamps))[0])
+                start = float(stamps[first]) - first / self.rate
+            index = pd.Index(start + np.arange(len(self)) / self.rate, name="time_s")
         else:
             index = pd.RangeIndex(len(self), name="sample")
         frame = pd.DataFrame(dict(self.channels), index=index)
+        if stamps is not None:
+            frame["timestamp_s"] = stamps
         frame.attrs.update(units=self.units, rate=self.rate, file=self.file, format=self.format,
                            metadata=self.metadata)
         return frame
+
+    def _stamps_on_clock(self):
+        """The stamps on the channels' slots, NaN where no row sits; None
+        without stamps. Raises ``ValueError`` when the reader's placement
+        cannot be told from the stamps (see ``timestamp_slots``)."""
+        if self.timestamps is None:
+            return None
+        slots = self.timestamp_slots
+        if slots is None:
+            if len(self.timestamps) == len(self):
+                return np.asarray(self.timestamps, dtype=np.float64)
+            raise ValueError(
+                f"{self.file}: {len(self.timestamps)} time stamps for {len(self)} samples, and "
+                "which rows the reader dropped as repeats cannot be told from the stamps; "
+                "the samples are in channels, the stamps in timestamps")
+        out = np.full(len(self), np.nan)
+        kept = slots >= 0
+        out[slots[kept]] = np.asarray(self.timestamps)[kept]
+        return out
 
     def __repr__(self):
         rate = f"{self.rate:g} Hz ({self.rate_source})" if self.rate else "unknown rate"

@@ -5,6 +5,7 @@ import json
 import os
 
 from . import _imutherm
+from ._errors import in_python_words, python_words
 
 
 READ_FLAGS = ("rate", "units", "topic", "instance", "temp_topic")
@@ -45,6 +46,7 @@ def _units(units):
     return list(units or [])
 
 
+@in_python_words(path_arg=(0, "runs"))
 def tcal_fit(runs, channels=None, order="auto", tref=None, bin_width=1.0, rate_term=False,
              firmware=None, rate=None, units=None, topic=None, instance=None, temp_topic=None):
     """Fits the bias over temperature of the runs, as ``imutherm tcal fit``:
@@ -98,7 +100,7 @@ class TcalModel:
         self._doc = json.loads(text)
         #: What ``tcal eval`` and ``tcal export`` call the model in their output.
         self.name = name
-        self.warnings = list(warnings)
+        self.warnings = [python_words(w) for w in warnings]
 
     @classmethod
     def load(cls, path):
@@ -137,6 +139,7 @@ class TcalModel:
     def channels(self):
         return {c["name"]: c for c in self._doc["channels"]}
 
+    @in_python_words()
     def apply(self, recording):
         """A copy of ``recording`` with every modelled channel compensated,
         as ``imutherm tcal apply`` writes it: x - (p(T) - p(T_ref)) with T
@@ -166,6 +169,7 @@ class TcalModel:
             ("temperature_compensated_with", self.name or "model")]
         return out
 
+    @in_python_words(path_arg=(1, "runs"))
     def evaluate(self, runs, export=None, params=None, rate=None, units=None, topic=None,
                  instance=None, temp_topic=None):
         """What ``imutherm tcal eval --json MODEL RUNS [--export FW]
@@ -182,6 +186,7 @@ class TcalModel:
                                       None if params is None else os.fspath(params), reading)
         return json.loads(text)
 
+    @in_python_words()
     def export(self, firmware, instance=None, device_id=None):
         """The parameter file ``imutherm tcal export MODEL --firmware
         FIRMWARE [--instance N] [--device-id ID]`` writes (``"px4"``: a
@@ -190,7 +195,7 @@ class TcalModel:
         text, warnings = _imutherm.tcal_export(self._text, self.name or "model", str(firmware),
                                                None if instance is None else int(instance),
                                                None if device_id is None else int(device_id))
-        self.export_warnings = warnings
+        self.export_warnings = [python_words(w) for w in warnings]
         return text
 
     def __repr__(self):
