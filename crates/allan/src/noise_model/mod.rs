@@ -30,7 +30,7 @@ pub mod lm;
 pub mod process;
 mod select;
 
-use statrs::distribution::{ChiSquared, ContinuousCDF, Normal};
+use statrs::distribution::{ChiSquared, ContinuousCDF, StudentsT};
 
 use crate::Point;
 use crate::noise_terms::{PerTerm, Term, TermEstimate, TermValue};
@@ -239,9 +239,6 @@ fn fits(p: f64) -> bool {
 fn build(pts: &[Point], sel: select::Selection, confidence: f64, left_out: Vec<f64>) -> NoiseModel {
     let ceilings: Vec<f64> = pts.iter().map(ceiling).collect();
     let bounds = PerTerm::from_fn(|t| term_bound(t, pts, &ceilings));
-    let z = Normal::new(0.0, 1.0)
-        .map(|d| d.inverse_cdf(0.5 + confidence / 2.0))
-        .unwrap_or(1.0);
     let Some(best) = sel.best else {
         let why = if pts.len() < 2 {
             "not identifiable: fewer than 2 points on the curve".to_string()
@@ -271,6 +268,11 @@ fn build(pts: &[Point], sel: select::Selection, confidence: f64, left_out: Vec<f
     };
     let q = best.quality;
     let ok = fits(q.p_value);
+    // Student's t on the fit's degrees of freedom: the spreads rest on the
+    // fit's own residual scatter where that exceeds the points' EDF.
+    let z = StudentsT::new(0.0, 1.0, q.dof as f64)
+        .map(|d| d.inverse_cdf(0.5 + confidence / 2.0))
+        .unwrap_or(f64::INFINITY);
     let spreads = best.spreads();
     let interval = |at: usize, half: f64| -> (f64, f64, f64) {
         let th = best.theta[at];
