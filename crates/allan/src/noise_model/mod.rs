@@ -218,16 +218,44 @@ pub fn estimate(points: &[Point], confidence: f64) -> NoiseModel {
 /// Passes of selection with each point's EDF taken from the last model.
 const EDF_PASSES: usize = 2;
 
-/// Selects on `pts`, then again with each point's EDF that of the process
-/// the selected model has dominate there ([`select::Best::reweigh`]);
-/// returns the points as last weighted and the selection.
+/// The power-law exponents α the EDF tables hold for the overlapping ADEV.
+const ALPHAS: [i32; 5] = [2, 1, 0, -1, -2];
+
+/// `pts` with each point's EDF the smallest any noise type gives it: before
+/// there is a model, no point is trusted more than its least favourable
+/// noise allows (the points' own noise identification, one point at a
+/// time, can name white phase noise at the long τ of white rate noise and
+/// give a point a hundred times its degrees of freedom).
+fn cautious(pts: &[Point]) -> Vec<Point> {
+    pts.iter()
+        .map(|p| {
+            let n_phase = p.n + 2 * p.m;
+            let edf = ALPHAS
+                .iter()
+                .filter_map(|&a| crate::edf::edf_for(crate::Stat::Oadev, a, p.m, n_phase))
+                .fold(p.edf, f64::min);
+            Point { edf, ..*p }
+        })
+        .collect()
+}
+
+/// Selects on `pts` weighted with [`cautious`] EDFs, then again with each
+/// point's EDF that of the processes the selected model has there
+/// ([`select::Best::reweigh`]); returns the points as last weighted and
+/// the selection.
 fn select_reweighed(pts: &[Point]) -> (Vec<Point>, select::Selection) {
-    let mut used = pts.to_vec();
+    let mut used = cautious(pts);
     let mut sel = select::select(&used);
     for _ in 0..EDF_PASSES {
         let Some(best) = &sel.best else { break };
-        used = best.reweigh(pts);
-        sel = select::select(&used);
+        let next_used = best.reweigh(pts);
+        let next = select::select(&next_used);
+        // A weighting under which no candidate keeps the rules is no
+        // better knowledge of the points than the one before it.
+        if next.best.is_none() {
+            break;
+        }
+        (used, sel) = (next_used, next);
     }
     (used, sel)
 }
