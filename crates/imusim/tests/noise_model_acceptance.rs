@@ -13,6 +13,7 @@ const SEEDS: u64 = 8;
 
 fn run(index: usize) -> Vec<[cases::Outcome; 6]> {
     let case = &CASES[index];
+    println!("{}: {SEEDS} seeds", case.name);
     (0..SEEDS)
         .map(|seed| outcomes(case, &cases::model_of(case, 500 + seed)))
         .collect()
