@@ -34,7 +34,7 @@ fn main() {
                 None => labels.push((l.clone(), 1)),
             }
         }
-        labels.sort_by(|a, b| b.1.cmp(&a.1));
+        labels.sort_by_key(|x| std::cmp::Reverse(x.1));
         println!(
             "## {} ({seeds} seeds, {:.0} s)\nmodels: {}",
             case.name,
