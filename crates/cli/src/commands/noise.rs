@@ -427,7 +427,11 @@ fn write_text(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<
                     "  kept because the criterion is worse without it by: {}",
                     m.evidence
                         .iter()
-                        .map(|(l, d)| format!("{l} {d:.1}"))
+                        .map(|(l, d)| if d.is_finite() {
+                            format!("{l} {d:.1}")
+                        } else {
+                            format!("{l} (no admissible model without it)")
+                        })
                         .collect::<Vec<_>>()
                         .join(", ")
                 )?;
