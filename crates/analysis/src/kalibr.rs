@@ -66,8 +66,10 @@ pub fn kalibr_yaml(
     let _ = writeln!(
         text,
         "# Continuous-time values (the selected noise model of the overlapping ADEV): *_noise_density = N, \
-         *_random_walk = K; the worst axis of each sensor is used. Bounds and intervals at {:.1} %.",
-        100.0 * confidence
+         *_random_walk = K; the worst axis of each sensor is used. Intervals at {:.1} %; bounds at the upper end \
+         of the measured {:.0} % interval.",
+        100.0 * confidence,
+        100.0 * allan::noise_model::CEILING_CONFIDENCE
     );
     let mut values = Vec::new();
     for (q, sensor, n_unit, k_unit) in [

@@ -351,21 +351,19 @@ fn build(pts: &[Point], sel: select::Selection, confidence: f64, left_out: Vec<f
         at += c.arity();
     }
     gauss_markov.sort_by(|a, b| a.tau_c.value.total_cmp(&b.tau_c.value));
+    // The reasons carry no number: the bound is in `bounds`, to be shown
+    // in whatever unit the reader asked for.
     let terms = PerTerm::from_fn(|t| {
-        let bound = bounds
-            .get(t)
-            .map(|b| format!("; at most {b:.4e} (the ceiling along its line)"))
-            .unwrap_or_default();
         if !ok {
             return TermEstimate::NotIdentifiable(format!(
-                "no candidate model fits the curve (best {}: χ²/dof = {:.2}, p = {:.2e}){bound}",
+                "no candidate model fits the curve (best {}: χ²/dof = {:.2}, p = {:.2e})",
                 best.label, q.chi2_reduced, q.p_value
             ));
         }
         match found.iter().find(|(ft, _)| *ft == t) {
             Some((_, v)) => TermEstimate::Value(*v),
             None => TermEstimate::NotIdentifiable(format!(
-                "not in the selected model ({}): the information criterion keeps the curve without it{bound}",
+                "not in the selected model ({}): the information criterion keeps the curve without it",
                 best.label
             )),
         }
