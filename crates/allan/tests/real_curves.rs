@@ -5,7 +5,7 @@
 //! rate (an aliased rotor or switching frequency), and coarse quantization
 //! (0.05 °/s per LSB). The model may not report quantization, and N must
 //! come out within 10 % of the truth, or the model must say that no
-//! candidate fits the curve.
+//! candidate fits the curve (none fits it, or none keeps the rules on it).
 //!
 //! Truth: N = 0.0084 °/√s (the thesis's 34 °C gyro x), generated as white
 //! samples of N·√fs; K = 5e-4 °/s/√s as a random walk of K·√τ0 per sample.

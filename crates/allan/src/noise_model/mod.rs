@@ -272,8 +272,8 @@ fn build(pts: &[Point], sel: select::Selection, confidence: f64, left_out: Vec<f
             "not identifiable: fewer than 2 points on the curve".to_string()
         } else {
             format!(
-                "not identifiable: no candidate model shows each of its terms at {MIN_POINTS} points \
-                 with {MIN_TERM_EDF} degrees of freedom"
+                "no candidate model fits the curve: none keeps the rules (each term shown at \
+                 {MIN_POINTS} points with {MIN_TERM_EDF} degrees of freedom, none above the measured ceiling)"
             )
         };
         return NoiseModel {
