@@ -2,15 +2,13 @@
 //! of τ, for a process of unit size (the fit multiplies by the size²).
 //!
 //! Sources, each checked against the limits of the others:
-//! - IEEE Std 952-1997 Annex C, Table C.2 (and the `avar` R/PyPI package
-//!   of SMAC-Group, whose `av_wn`, `av_qn`, `av_rw`, `av_dr` give the same
-//!   closed forms): quantization 3Q²/τ², white noise N²/τ, rate random walk
-//!   K²τ/3, rate ramp R²τ²/2, and the flicker floor (2 ln 2/π)B² that
-//!   IEEE 952 gives for τ well above the flicker's lower cutoff.
+//! - IEEE Std 952-1997 Annex C: quantization 3Q²/τ², white noise N²/τ,
+//!   rate random walk K²τ/3, rate ramp R²τ²/2, and the flicker floor
+//!   (2 ln 2/π)B² that it gives for τ well above the flicker's lower cutoff.
 //! - First-order Gauss–Markov x' = −x/T + w with stationary variance σ²:
 //!   AVAR(τ) = (2σ²T/τ)·[1 − (T/2τ)(3 − 4e^{−τ/T} + e^{−2τ/T})]
-//!   (El-Sheimy, Hou & Niu, IEEE TIM 57(1), 2008, eq. 12, with q_c² = 2σ²/T;
-//!   the same expression as `avar`'s `av_ar1` in its continuous limit).
+//!   (El-Sheimy, Hou & Niu, IEEE TIM 57(1), 2008, with q_c² = 2σ²/T),
+//!   checked here against a direct integration of its autocovariance.
 //!   It tends to N²/τ with N² = 2σ²T for τ ≫ T and to K²τ/3 with
 //!   K² = 2σ²/T for τ ≪ T (tested below).
 
