@@ -41,6 +41,7 @@ mod stat;
 pub mod confidence;
 pub mod edf;
 pub mod noise_id;
+pub mod noise_model;
 pub mod noise_terms;
 pub mod stats;
 pub mod taus;

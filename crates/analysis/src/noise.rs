@@ -1,5 +1,5 @@
 //! Each run's noise terms: every inertial channel's overlapping ADEV and
-//! the terms identified on it (IEEE 952 Annex C, both methods).
+//! the noise model selected on it (`allan::noise_model`).
 
 use std::path::Path;
 
@@ -78,16 +78,13 @@ pub fn analyse_run(path: &Path, read: &RecordingOptions) -> Result<RunNoise, Ana
     })
 }
 
-/// The value of `term` that holds ([`NoiseTerms::choose`]), in the
-/// thesis's units, to four decimals: the fit's, the slope method's marked
-/// "(slope)" where the fit cannot separate the term, an upper bound as
-/// "≤ …", a "*" where the methods disagree.
+/// The one answer for `term` ([`NoiseTerms::choose`]) in the thesis's
+/// units, to four decimals: the selected model's value, or its upper bound
+/// as "≤ …" where the model does not hold the term.
 pub fn held_value(quantity: Quantity, terms: &NoiseTerms, term: Term) -> String {
     let f = deg(quantity);
-    let c = terms.choose(term);
-    match c.chosen {
-        Chosen::Fit(v) => format!("{:.4}{}", v.value * f, if c.disagree { "*" } else { "" }),
-        Chosen::Slope(v) => format!("{:.4} (slope)", v.value * f),
+    match terms.choose(term).chosen {
+        Chosen::Model(v) => format!("{:.4}", v.value * f),
         Chosen::Bound(b) => format!("≤ {:.4}", b * f),
         Chosen::Nothing => "—".to_string(),
     }

@@ -308,8 +308,7 @@ fn term_summary(c: &ChannelNoise, term: Term, sheet: Option<&Datasheet>) -> Term
     };
     let choice = c.terms.choose(term);
     let (value, lo, hi, tau, how) = match choice.chosen {
-        Chosen::Fit(v) => (Some(v.value), Some(v.lo), Some(v.hi), v.tau, "fit"),
-        Chosen::Slope(v) => (Some(v.value), Some(v.lo), Some(v.hi), v.tau, "slope"),
+        Chosen::Model(v) => (Some(v.value), Some(v.lo), Some(v.hi), v.tau, "fit"),
         Chosen::Bound(b) => (Some(b), None, Some(b), None, "upper bound"),
         Chosen::Nothing => (None, None, None, None, "not identified"),
     };

@@ -63,7 +63,7 @@ fn terms_tables_json_and_kalibr() {
     let text = String::from_utf8_lossy(&out.stdout);
     // Thesis layout: one table per term, columns = mean temperatures.
     assert!(
-        text.contains("Gyroscope — Angle random walk N [°/√s] (slope method)"),
+        text.contains("Gyroscope — Angle random walk N [°/√s] (selected noise model)"),
         "{text}"
     );
     assert!(text.contains("34°C") && text.contains("82°C"), "{text}");
@@ -71,8 +71,10 @@ fn terms_tables_json_and_kalibr() {
         text.contains("Accelerometer — Velocity random walk N [m/s/√s]"),
         "{text}"
     );
-    // 10 minutes of white noise cannot show rate random walk, and says so.
-    assert!(text.contains("not identifiable: needs τ up to"), "{text}");
+    // 10 minutes of white noise: the model is white noise alone, and K is
+    // only bounded.
+    assert!(text.contains("model (gyro_x): N ("), "{text}");
+    assert!(text.contains("≤ not in the selected model"), "{text}");
     assert!(!text.contains("NaN"));
 
     let out = imutherm()
@@ -124,7 +126,39 @@ fn terms_tables_json_and_kalibr() {
         .find(|t| t["term"] == "K")
         .unwrap();
     assert_eq!(k_fit["identified"], false);
-    assert!(k_fit["reason"].as_str().unwrap().contains("needs τ up to"));
+    assert!(
+        k_fit["reason"]
+            .as_str()
+            .unwrap()
+            .contains("not in the selected model")
+    );
+    // The new fields: the model, the filters' parameters, the state space.
+    assert_eq!(gx["model"]["label"], "N");
+    assert_eq!(gx["model"]["fits"], true);
+    let filters = gx["filters"].as_array().unwrap();
+    let px4 = filters.iter().find(|f| f["filter"] == "px4_ekf2").unwrap();
+    let gyr = px4["params"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == "EKF2_GYR_NOISE")
+        .unwrap();
+    // N/√Δt at EKF2's 10 ms.
+    let want = n["value"].as_f64().unwrap() / 0.01f64.sqrt();
+    assert!(
+        (gyr["value"].as_f64().unwrap() / want - 1.0).abs() < 1e-12,
+        "{gyr}"
+    );
+    assert_eq!(gyr["unit"], "rad/s");
+    let ekf3 = filters.iter().find(|f| f["filter"] == "ardupilot_ekf3").unwrap();
+    assert!(
+        ekf3["params"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|p| p["name"] == "EK3_GBIAS_P_NSE")
+    );
+    assert_eq!(gx["state_space"][0]["kind"], "white_noise");
 }
 
 #[test]

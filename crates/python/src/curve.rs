@@ -166,12 +166,15 @@ fn terms_dict<'py>(py: Python<'py>, terms: &NoiseTerms) -> PyResult<Bound<'py, P
     for term in Term::ALL {
         let entry = PyDict::new(py);
         entry.set_item("symbol", term.symbol())?;
-        entry.set_item("slope", estimate(py, terms.slope.get(term))?)?;
-        entry.set_item("fit", estimate(py, terms.fit.get(term))?)?;
+        // One estimator now: the keys of the former two methods both
+        // carry the selected model's answer.
+        let model = estimate(py, terms.model.get(term))?;
+        entry.set_item("slope", model.clone())?;
+        entry.set_item("fit", model)?;
+        entry.set_item("bound", terms.model.bound(term))?;
         let choice = terms.choose(term);
         let how = match choice.chosen {
-            Chosen::Fit(_) => "fit",
-            Chosen::Slope(_) => "slope",
+            Chosen::Model(_) => "fit",
             Chosen::Bound(_) => "upper_bound",
             Chosen::Nothing => "none",
         };
@@ -183,8 +186,8 @@ fn terms_dict<'py>(py: Python<'py>, terms: &NoiseTerms) -> PyResult<Bound<'py, P
     Ok(out)
 }
 
-/// The IEEE 952 noise terms of rate samples `y`, by the slope method and
-/// the fit, with the octave OADEV curve they were read from.
+/// The IEEE 952 noise terms of rate samples `y`, from the selected noise
+/// model, with the octave OADEV curve they were read from.
 #[pyfunction]
 #[pyo3(signature = (y, rate, confidence))]
 pub fn noise_terms<'py>(

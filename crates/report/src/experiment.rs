@@ -126,19 +126,25 @@ pub fn chart_figure(
     Ok(())
 }
 
-/// The fitted noise terms of a channel as ADEV asymptotes (IEEE 952
-/// Annex C), and its ADEV minimum as a marker.
+/// The selected model's noise terms of a channel as ADEV asymptotes (IEEE
+/// 952 Annex C), and its ADEV minimum as a marker.
 fn guides(r: &ChannelNoise, run: &str) -> (Vec<Asymptote>, Option<(f64, f64, String)>) {
     let u = &r.channel.unit;
     let units = |t: Term| si_unit(t, r.channel.quantity, u);
     let lines = Term::ALL
         .iter()
         .filter_map(|&t| {
-            let v = r.terms.fit.get(t).value()?.value;
+            let v = r.terms.model.get(t).value()?.value;
             // σ(τ) of the term alone, as σ(1 s)·τ^slope.
             let at_1s = t.variance_basis(1.0).sqrt() * v;
             Some(Asymptote {
-                label: format!("{} = {:.3e} {} ({run}, fit)", t.symbol(), v, units(t)),
+                label: format!(
+                    "{} = {:.3e} {} ({run}, model {})",
+                    t.symbol(),
+                    v,
+                    units(t),
+                    r.terms.model.label
+                ),
                 at_1s,
                 slope: t.slope(),
             })
@@ -156,9 +162,9 @@ fn guides(r: &ChannelNoise, run: &str) -> (Vec<Asymptote>, Option<(f64, f64, Str
     (lines, marker)
 }
 
-/// The thesis's tables ([`ThesisTables`]): per sensor, the slope method's
-/// N, σ_min and the fit's B, rows = axes, columns = the runs' mean
-/// temperatures.
+/// The thesis's tables ([`ThesisTables`]): per sensor, the selected
+/// model's N, σ_min as the thesis quotes it, and the model's B, rows =
+/// axes, columns = the runs' mean temperatures.
 pub fn noise_tables(page: &mut Page, runs: &[RunNoise]) {
     let tables = ThesisTables::new(
         runs.iter().map(|r| r.temperature_mean_c).collect(),
@@ -189,18 +195,10 @@ pub fn noise_tables(page: &mut Page, runs: &[RunNoise]) {
                 })
                 .collect()
         };
-        let n_rows = table(&|terms| {
-            let disagree = terms.disagreements.iter().any(|(t, _)| *t == Term::WhiteNoise);
-            match terms.slope.get(Term::WhiteNoise) {
-                TermEstimate::Value(v) if !disagree => format!("{:.4}", v.value * deg(q)),
-                // A slope the method cannot read, or one the fit
-                // contradicts, is not printed as if it held.
-                _ => format!("{} (fit)", held_value(q, terms, Term::WhiteNoise)),
-            }
-        });
+        let n_rows = table(&|terms| held_value(q, terms, Term::WhiteNoise));
         page.table(
             &format!(
-                "{} random walk N [{nunit}] (slope method at τ = 1 s)",
+                "{} random walk N [{nunit}] (selected noise model; ≤: an upper bound)",
                 if q == Quantity::AngularRate {
                     "Angle"
                 } else {
@@ -226,17 +224,19 @@ pub fn noise_tables(page: &mut Page, runs: &[RunNoise]) {
             &header,
             &b_rows,
         );
-        let fit_rows = table(&|terms| match terms.fit.get(Term::BiasInstability) {
+        let fit_rows = table(&|terms| match terms.model.get(Term::BiasInstability) {
             TermEstimate::Value(v) => format!(
                 "{:.4} [{:.4}, {:.4}]",
                 v.value * deg(q),
                 v.lo * deg(q),
                 v.hi * deg(q)
             ),
-            TermEstimate::NotIdentifiable(_) => "not identifiable".into(),
+            TermEstimate::NotIdentifiable(_) => held_value(q, terms, Term::BiasInstability),
         });
         page.table(
-            &format!("Bias instability B from the model fit [{bunit}], 95 % interval"),
+            &format!(
+                "Bias instability B of the selected noise model [{bunit}], 95 % interval; ≤: an upper bound"
+            ),
             &header,
             &fit_rows,
         );

@@ -9,28 +9,25 @@
 //! | rate random walk K | K²τ/3 | +1/2 | σ(3 s) on the +1/2 line |
 //! | rate ramp R | R²τ²/2 | +1 | σ(√2 s) on the +1 line |
 //!
-//! Two estimators, side by side: the slope method of IEEE 952 read only
-//! where a term's slope holds over a stretch of τ ([`slope_method`]), and a
-//! weighted, non-negative least-squares fit of the whole model that leaves
-//! out what no power law describes ([`fit_model`]). Each value has an
-//! interval; a term the data cannot show is reported as not identifiable,
-//! with the reason and an upper bound ([`upper_bound`]), never as a
-//! number. [`NoiseTerms::choose`] says which estimate holds. The thesis's
-//! own reading (slope nearest −1/2, first positive slope) is kept beside
-//! them by name ([`thesis_reading`]), for comparison only.
+//! One estimator gives the terms: the noise model of
+//! [`crate::noise_model`], fitted to the octave curve, which chooses its own
+//! terms and gives each a value with its interval or an upper bound
+//! ([`NoiseTerms::choose`]). Beside it, by name and for comparison only:
+//! the curve's minimum σ_min and where it lies, which the thesis tables
+//! quote ([`slope_method`], the IEEE 952 slope reading that also finds
+//! the minimum), and the thesis's own reading ([`thesis_reading`]).
 //!
 //! Units: the terms are in the unit of the rate data and seconds: N in
 //! unit/√Hz = unit·√s, B in unit, K in unit/√s, Q in unit·s, R in unit/s.
 
-mod fit;
 mod slope;
 mod thesis;
 
-pub use fit::{FitResult, fit_model};
 pub use slope::{MIN_EDF, Minimum, SlopeResult, slope_method};
 pub use thesis::{ThesisReading, thesis_reading};
 
 use crate::analysis::analyze_series_grids;
+use crate::noise_model::{NoiseModel, estimate};
 use crate::{AllanError, DataType, Options, PhaseSeries, Point, TauSpec};
 
 /// √(2 ln 2 / π) = 0.664…: the Allan deviation floor of flicker noise of
@@ -161,15 +158,16 @@ impl TermEstimate {
     }
 }
 
-/// Both estimators and where they disagree.
+/// A curve's noise terms: the selected model, and beside it the curve's
+/// minimum and the thesis's reading.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NoiseTerms {
-    /// The slope method.
+    /// The IEEE 952 slope reading of the dense curve: kept for σ_min, where
+    /// the minimum lies, and the thesis's reading; its term values are no
+    /// output's.
     pub slope: SlopeResult,
-    /// The model fit.
-    pub fit: FitResult,
-    /// Terms both identified whose intervals do not overlap, with a sentence.
-    pub disagreements: Vec<(Term, String)>,
+    /// The selected noise model: the terms every output reads.
+    pub model: NoiseModel,
 }
 
 /// One value per noise term, each in a field of its own: a term's
@@ -217,14 +215,12 @@ impl<T> PerTerm<T> {
     }
 }
 
-/// What to show for a term: the estimate that holds, and how it was had.
+/// What to show for a term.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Chosen {
-    /// The fit's value.
-    Fit(TermValue),
-    /// The slope method's value (the fit could not separate the term).
-    Slope(TermValue),
-    /// Neither method could read it: its upper bound.
+    /// The selected model's value.
+    Model(TermValue),
+    /// Not in the model (or no model fits): its upper bound.
     Bound(f64),
     /// Nothing can be said.
     Nothing,
@@ -234,22 +230,20 @@ impl Chosen {
     /// The value: the estimate, or the bound.
     pub fn value(&self) -> Option<f64> {
         match self {
-            Chosen::Fit(v) | Chosen::Slope(v) => Some(v.value),
+            Chosen::Model(v) => Some(v.value),
             Chosen::Bound(b) => Some(*b),
             Chosen::Nothing => None,
         }
     }
 }
 
-/// A term's [`Chosen`] estimate and what a reader must know about it.
+/// A term's [`Chosen`] estimate and why it is not a value, when it is not.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Choice {
     /// The estimate.
     pub chosen: Chosen,
-    /// The two methods disagree beyond their intervals (the fit is shown).
-    pub disagree: bool,
-    /// Why the estimate is not the fit's, when it is not.
-    pub note: Option<&'static str>,
+    /// Why the term is only bounded, or unknown.
+    pub note: Option<String>,
 }
 
 impl Choice {
@@ -260,45 +254,25 @@ impl Choice {
 }
 
 impl NoiseTerms {
-    /// The estimate of `term` that holds: the fit's, unless the fit cannot
-    /// separate it; then the slope method's; then the term's upper bound.
-    /// A rate random walk the fit found beside no bias instability is not
-    /// taken as measured: flicker noise the fit could not resolve lifts the
-    /// long-τ end of the curve the way a random walk does, so its K may be
-    /// mostly B (the slope method's K, or the bound, is used instead).
+    /// The one answer for `term`: the model's value where the selected
+    /// model holds it and fits the curve; else its upper bound.
     pub fn choose(&self, term: Term) -> Choice {
-        let disagree = self.disagreements.iter().any(|(t, _)| *t == term);
-        let slope = self.slope.get(term).value().copied();
-        let fallback = |note| Choice {
-            chosen: match (slope, self.slope.bound(term)) {
-                (Some(v), _) => Chosen::Slope(v),
-                (None, Some(b)) => Chosen::Bound(b),
-                (None, None) => Chosen::Nothing,
-            },
-            disagree: false,
-            note: Some(note),
-        };
-        match self.fit.get(term).value() {
-            Some(_)
-                if term == Term::RateRandomWalk && self.fit.get(Term::BiasInstability).value().is_none() =>
-            {
-                fallback(
-                    "the fit's K stands beside no bias instability and may hold one it could not resolve",
-                )
-            }
-            Some(v) => Choice {
-                chosen: Chosen::Fit(*v),
-                disagree,
+        match self.model.get(term) {
+            TermEstimate::Value(v) => Choice {
+                chosen: Chosen::Model(*v),
                 note: None,
             },
-            None => fallback("the fit cannot separate this term"),
+            TermEstimate::NotIdentifiable(why) => Choice {
+                chosen: self.model.bound(term).map_or(Chosen::Nothing, Chosen::Bound),
+                note: Some(why.clone()),
+            },
         }
     }
 }
 
 /// The overlapping ADEV of rate samples `y` at octave taus, and the noise
-/// terms read from it by [`identify`] (the slope method on the `many` grid,
-/// the fit on the octave points, intervals at `confidence`). The samples
+/// terms read from it by [`identify`] (σ_min on the `many` grid, the model
+/// on the octave points, intervals at `confidence`). The samples
 /// are turned into phase once for both grids.
 pub fn analyze_terms(
     y: &[f64],
@@ -332,43 +306,13 @@ pub fn analyze_terms_vec(
 }
 
 /// Identifies the noise terms from an overlapping ADEV curve of rate data:
-/// the slope method on `dense` (a fine tau grid such as `many`, so the
-/// minimum and the slopes are read where they are), the fit on `sparse`
-/// (octave taus, nearly independent points), with fit intervals at
-/// `confidence`.
+/// the model on `sparse` (octave taus, nearly independent points) with
+/// intervals at `confidence`; σ_min and the thesis's reading on `dense`
+/// (a fine tau grid such as `many`, so the minimum is read where it is).
 pub fn identify(dense: &[Point], sparse: &[Point], confidence: f64) -> NoiseTerms {
-    let slope = slope_method(dense);
-    let fit = fit_model(sparse, confidence);
-    let mut disagreements = Vec::new();
-    for term in Term::ALL {
-        if let (Some(a), Some(b)) = (slope.get(term).value(), fit.get(term).value())
-            && (a.hi < b.lo || b.hi < a.lo)
-        {
-            let why = if term == Term::BiasInstability {
-                "σ_min also holds the white noise and random walk around the minimum, which the fit separates"
-            } else {
-                "another term overlaps where the slope was read"
-            };
-            disagreements.push((
-                term,
-                format!(
-                    "{}: slope method {:.4e} [{:.4e}, {:.4e}] and fit {:.4e} [{:.4e}, {:.4e}] disagree \
-                     beyond their intervals ({why})",
-                    term.symbol(),
-                    a.value,
-                    a.lo,
-                    a.hi,
-                    b.value,
-                    b.lo,
-                    b.hi
-                ),
-            ));
-        }
-    }
     NoiseTerms {
-        slope,
-        fit,
-        disagreements,
+        slope: slope_method(dense),
+        model: estimate(sparse, confidence),
     }
 }
 

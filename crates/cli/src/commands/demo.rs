@@ -194,8 +194,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     let (compensation, analysed) = (&exp.compensation, &exp.runs);
     for (i, r) in analysed[0].channels.iter().enumerate() {
         let q = r.channel.quantity;
-        // The estimate that holds: the fit's, never a slope read where the
-        // curve does not hold it.
+        // The one answer: the selected model's N, or its bound.
         let n = |a: &ChannelNoise| {
             a.terms
                 .choose(Term::WhiteNoise)
@@ -214,7 +213,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
         );
     }
     println!(
-        "(N from the model fit, or the slope method where the fit cannot separate it, in °/√s for gyros, \
+        "(N from the selected noise model, or its upper bound, in °/√s for gyros, \
          m/s/√s for accelerometers; bias: RMS over temperature on the held-out run)"
     );
     eprintln!("done in {:.1} s", started.elapsed().as_secs_f64());

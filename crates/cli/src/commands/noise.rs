@@ -1,18 +1,19 @@
-//! `imutherm noise`: the IEEE 952 noise terms of each axis, with intervals
-//! and units, a thesis-style table over temperature, and Kalibr's imu.yaml.
+//! `imutherm noise`: the noise terms of each axis from its selected noise
+//! model, with intervals and units, a thesis-style table over temperature,
+//! the filters' parameters, and Kalibr's imu.yaml.
 
 use std::fmt::Write as _;
 use std::io::Write;
 use std::path::Path;
 
-use anyhow::{Context, Result, bail};
-use rayon::prelude::*;
-use serde::Serialize;
-
 use allan::noise_terms::{Chosen, Minimum, NoiseTerms, Term, TermEstimate, TermValue, analyze_terms_vec};
+use anyhow::{Context, Result, bail};
 use imu::Quantity;
+use rayon::prelude::*;
 
+use analysis::filters::filter_params;
 use analysis::kalibr::{KalibrChannel, kalibr_yaml};
+use analysis::noise_document::{ChannelInput, NoiseDocument};
 use analysis::reading::unit_text;
 use analysis::selection::SelectedChannel;
 use analysis::thesis::ThesisTables;
@@ -21,8 +22,6 @@ use analysis::units::{Units, density_of, unit_of};
 use crate::args::{NoiseArgs, TermUnits};
 use crate::flags::recording_options;
 use crate::print::read_channels;
-
-const SCHEMA: &str = "imutherm.noise/1";
 
 struct Analysed {
     file_index: usize,
@@ -114,8 +113,19 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
         .collect::<Result<Vec<_>>>()?;
 
     for r in &analysed {
-        for (_, why) in &r.terms.disagreements {
-            eprintln!("warning: {}: {}: {why}", r.channel.file.display(), r.channel.name);
+        let m = &r.terms.model;
+        if !m.fits {
+            eprintln!(
+                "warning: {}: {}: no candidate noise model fits the curve{}; its terms are given as upper bounds",
+                r.channel.file.display(),
+                r.channel.name,
+                m.quality
+                    .map(|q| format!(
+                        " (best {}: χ²/dof {:.2}, p = {:.1e})",
+                        m.label, q.chi2_reduced, q.p_value
+                    ))
+                    .unwrap_or_default()
+            );
         }
     }
     // The analysis is printed first, whatever becomes of the yaml.
@@ -165,21 +175,13 @@ fn sig3(v: f64) -> String {
     }
 }
 
-/// The cell of a term in the compact table, and whether it needs the
-/// footnote of a disagreement (`*`) or of a fallback (`†`).
+/// The cell of a term in the compact table: the model's value with its
+/// interval, or "≤ bound".
 fn compact_cell(r: &Analysed, term: Term, units: Units) -> String {
     let ch = &r.channel;
     let (f, _) = unit_of(term, ch.quantity, &ch.unit, units);
-    let choice = r.terms.choose(term);
-    let mark = if choice.disagree { "*" } else { "" };
-    match choice.chosen {
-        Chosen::Fit(v) => format!(
-            "{} [{}, {}]{mark}",
-            sig3(v.value * f),
-            sig3(v.lo * f),
-            sig3(v.hi * f)
-        ),
-        Chosen::Slope(v) => format!("{} [{}, {}]†", sig3(v.value * f), sig3(v.lo * f), sig3(v.hi * f)),
+    match r.terms.choose(term).chosen {
+        Chosen::Model(v) => format!("{} [{}, {}]", sig3(v.value * f), sig3(v.lo * f), sig3(v.hi * f)),
         Chosen::Bound(b) => format!("≤ {}", sig3(b * f)),
         Chosen::Nothing => "—".to_string(),
     }
@@ -211,7 +213,7 @@ fn write_compact(out: &mut impl Write, analysis: Analysis, units: Units) -> Resu
                 groups.push((r.channel.quantity, r.channel.unit.clone()));
             }
         }
-        let (mut any_disagree, mut any_fallback, mut any_bound) = (false, false, false);
+        let mut any_bound = false;
         for (q, unit) in groups {
             let members: Vec<&&Analysed> = rows
                 .iter()
@@ -224,7 +226,7 @@ fn write_compact(out: &mut impl Write, analysis: Analysis, units: Units) -> Resu
                     matches!(t, Term::WhiteNoise | Term::BiasInstability | Term::RateRandomWalk)
                         || members
                             .iter()
-                            .any(|r| matches!(r.terms.choose(*t).chosen, Chosen::Fit(_) | Chosen::Slope(_)))
+                            .any(|r| matches!(r.terms.choose(*t).chosen, Chosen::Model(_)))
                 })
                 .collect();
             let assumed = members
@@ -282,22 +284,44 @@ fn write_compact(out: &mut impl Write, analysis: Analysis, units: Units) -> Resu
                 for (k, c) in row.iter().enumerate() {
                     line.push_str("  ");
                     line.push_str(&pad(c, width[k]));
-                    any_disagree |= c.ends_with('*');
-                    any_fallback |= c.ends_with('†');
                     any_bound |= c.starts_with('≤');
                 }
                 writeln!(out, "{}", line.trim_end())?;
             }
-            // Why a term is only bounded: the first axis's reason says
-            // what the record would need.
-            for &t in &terms {
-                if let Some(r) = members
+            // Each axis's model, and its Gauss–Markov terms.
+            for r in &members {
+                let m = &r.terms.model;
+                let quality = m.quality.map_or_else(
+                    || "no admissible candidate".to_string(),
+                    |q| format!("χ²/dof {:.2}, p = {:.2}", q.chi2_reduced, q.p_value),
+                );
+                let verdict = if m.fits {
+                    ""
+                } else {
+                    " — does not fit: terms are bounds"
+                };
+                let gm: Vec<String> = m
+                    .gauss_markov
                     .iter()
-                    .find(|r| matches!(r.terms.choose(t).chosen, Chosen::Bound(_) | Chosen::Nothing))
-                    && let TermEstimate::NotIdentifiable(why) = r.terms.fit.get(t)
-                {
-                    writeln!(out, "  {} ({}): {why}", t.symbol(), r.channel.name)?;
-                }
+                    .map(|g| {
+                        format!(
+                            "; GM σ = {} [{}, {}] {unit}, T = {} [{}, {}] s",
+                            sig3(g.sigma.value),
+                            sig3(g.sigma.lo),
+                            sig3(g.sigma.hi),
+                            sig3(g.tau_c.value),
+                            sig3(g.tau_c.lo),
+                            sig3(g.tau_c.hi)
+                        )
+                    })
+                    .collect();
+                writeln!(
+                    out,
+                    "  model ({}): {} ({quality}){verdict}{}",
+                    r.channel.name,
+                    m.label,
+                    gm.concat()
+                )?;
             }
             if let Some(r) = members.first()
                 && r.terms.slope.minimum == Minimum::StillFalling
@@ -311,23 +335,12 @@ fn write_compact(out: &mut impl Write, analysis: Analysis, units: Units) -> Resu
                 )?;
             }
         }
-        if any_disagree {
-            writeln!(
-                out,
-                "  * the slope method and the fit disagree beyond their intervals; the fit is shown (--verbose for both)"
-            )?;
-        }
-        if any_fallback {
-            writeln!(
-                out,
-                "  † the slope method's reading: the fit cannot separate this term, or found K beside no B"
-            )?;
-        }
         if any_bound {
             writeln!(
                 out,
-                "  ≤ not identifiable: an upper bound at {:.1} % (no term's share of σ² exceeds σ's upper bound)",
-                100.0 * analysis.confidence
+                "  ≤ not in the selected model: an upper bound (no term's share of σ² exceeds the upper end of \
+                 σ²'s {:.0} % interval at any τ)",
+                100.0 * allan::noise_model::CEILING_CONFIDENCE
             )?;
         }
         writeln!(out)?;
@@ -335,177 +348,25 @@ fn write_compact(out: &mut impl Write, analysis: Analysis, units: Units) -> Resu
     Ok(())
 }
 
-#[derive(Serialize)]
-struct JsonTerm {
-    term: &'static str,
-    name: &'static str,
-    method: &'static str,
-    identified: bool,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    si: Option<JsonValue>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    datasheet: Option<JsonValue>,
-    /// White noise as the datasheets quote it: a density per √Hz.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    density: Option<JsonValue>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    tau: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    reason: Option<String>,
-}
-
-#[derive(Serialize)]
-struct JsonValue {
-    value: f64,
-    lo: f64,
-    hi: f64,
-    unit: String,
-}
-
-fn json_value(v: &TermValue, term: Term, ch: &SelectedChannel, units: Units) -> JsonValue {
-    let (f, unit) = unit_of(term, ch.quantity, &ch.unit, units);
-    JsonValue {
-        value: v.value * f,
-        lo: v.lo * f,
-        hi: v.hi * f,
-        unit,
-    }
-}
-
-fn density(v: &TermValue, term: Term, ch: &SelectedChannel) -> Option<JsonValue> {
-    let (f, unit) = density_of(ch.quantity).filter(|_| term == Term::WhiteNoise)?;
-    Some(JsonValue {
-        value: v.value * f,
-        lo: v.lo * f,
-        hi: v.hi * f,
-        unit: unit.to_string(),
-    })
-}
-
-fn json_term(term: Term, est: &TermEstimate, method: &'static str, ch: &SelectedChannel) -> JsonTerm {
-    match est {
-        TermEstimate::Value(v) => JsonTerm {
-            term: term.symbol(),
-            name: term.name(),
-            method,
-            identified: true,
-            si: Some(json_value(v, term, ch, Units::Si)),
-            datasheet: Some(json_value(v, term, ch, Units::Datasheet)),
-            density: density(v, term, ch),
-            tau: v.tau,
-            reason: None,
-        },
-        TermEstimate::NotIdentifiable(why) => JsonTerm {
-            term: term.symbol(),
-            name: term.name(),
-            method,
-            identified: false,
-            si: None,
-            datasheet: None,
-            density: None,
-            tau: None,
-            reason: Some(why.clone()),
-        },
-    }
-}
-
 fn write_json(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<()> {
-    let files_json: Vec<serde_json::Value> = analysis.files
+    let channels: Vec<ChannelInput> = analysis
+        .analysed
         .iter()
-        .enumerate()
-        .map(|(i, f)| {
-            let channels: Vec<serde_json::Value> = analysis.analysed
-                .iter()
-                .filter(|r| r.file_index == i)
-                .map(|r| {
-                    let ch = &r.channel;
-                    let slope: Vec<JsonTerm> = Term::ALL
-                        .iter()
-                        .map(|&t| json_term(t, r.terms.slope.get(t), "slope", ch))
-                        .collect();
-                    let fit: Vec<JsonTerm> = Term::ALL
-                        .iter()
-                        .map(|&t| json_term(t, r.terms.fit.get(t), "fit", ch))
-                        .collect();
-                    let sigma_min = r.terms.slope.sigma_min.map(|v| {
-                        serde_json::json!({
-                            "si": json_value(&v, Term::BiasInstability, ch, Units::Si),
-                            "datasheet": json_value(&v, Term::BiasInstability, ch, Units::Datasheet),
-                            "tau": v.tau,
-                        })
-                    });
-                    let chosen: Vec<serde_json::Value> = Term::ALL
-                        .iter()
-                        .map(|&t| {
-                            let c = r.terms.choose(t);
-                            let (method, value) = match c.chosen {
-                                Chosen::Fit(v) => ("fit", Some(json_value(&v, t, ch, Units::Si))),
-                                Chosen::Slope(v) => ("slope", Some(json_value(&v, t, ch, Units::Si))),
-                                Chosen::Bound(b) => (
-                                    "upper_bound",
-                                    Some(json_value(
-                                        &TermValue { value: b, lo: 0.0, hi: b, tau: None },
-                                        t,
-                                        ch,
-                                        Units::Si,
-                                    )),
-                                ),
-                                Chosen::Nothing => ("none", None),
-                            };
-                            serde_json::json!({
-                                "term": t.symbol(),
-                                "method": method,
-                                "si": value,
-                                "disagree": c.disagree,
-                                "note": c.note,
-                            })
-                        })
-                        .collect();
-                    serde_json::json!({
-                        "name": ch.name,
-                        "quantity": ch.quantity.name(),
-                        "unit": ch.unit,
-                        "unit_source": ch.unit_source.name(),
-                        "minimum": match r.terms.slope.minimum {
-                            Minimum::Found => "found",
-                            Minimum::StillFalling => "still_falling",
-                            Minimum::RisesFromStart => "rises_from_start",
-                            Minimum::Unknown => "unknown",
-                        },
-                        "sigma_min_min_edf": allan::noise_terms::MIN_EDF,
-                        "slope_stretches": r.terms.slope.stretches.iter().map(|(t, a, b)| serde_json::json!({"term": t.symbol(), "tau_from": a, "tau_to": b})).collect::<Vec<_>>(),
-                        "fit_left_out_taus": r.terms.fit.left_out,
-                        "thesis_reading": {
-                            "method": "analyzeAllan.m: N on the -1/2 line through the slope nearest -1/2; B = sigma at the first positive slope / 0.664",
-                            "N": r.terms.slope.thesis.n.map(|v| serde_json::json!({"si": json_value(&v, Term::WhiteNoise, ch, Units::Si), "tau": v.tau})),
-                            "B": r.terms.slope.thesis.b.map(|v| serde_json::json!({"si": json_value(&v, Term::BiasInstability, ch, Units::Si), "tau": v.tau})),
-                        },
-                        "chosen": chosen,
-                        "samples": r.samples,
-                        "sigma_min": sigma_min,
-                        "slope": slope,
-                        "fit": fit,
-                        "fit_chi2_reduced": r.terms.fit.chi2_reduced,
-                        "fit_points": r.terms.fit.points,
-                        "disagreements": r.terms.disagreements.iter().map(|(_, w)| w.clone()).collect::<Vec<_>>(),
-                    })
-                })
-                .collect();
-            serde_json::json!({
-                "file": f.display().to_string(),
-                "mean_temperature_c": analysis.temps[i],
-                "rate_hz": analysis.rates[i],
-                "channels": channels,
-            })
+        .map(|r| ChannelInput {
+            file_index: r.file_index,
+            channel: &r.channel,
+            samples: r.samples,
+            terms: &r.terms,
         })
         .collect();
-    let doc = serde_json::json!({
-        "schema": SCHEMA,
-        "imutherm_version": env!("CARGO_PKG_VERSION"),
-        "confidence": analysis.confidence,
-        "units": match units { Units::Si => "si", _ => "datasheet" },
-        "files": files_json,
-    });
+    let doc = NoiseDocument::new(
+        analysis.files,
+        analysis.temps,
+        analysis.rates,
+        &channels,
+        analysis.confidence,
+        units,
+    );
     serde_json::to_writer_pretty(&mut *out, &doc)?;
     writeln!(out)?;
     Ok(())
@@ -517,9 +378,10 @@ fn fmt_est(est: &TermEstimate, term: Term, ch: &SelectedChannel, units: Units) -
             let (f, unit) = unit_of(term, ch.quantity, &ch.unit, units);
             let mut text = format!("{:.4e} [{:.3e}, {:.3e}] {unit}", v.value * f, v.lo * f, v.hi * f);
             if units == Units::Datasheet
-                && let Some(d) = density(v, term, ch)
+                && term == Term::WhiteNoise
+                && let Some((d, du)) = density_of(ch.quantity)
             {
-                text.push_str(&format!(" = {:.4e} {}", d.value, d.unit));
+                text.push_str(&format!(" = {:.4e} {du}", v.value * d));
             }
             text
         }
@@ -540,38 +402,111 @@ fn write_text(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<
         )?;
         for r in analysis.analysed.iter().filter(|r| r.file_index == i) {
             let ch = &r.channel;
+            let m = &r.terms.model;
             writeln!(
                 out,
                 "{} [{}]",
                 ch.name,
                 unit_text(&ch.unit, ch.unit_source.name(), ch.quantity.name())
             )?;
-            if let Some(m) = &r.terms.slope.sigma_min {
+            match m.quality {
+                Some(q) => writeln!(
+                    out,
+                    "  model {}: χ² = {:.2} on {} degrees of freedom (χ²/dof {:.2}, p = {:.3}), criterion {:.1}; {}",
+                    m.label,
+                    q.chi2,
+                    q.dof,
+                    q.chi2_reduced,
+                    q.p_value,
+                    q.criterion,
+                    if m.fits {
+                        "it fits the curve"
+                    } else {
+                        "no candidate fits the curve: every term is given as its upper bound"
+                    }
+                )?,
+                None => writeln!(out, "  model: none admissible on {} points", m.points)?,
+            }
+            if !m.evidence.is_empty() {
+                writeln!(
+                    out,
+                    "  kept because the criterion is worse without it by: {}",
+                    m.evidence
+                        .iter()
+                        .map(|(l, d)| if d.is_finite() {
+                            format!("{l} {d:.1}")
+                        } else {
+                            format!("{l} (no admissible model without it)")
+                        })
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )?;
+            }
+            if m.candidates.len() > 1 {
+                writeln!(
+                    out,
+                    "  next candidates: {}",
+                    m.candidates
+                        .iter()
+                        .skip(1)
+                        .map(|c| format!("{} ({:.1})", c.label, c.criterion))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )?;
+            }
+            if !m.outside.is_empty() {
+                writeln!(
+                    out,
+                    "  the model's curve leaves the measured interval at τ = {} s",
+                    m.outside
+                        .iter()
+                        .map(|t| format!("{t:.4}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )?;
+            }
+            if !m.left_out.is_empty() {
+                writeln!(
+                    out,
+                    "  left out of the fit, as no candidate process (a bump, a tone): τ = {} s",
+                    m.left_out
+                        .iter()
+                        .map(|t| format!("{t:.4}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )?;
+            }
+            for term in Term::ALL {
+                writeln!(
+                    out,
+                    "  {}  {}",
+                    term.symbol(),
+                    fmt_est(m.get(term), term, ch, units)
+                )?;
+            }
+            for g in &m.gauss_markov {
+                writeln!(
+                    out,
+                    "  GM σ = {:.4e} [{:.3e}, {:.3e}] {}, T = {:.4e} [{:.3e}, {:.3e}] s",
+                    g.sigma.value, g.sigma.lo, g.sigma.hi, ch.unit, g.tau_c.value, g.tau_c.lo, g.tau_c.hi
+                )?;
+            }
+            if let Some(sm) = &r.terms.slope.sigma_min {
                 let (fct, unit) = unit_of(Term::BiasInstability, ch.quantity, &ch.unit, units);
-                let where_ = match r.terms.slope.minimum {
-                    Minimum::Found => String::new(),
-                    _ => format!(
-                        " — no minimum within the record; B ≤ {:.4e} {unit}",
-                        r.terms.slope.bound(Term::BiasInstability).unwrap_or(f64::NAN) * fct
-                    ),
-                };
                 writeln!(
                     out,
                     "  σ_min (ADEV minimum among points with ≥ {} degrees of freedom) {:.4e} [{:.4e}, {:.4e}] {unit} \
-                     at τ = {:.4} s{where_}",
+                     at τ = {:.4} s{}",
                     allan::noise_terms::MIN_EDF,
-                    m.value * fct,
-                    m.lo * fct,
-                    m.hi * fct,
-                    m.tau.unwrap_or(f64::NAN)
-                )?;
-            }
-            for (t, a, b) in &r.terms.slope.stretches {
-                writeln!(
-                    out,
-                    "  slope method read {} where slope {:+} holds, τ {a:.4} … {b:.4} s",
-                    t.symbol(),
-                    t.slope()
+                    sm.value * fct,
+                    sm.lo * fct,
+                    sm.hi * fct,
+                    sm.tau.unwrap_or(f64::NAN),
+                    if r.terms.slope.minimum == Minimum::Found {
+                        ""
+                    } else {
+                        " (no minimum within the record)"
+                    }
                 )?;
             }
             let th = &r.terms.slope.thesis;
@@ -595,30 +530,27 @@ fn write_text(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<
                 reading(th.n, Term::WhiteNoise),
                 reading(th.b, Term::BiasInstability),
             )?;
-            if !r.terms.fit.left_out.is_empty() {
+            for fp in filter_params(ch.quantity, &r.terms).unwrap_or_default() {
+                let params: Vec<String> = fp
+                    .params
+                    .iter()
+                    .map(|p| {
+                        format!(
+                            "{} = {:.4e} {} ({}; {})",
+                            p.name, p.value, p.unit, p.formula, p.source
+                        )
+                    })
+                    .collect();
                 writeln!(
                     out,
-                    "  fit left out, as no power-law term (a bump, a tone): τ = {} s",
-                    r.terms
-                        .fit
-                        .left_out
-                        .iter()
-                        .map(|t| format!("{t:.4}"))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                )?;
-            }
-            for term in Term::ALL {
-                writeln!(
-                    out,
-                    "  {}  slope {}",
-                    term.symbol(),
-                    fmt_est(r.terms.slope.get(term), term, ch, units)
-                )?;
-                writeln!(
-                    out,
-                    "     fit   {}",
-                    fmt_est(r.terms.fit.get(term), term, ch, units)
+                    "  {}: {}{}",
+                    fp.filter,
+                    params.join(", "),
+                    if fp.left_out.is_empty() {
+                        String::new()
+                    } else {
+                        format!("; not in its model: {}", fp.left_out.join(", "))
+                    }
                 )?;
             }
         }
@@ -631,9 +563,9 @@ fn write_text(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<
 }
 
 /// The thesis's layout: one table per term, rows = axes, columns = the
-/// files' mean temperatures; slope-method values as the thesis read them,
-/// the fit's where the slope method cannot read the term or disagrees with
-/// the fit (marked), in the thesis's units (°/√s, °/s) or the datasheet's.
+/// files' mean temperatures; N from the selected model, σ_min as the thesis
+/// quotes it beside the model's B, in the thesis's units (°/√s, °/s) or
+/// the datasheet's.
 fn write_thesis_tables(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<()> {
     let units = if units == Units::Datasheet {
         Units::Datasheet
@@ -666,16 +598,15 @@ fn write_thesis_tables(out: &mut impl Write, analysis: Analysis, units: Units) -
             ),
             (
                 Term::BiasInstability,
-                "Bias instability: σ_min (at τ) → B = σ_min/0.664",
+                "Bias instability: σ_min (at τ), as the thesis quotes it; B of the selected model",
             ),
         ] {
             let (_, unit) = unit_of(term, q, group.data_unit(), units);
-            let mut line = format!("{title} — {what} [{unit}] (slope method)\n{:<10}", "");
+            let mut line = format!("{title} — {what} [{unit}] (selected noise model)\n{:<10}", "");
             for h in &header {
                 let _ = write!(line, " {h:>26}");
             }
             writeln!(out, "{line}")?;
-            let mut marked = false;
             for row in &group.rows {
                 let mut line = format!("{:<10}", row.name);
                 for cell in &row.cells {
@@ -683,16 +614,9 @@ fn write_thesis_tables(out: &mut impl Write, analysis: Analysis, units: Units) -
                         || "—".to_string(),
                         |c| thesis_cell(c.channel, c.terms, term, units),
                     );
-                    marked |= cell.ends_with('*');
                     let _ = write!(line, " {cell:>26}");
                 }
                 writeln!(out, "{line}")?;
-            }
-            if marked {
-                writeln!(
-                    out,
-                    "* the fit's value: the slope method disagrees with it beyond their intervals, or cannot read the term"
-                )?;
             }
             writeln!(out)?;
         }
@@ -709,28 +633,18 @@ fn thesis_cell(ch: &SelectedChannel, terms: &NoiseTerms, term: Term, units: Unit
             sig3(v)
         }
     };
-    let fit_or = |fallback: String| match terms.fit.get(term) {
-        TermEstimate::Value(v) => format!("{}*", digits(v.value * f)),
-        TermEstimate::NotIdentifiable(_) => fallback,
+    let held = match terms.choose(term).chosen {
+        Chosen::Model(v) => digits(v.value * f),
+        Chosen::Bound(b) => format!("≤ {}", digits(b * f)),
+        Chosen::Nothing => "—".to_string(),
     };
-    let disagree = terms.disagreements.iter().any(|(t, _)| *t == term);
-    match term {
-        Term::BiasInstability => match (&terms.slope.sigma_min, terms.slope.get(term)) {
-            (Some(m), TermEstimate::Value(b)) if !disagree => format!(
-                "{} (at {:.1}s) → {}",
-                digits(m.value * f),
-                m.tau.unwrap_or(f64::NAN),
-                digits(b.value * f)
-            ),
-            _ => fit_or(match terms.slope.bound(term) {
-                Some(b) => format!("no minimum; B ≤ {}", digits(b * f)),
-                None => "not identifiable".to_string(),
-            }),
-        },
-        _ => match terms.slope.get(term) {
-            TermEstimate::Value(v) if !disagree => digits(v.value * f),
-            _ => fit_or("not identifiable".to_string()),
-        },
+    match (term, &terms.slope.sigma_min) {
+        (Term::BiasInstability, Some(m)) => format!(
+            "{} (at {:.1}s); B {held}",
+            digits(m.value * f),
+            m.tau.unwrap_or(f64::NAN)
+        ),
+        _ => held,
     }
 }
 

@@ -67,9 +67,9 @@ pub fn run(a: &ThermalArgs) -> Result<()> {
                             "dev_lo": p.dev_lo, "dev_hi": p.dev_hi,
                         })).collect::<Vec<_>>(),
                         "terms": {
-                            "N": term(r.terms.fit.get(Term::WhiteNoise)),
-                            "B": term(r.terms.fit.get(Term::BiasInstability)),
-                            "K": term(r.terms.fit.get(Term::RateRandomWalk)),
+                            "N": term(r.terms.model.get(Term::WhiteNoise)),
+                            "B": term(r.terms.model.get(Term::BiasInstability)),
+                            "K": term(r.terms.model.get(Term::RateRandomWalk)),
                             "sigma_min": r.terms.slope.sigma_min.map(|m| json!({"value": m.value, "tau": m.tau})),
                         },
                     })).collect::<Vec<_>>(),
@@ -132,7 +132,7 @@ pub fn run(a: &ThermalArgs) -> Result<()> {
                     }
                 }
                 for term in [Term::WhiteNoise, Term::BiasInstability] {
-                    match r.terms.fit.get(term) {
+                    match r.terms.model.get(term) {
                         TermEstimate::Value(v) => line.push_str(&format!(" {:>11.3e}", v.value)),
                         TermEstimate::NotIdentifiable(_) => line.push_str(&format!(" {:>11}", "n/i")),
                     }

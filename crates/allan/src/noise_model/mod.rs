@@ -1,0 +1,402 @@
+//! One estimator of an inertial sensor's noise model that chooses its own
+//! terms: the theoretical Allan variance of a sum of candidate processes
+//! ([`process`]) is fitted to the measured overlapping AVAR by weighted
+//! nonlinear least squares ([`lm`]), every candidate sum is fitted, and an
+//! information criterion decides which processes the data holds ([`select`]).
+//!
+//! The candidates: quantization Q, white noise N, bias instability B
+//! (flicker), rate random walk K, rate ramp R, and up to two first-order
+//! Gauss–Markov processes (σ, T). This is the approach of GMWM (Guerrier,
+//! Skaloud, Stebler & Victoria-Feser, "Wavelet-variance-based estimation for
+//! composite stochastic processes", JASA 108, 2013), on the Allan variance
+//! (which is twice the Haar wavelet variance) with the diagonal of its
+//! efficient weights, and with the Bayesian information criterion in place
+//! of WVIC (both penalise a fit's χ² by its parameter count; BIC's ln n
+//! penalty suits the few, partly dependent points of an octave curve).
+//!
+//! Rules every result keeps (each has a test in `tests/noise_model.rs`):
+//! - a term enters a model only where it carries at least [`SHOW_SHARE`]
+//!   of the model's variance at [`MIN_POINTS`] points or more, holding
+//!   [`MIN_TERM_EDF`] degrees of freedom between them;
+//! - no term's own Allan variance exceeds, at any point with
+//!   [`MIN_EDF`] degrees of freedom, the upper end of the measured
+//!   variance's [`CEILING_CONFIDENCE`] interval (the ceiling);
+//! - a term the criterion leaves out, or one no point can show, is given as
+//!   an upper bound (the smallest ceiling along its own line), never as a
+//!   value; so is every term when no candidate fits (p below
+//!   [`FIT_P_VALUE`]).
+
+pub mod lm;
+pub mod process;
+mod select;
+
+use statrs::distribution::{ChiSquared, ContinuousCDF, StudentsT};
+
+use crate::Point;
+use crate::noise_terms::{PerTerm, Term, TermEstimate, TermValue};
+use lm::{Component, Data, model_avar};
+pub use select::Candidate;
+
+/// Largest EDF a point is weighted with: a 1 % standard deviation of σ².
+/// No sensor is exact power laws down to τ0 (its anti-alias filter, the
+/// sampling itself, a flicker spectrum that ends somewhere); trusting the
+/// short-τ points of a long record to 0.1 % would let a model error of that
+/// size decide the fit.
+pub const MAX_FIT_EDF: f64 = 20_000.0;
+
+/// Share of the model's variance a process must carry at a point to count
+/// as shown there.
+pub const SHOW_SHARE: f64 = 0.5;
+
+/// Fewest points at which a process must show.
+pub const MIN_POINTS: usize = 2;
+
+/// Fewest degrees of freedom, summed over the points where it shows, that
+/// a process must rest on: with 10, σ² is known to about ±45 %.
+pub const MIN_TERM_EDF: f64 = 10.0;
+
+/// Fewest degrees of freedom of a point for its ceiling to bound a term.
+pub const MIN_EDF: f64 = 10.0;
+
+/// Confidence (two-sided) of the measured interval whose upper end no term
+/// may exceed.
+pub const CEILING_CONFIDENCE: f64 = 0.99;
+
+/// A fit whose χ² has a p-value below this is no description of the curve.
+pub const FIT_P_VALUE: f64 = 0.01;
+
+/// A first-order Gauss–Markov term.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GaussMarkovTerm {
+    /// Its standard deviation σ, in the unit of the rate data.
+    pub sigma: TermValue,
+    /// Its correlation time T, s.
+    pub tau_c: TermValue,
+}
+
+/// How well the selected model fits.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Quality {
+    /// χ² of the fit (on ln σ̂², weighted by each point's EDF).
+    pub chi2: f64,
+    /// Points minus parameters.
+    pub dof: usize,
+    /// χ²/dof.
+    pub chi2_reduced: f64,
+    /// P(χ²_dof ≥ χ²).
+    pub p_value: f64,
+    /// The information criterion: χ² + (parameters)·ln(points).
+    pub criterion: f64,
+}
+
+/// The selected noise model of one curve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NoiseModel {
+    /// The five IEEE 952 terms: a value with its interval where the model
+    /// holds the term, else why not.
+    pub terms: PerTerm<TermEstimate>,
+    /// Each term's upper bound (the smallest ceiling along its line), where
+    /// the curve has a point to set one.
+    pub bounds: PerTerm<Option<f64>>,
+    /// Gauss–Markov terms of the model, by correlation time.
+    pub gauss_markov: Vec<GaussMarkovTerm>,
+    /// The model, as its processes' symbols ("N + B + K"); "none" when no
+    /// candidate was admissible.
+    pub label: String,
+    /// Whether the selected model describes the curve (p ≥ [`FIT_P_VALUE`]).
+    pub fits: bool,
+    /// Its goodness of fit.
+    pub quality: Option<Quality>,
+    /// χ²/dof, as [`Quality::chi2_reduced`].
+    pub chi2_reduced: Option<f64>,
+    /// Points fitted.
+    pub points: usize,
+    /// Confidence of the intervals.
+    pub confidence: f64,
+    /// τ of points left out as no process of the candidates (a bump, a
+    /// tone), only ever when the model did not fit with them.
+    pub left_out: Vec<f64>,
+    /// τ of the fitted points whose measured interval the model's curve
+    /// leaves.
+    pub outside: Vec<f64>,
+    /// For each process of the model, how much worse the criterion is for
+    /// the best admissible model without it: why it was kept.
+    pub evidence: Vec<(String, f64)>,
+    /// The best admissible candidates, best first.
+    pub candidates: Vec<Candidate>,
+    components: Vec<Component>,
+    theta: Vec<f64>,
+}
+
+impl NoiseModel {
+    /// The estimate of one term.
+    pub fn get(&self, term: Term) -> &TermEstimate {
+        self.terms.get(term)
+    }
+
+    /// The upper bound of one term.
+    pub fn bound(&self, term: Term) -> Option<f64> {
+        *self.bounds.get(term)
+    }
+
+    /// The model's Allan variance at τ (zero without a model).
+    pub fn avar(&self, tau: f64) -> f64 {
+        if self.components.is_empty() {
+            return 0.0;
+        }
+        model_avar(&self.components, &self.theta, tau)
+    }
+
+    /// Each process of the model with its symbol and its own Allan
+    /// variance at τ: the lines a plot draws under the curve.
+    pub fn lines(&self, tau: f64) -> Vec<(String, f64)> {
+        let mut at = 0;
+        let labels = select::labels(&self.components);
+        self.components
+            .iter()
+            .zip(labels)
+            .map(|(c, l)| {
+                let v = c.avar(&self.theta[at..at + c.arity()], tau);
+                at += c.arity();
+                (l, v)
+            })
+            .collect()
+    }
+}
+
+/// The upper end of a point's measured variance at [`CEILING_CONFIDENCE`]:
+/// σ̂²·ν/χ²_ν((1 − c)/2).
+fn ceiling(p: &Point) -> f64 {
+    let nu = p.edf.min(MAX_FIT_EDF);
+    let q = ChiSquared::new(nu)
+        .map(|d| d.inverse_cdf((1.0 - CEILING_CONFIDENCE) / 2.0))
+        .unwrap_or(f64::NAN);
+    p.dev * p.dev * nu / q
+}
+
+/// The smallest ceiling along a term's own line: no larger term fits under
+/// the curve. Points with fewer than [`MIN_EDF`] degrees of freedom count
+/// only when no point has that many (a record too short for any).
+fn term_bound(term: Term, pts: &[Point], ceilings: &[f64]) -> Option<f64> {
+    let supported = pts.iter().any(|p| p.edf >= MIN_EDF);
+    pts.iter()
+        .zip(ceilings)
+        .filter(|(p, c)| (!supported || p.edf >= MIN_EDF) && c.is_finite())
+        .map(|(p, c)| (c / lm::power_basis(term, p.tau)).sqrt())
+        .filter(|v| v.is_finite())
+        .min_by(f64::total_cmp)
+}
+
+/// The selected noise model of an overlapping ADEV curve of rate data
+/// (octave taus are best: nearly independent points), intervals at
+/// `confidence`.
+pub fn estimate(points: &[Point], confidence: f64) -> NoiseModel {
+    let mut pts: Vec<Point> = points
+        .iter()
+        .copied()
+        .filter(|p| p.dev.is_finite() && p.dev > 0.0 && p.edf.is_finite() && p.edf > 0.0 && p.tau > 0.0)
+        .collect();
+    let mut left_out = Vec::new();
+    let budget = pts.len() / 4;
+    loop {
+        let (used, sel) = select_reweighed(&pts);
+        if let Some(best) = &sel.best
+            && !fits(best.quality.p_value)
+            && left_out.len() < budget
+            && pts.len() > 6
+            && let Some(worst) = select::outlier(&best.resid)
+        {
+            left_out.push(pts[worst].tau);
+            pts.remove(worst);
+            continue;
+        }
+        left_out.sort_unstable_by(f64::total_cmp);
+        return build(&used, sel, confidence, left_out);
+    }
+}
+
+/// Passes of selection with each point's EDF taken from the last model.
+const EDF_PASSES: usize = 2;
+
+/// The power-law exponents α the EDF tables hold for the overlapping ADEV.
+const ALPHAS: [i32; 5] = [2, 1, 0, -1, -2];
+
+/// `pts` with each point's EDF the smallest any noise type gives it: before
+/// there is a model, no point is trusted more than its least favourable
+/// noise allows (the points' own noise identification, one point at a
+/// time, can name white phase noise at the long τ of white rate noise and
+/// give a point a hundred times its degrees of freedom).
+fn cautious(pts: &[Point]) -> Vec<Point> {
+    pts.iter()
+        .map(|p| {
+            let n_phase = p.n + 2 * p.m;
+            let edf = ALPHAS
+                .iter()
+                .filter_map(|&a| crate::edf::edf_for(crate::Stat::Oadev, a, p.m, n_phase))
+                .fold(p.edf, f64::min);
+            Point { edf, ..*p }
+        })
+        .collect()
+}
+
+/// Selects on `pts` weighted with [`cautious`] EDFs, then again with each
+/// point's EDF that of the processes the selected model has there
+/// ([`select::Best::reweigh`]); returns the points as last weighted and
+/// the selection.
+fn select_reweighed(pts: &[Point]) -> (Vec<Point>, select::Selection) {
+    let mut used = cautious(pts);
+    let mut sel = select::select(&used);
+    for _ in 0..EDF_PASSES {
+        let Some(best) = &sel.best else { break };
+        let next_used = best.reweigh(pts);
+        let next = select::select(&next_used);
+        // A weighting under which no candidate keeps the rules is no
+        // better knowledge of the points than the one before it.
+        if next.best.is_none() {
+            break;
+        }
+        (used, sel) = (next_used, next);
+    }
+    (used, sel)
+}
+
+fn fits(p: f64) -> bool {
+    p >= FIT_P_VALUE
+}
+
+fn build(pts: &[Point], sel: select::Selection, confidence: f64, left_out: Vec<f64>) -> NoiseModel {
+    let ceilings: Vec<f64> = pts.iter().map(ceiling).collect();
+    let bounds = PerTerm::from_fn(|t| term_bound(t, pts, &ceilings));
+    let Some(best) = sel.best else {
+        let why = if pts.len() < 2 {
+            "not identifiable: fewer than 2 points on the curve".to_string()
+        } else {
+            format!(
+                "no candidate model fits the curve: none keeps the rules (each term shown at \
+                 {MIN_POINTS} points with {MIN_TERM_EDF} degrees of freedom, none above the measured ceiling)"
+            )
+        };
+        return NoiseModel {
+            terms: PerTerm::from_fn(|_| TermEstimate::NotIdentifiable(why.clone())),
+            bounds,
+            gauss_markov: Vec::new(),
+            label: "none".to_string(),
+            fits: false,
+            quality: None,
+            chi2_reduced: None,
+            points: pts.len(),
+            confidence,
+            left_out,
+            outside: Vec::new(),
+            evidence: Vec::new(),
+            candidates: sel.ranked,
+            components: Vec::new(),
+            theta: Vec::new(),
+        };
+    };
+    let q = best.quality;
+    let ok = fits(q.p_value);
+    // Student's t on the fit's degrees of freedom: the spreads rest on the
+    // fit's own residual scatter where that exceeds the points' EDF.
+    let z = StudentsT::new(0.0, 1.0, q.dof as f64)
+        .map(|d| d.inverse_cdf(0.5 + confidence / 2.0))
+        .unwrap_or(f64::INFINITY);
+    let spreads = best.spreads();
+    let interval = |at: usize, half: f64| -> (f64, f64, f64) {
+        let th = best.theta[at];
+        let sd = spreads[at];
+        (
+            (th * half).exp(),
+            ((th - z * sd) * half).exp(),
+            ((th + z * sd) * half).exp(),
+        )
+    };
+    let mut found: Vec<(Term, TermValue)> = Vec::new();
+    let mut gauss_markov = Vec::new();
+    let mut at = 0;
+    for c in &best.components {
+        match c {
+            Component::Power(t) => {
+                let (v, lo, hi) = interval(at, 0.5);
+                let cap = bounds.get(*t).unwrap_or(f64::INFINITY);
+                found.push((
+                    *t,
+                    TermValue {
+                        value: v,
+                        lo,
+                        hi: hi.min(cap.max(v)),
+                        tau: None,
+                    },
+                ));
+            }
+            Component::GaussMarkov => {
+                let (s, slo, shi) = interval(at, 0.5);
+                let (t, tlo, thi) = interval(at + 1, 1.0);
+                gauss_markov.push(GaussMarkovTerm {
+                    sigma: TermValue {
+                        value: s,
+                        lo: slo,
+                        hi: shi,
+                        tau: None,
+                    },
+                    tau_c: TermValue {
+                        value: t,
+                        lo: tlo,
+                        hi: thi,
+                        tau: None,
+                    },
+                });
+            }
+        }
+        at += c.arity();
+    }
+    gauss_markov.sort_by(|a, b| a.tau_c.value.total_cmp(&b.tau_c.value));
+    // The reasons carry no number: the bound is in `bounds`, to be shown
+    // in whatever unit the reader asked for.
+    let terms = PerTerm::from_fn(|t| {
+        if !ok {
+            return TermEstimate::NotIdentifiable(format!(
+                "no candidate model fits the curve (best {}: χ²/dof = {:.2}, p = {:.2e})",
+                best.label, q.chi2_reduced, q.p_value
+            ));
+        }
+        match found.iter().find(|(ft, _)| *ft == t) {
+            Some((_, v)) => TermEstimate::Value(*v),
+            None => TermEstimate::NotIdentifiable(format!(
+                "not in the selected model ({}): the information criterion keeps the curve without it",
+                best.label
+            )),
+        }
+    });
+    let outside = pts
+        .iter()
+        .filter(|p| {
+            let m = model_avar(&best.components, &best.theta, p.tau).sqrt();
+            m < p.dev_lo || m > p.dev_hi
+        })
+        .map(|p| p.tau)
+        .collect();
+    NoiseModel {
+        terms,
+        bounds,
+        gauss_markov: if ok { gauss_markov } else { Vec::new() },
+        label: best.label.clone(),
+        fits: ok,
+        quality: Some(q),
+        chi2_reduced: Some(q.chi2_reduced),
+        points: pts.len(),
+        confidence,
+        left_out,
+        outside,
+        evidence: sel.evidence,
+        candidates: sel.ranked,
+        components: best.components.clone(),
+        theta: best.theta.clone(),
+    }
+}
+
+/// The data of the fit: each point's (τ, σ̂², ν) with ν capped at
+/// [`MAX_FIT_EDF`].
+fn data_of(pts: &[Point]) -> Data {
+    Data::new(pts.iter().map(|p| (p.tau, p.dev * p.dev, p.edf.min(MAX_FIT_EDF))))
+}

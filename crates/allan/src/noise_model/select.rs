@@ -1,0 +1,359 @@
+//! Model selection: every candidate sum of processes is fitted, those that
+//! break a rule of [`super`] are set aside, and the lowest information
+//! criterion χ² + p·ln n among the rest is the model (Schwarz 1978; the
+//! role WVIC plays in GMWM, Guerrier et al. 2013 §4).
+
+use nalgebra::DMatrix;
+use statrs::distribution::{ChiSquared, ContinuousCDF};
+
+use super::lm::{self, Component, Data, TcRange, model_avar};
+use super::{MIN_EDF, MIN_POINTS, MIN_TERM_EDF, Quality, SHOW_SHARE, ceiling, data_of};
+use crate::Point;
+use crate::noise_terms::Term;
+
+/// A candidate model that kept every rule, with its criterion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Candidate {
+    /// Its processes ("N + K").
+    pub label: String,
+    /// χ² + p·ln n.
+    pub criterion: f64,
+    /// χ² of its fit.
+    pub chi2: f64,
+    /// p, its number of parameters.
+    pub parameters: usize,
+}
+
+/// The selected model's fit.
+pub(super) struct Best {
+    pub components: Vec<Component>,
+    pub theta: Vec<f64>,
+    pub label: String,
+    pub quality: Quality,
+    pub resid: Vec<f64>,
+    jac: DMatrix<f64>,
+}
+
+impl Best {
+    /// Standard deviation of each log-parameter: from (JᵀJ)⁻¹ of the
+    /// standardised residuals, scaled up by χ²/dof when the model misses the
+    /// points by more than their scatter; and never below what the single
+    /// most telling point gives alone (1/max |J_ik|). Neighbouring octave
+    /// points share most of their data, so the errors of the points are
+    /// positively correlated and the independent-points covariance is too
+    /// optimistic; the single-point spread is its fully correlated limit.
+    pub fn spreads(&self) -> Vec<f64> {
+        let p = self.jac.ncols();
+        let inflate = self.quality.chi2_reduced.max(1.0);
+        let cov = (self.jac.transpose() * &self.jac).try_inverse();
+        (0..p)
+            .map(|k| {
+                let single = self
+                    .jac
+                    .column(k)
+                    .iter()
+                    .map(|j| 1.0 / j.abs())
+                    .fold(f64::INFINITY, f64::min);
+                let joint = cov
+                    .as_ref()
+                    .map_or(f64::INFINITY, |c| (c[(k, k)].max(0.0) * inflate).sqrt());
+                joint.max(single)
+            })
+            .collect()
+    }
+}
+
+pub(super) struct Selection {
+    pub best: Option<Best>,
+    pub ranked: Vec<Candidate>,
+    pub evidence: Vec<(String, f64)>,
+}
+
+impl Best {
+    /// `pts` with each point's EDF taken from the model: each process's own
+    /// EDF (Greenhall's, of the overlapping ADEV, for the power-law α it
+    /// shows there), combined by its share w_k of the variance as
+    /// 1/√ν = Σ w_k/√ν_k. That is the standard deviation of a sum whose
+    /// parts' errors are fully correlated, an upper bound (Minkowski) on
+    /// that of the sum. The points' own noise identification reads one α
+    /// from the data at each point and is thrown by mixtures: quantization
+    /// lingering over white noise gives a white-phase α and an EDF in the
+    /// tens of thousands to a point whose white-noise part has a few
+    /// hundred.
+    pub fn reweigh(&self, pts: &[Point]) -> Vec<Point> {
+        pts.iter()
+            .map(|p| {
+                let n_phase = p.n + 2 * p.m;
+                let total = model_avar(&self.components, &self.theta, p.tau);
+                let mut at = 0;
+                let mut inv_sqrt = 0.0;
+                for c in &self.components {
+                    let own = &self.theta[at..at + c.arity()];
+                    at += c.arity();
+                    let share = c.avar(own, p.tau) / total;
+                    let nu = crate::edf::edf_for(crate::Stat::Oadev, c.alpha(own, p.tau), p.m, n_phase)
+                        .unwrap_or(p.edf);
+                    inv_sqrt += share / nu.sqrt();
+                }
+                let edf = 1.0 / (inv_sqrt * inv_sqrt);
+                Point {
+                    edf: if edf.is_finite() && edf > 0.0 { edf } else { p.edf },
+                    ..*p
+                }
+            })
+            .collect()
+    }
+}
+
+/// The symbol of each component: Q, N, B, K, R; GM1, GM2 in order.
+pub(super) fn labels(comps: &[Component]) -> Vec<String> {
+    let gms = comps.iter().filter(|c| **c == Component::GaussMarkov).count();
+    let mut k = 0;
+    comps
+        .iter()
+        .map(|c| match c {
+            Component::Power(t) => t.symbol().to_string(),
+            Component::GaussMarkov if gms == 1 => "GM".to_string(),
+            Component::GaussMarkov => {
+                k += 1;
+                format!("GM{k}")
+            }
+        })
+        .collect()
+}
+
+fn candidates() -> Vec<Vec<Component>> {
+    let mut out = Vec::new();
+    for gm in 0..=2 {
+        for mask in 0u32..32 {
+            if mask == 0 && gm == 0 {
+                continue;
+            }
+            let mut comps: Vec<Component> = Term::ALL
+                .iter()
+                .enumerate()
+                .filter(|(k, _)| mask & (1 << k) != 0)
+                .map(|(_, t)| Component::Power(*t))
+                .collect();
+            comps.extend(std::iter::repeat_n(Component::GaussMarkov, gm));
+            out.push(comps);
+        }
+    }
+    out
+}
+
+/// Starting points: each term as large as the curve allows, shared among
+/// the processes; Gauss–Markov peaks (at τ ≈ 1.89 T) placed at a fifth,
+/// half and four fifths of the curve's span of ln τ.
+fn starts(comps: &[Component], data: &Data) -> Vec<Vec<f64>> {
+    let n = data.len();
+    let share = (comps.len() as f64).ln();
+    let y: Vec<f64> = (0..n).map(|i| data.z[i]).collect();
+    let (lt0, lt1) = (data.tau[0].ln(), data.tau[n - 1].ln());
+    let peaks: Vec<f64> = [0.2, 0.5, 0.8]
+        .iter()
+        .map(|f| lt0 + f * (lt1 - lt0) - 1.89f64.ln())
+        .collect();
+    let gm_count = comps.iter().filter(|c| **c == Component::GaussMarkov).count();
+    let combos: Vec<Vec<f64>> = match gm_count {
+        0 => vec![vec![]],
+        1 => peaks.iter().map(|&p| vec![p]).collect(),
+        _ => vec![
+            vec![peaks[0], peaks[1]],
+            vec![peaks[0], peaks[2]],
+            vec![peaks[1], peaks[2]],
+        ],
+    };
+    combos
+        .into_iter()
+        .map(|tcs| {
+            let mut gm = tcs.into_iter();
+            let mut theta = Vec::new();
+            for c in comps {
+                match c {
+                    Component::Power(t) => {
+                        let top = (0..n)
+                            .map(|i| y[i] - lm::power_basis(*t, data.tau[i]).ln())
+                            .fold(f64::INFINITY, f64::min);
+                        theta.push(top - share);
+                    }
+                    Component::GaussMarkov => {
+                        let ln_t = gm.next().unwrap_or(lt0);
+                        let at = (0..n)
+                            .min_by(|&a, &b| {
+                                (data.tau[a].ln() - ln_t - 1.89f64.ln())
+                                    .abs()
+                                    .total_cmp(&(data.tau[b].ln() - ln_t - 1.89f64.ln()).abs())
+                            })
+                            .unwrap_or(0);
+                        theta.push(y[at] - 0.381f64.ln() - share);
+                        theta.push(ln_t);
+                    }
+                }
+            }
+            theta
+        })
+        .collect()
+}
+
+/// Whether every process of a fitted model shows ([`SHOW_SHARE`] of the
+/// variance at [`MIN_POINTS`] points holding [`MIN_TERM_EDF`]) and stays
+/// under every supported point's ceiling.
+fn admissible(comps: &[Component], theta: &[f64], pts: &[Point], ceilings: &[f64]) -> bool {
+    let mut at = 0;
+    comps.iter().all(|c| {
+        let own = &theta[at..at + c.arity()];
+        at += c.arity();
+        let (mut count, mut edf) = (0usize, 0.0);
+        for p in pts {
+            let v = c.avar(own, p.tau);
+            if v >= SHOW_SHARE * model_avar(comps, theta, p.tau) {
+                count += 1;
+                edf += p.edf;
+            }
+        }
+        let under = pts
+            .iter()
+            .zip(ceilings)
+            .all(|(p, cap)| p.edf < MIN_EDF || c.avar(own, p.tau) <= *cap);
+        count >= MIN_POINTS && edf >= MIN_TERM_EDF && under
+    })
+}
+
+/// Steps of the first round.
+const ROUGH_ITERATIONS: usize = 25;
+/// Admissible candidates taken to convergence, in the order of their
+/// first-round criterion.
+const REFINED: usize = 24;
+/// Steps at most to convergence.
+const FULL_ITERATIONS: usize = 400;
+
+struct Scored {
+    comps: Vec<Component>,
+    fit: lm::Fitted,
+    criterion: f64,
+}
+
+/// Fits every candidate to `pts` and selects.
+pub(super) fn select(pts: &[Point]) -> Selection {
+    let n = pts.len();
+    let none = Selection {
+        best: None,
+        ranked: Vec::new(),
+        evidence: Vec::new(),
+    };
+    if n < 2 {
+        return none;
+    }
+    let data = data_of(pts);
+    let ceilings: Vec<f64> = pts.iter().map(ceiling).collect();
+    let tc = TcRange {
+        lo: data.tau[0].ln(),
+        hi: data.tau[n - 1].ln(),
+    };
+    let penalty = (n as f64).ln();
+    let score = |comps: Vec<Component>, fit: lm::Fitted| Scored {
+        criterion: fit.chi2 + fit.theta.len() as f64 * penalty,
+        comps,
+        fit,
+    };
+    // Every candidate from every start, briefly; then the most promising
+    // ones to convergence. A candidate that has not settled in the first
+    // round is shrinking a process towards nothing and is no better than
+    // the smaller candidate without it, which is fitted too.
+    let mut rough: Vec<Scored> = candidates()
+        .into_iter()
+        .filter(|comps| comps.iter().map(|c| c.arity()).sum::<usize>() < n)
+        .filter_map(|comps| {
+            let fit = starts(&comps, &data)
+                .into_iter()
+                .filter_map(|s| lm::fit(&data, &comps, s, tc, ROUGH_ITERATIONS))
+                .min_by(|a, b| a.chi2.total_cmp(&b.chi2))?;
+            Some(score(comps, fit))
+        })
+        .collect();
+    rough.sort_by(|a, b| a.criterion.total_cmp(&b.criterion));
+    let mut scored: Vec<Scored> = rough
+        .into_iter()
+        .filter_map(|s| {
+            let fit = lm::fit(&data, &s.comps, s.fit.theta, tc, FULL_ITERATIONS)?;
+            admissible(&s.comps, &fit.theta, pts, &ceilings).then(|| score(s.comps, fit))
+        })
+        .take(REFINED)
+        .collect();
+    scored.sort_by(|a, b| a.criterion.total_cmp(&b.criterion));
+    let Some(top) = scored.first() else {
+        return none;
+    };
+    let label_of = |comps: &[Component]| labels(comps).join(" + ");
+    let ranked = scored
+        .iter()
+        .take(6)
+        .map(|s| Candidate {
+            label: label_of(&s.comps),
+            criterion: s.criterion,
+            chi2: s.fit.chi2,
+            parameters: s.fit.theta.len(),
+        })
+        .collect();
+    let gms = |c: &[Component]| c.iter().filter(|x| **x == Component::GaussMarkov).count();
+    let evidence = top
+        .comps
+        .iter()
+        .zip(labels(&top.comps))
+        .map(|(c, l)| {
+            let without = scored
+                .iter()
+                .filter(|s| match c {
+                    Component::Power(t) => !s.comps.contains(&Component::Power(*t)),
+                    Component::GaussMarkov => gms(&s.comps) < gms(&top.comps),
+                })
+                .map(|s| s.criterion)
+                .fold(f64::INFINITY, f64::min);
+            (l, without - top.criterion)
+        })
+        .collect();
+    let p = top.fit.theta.len();
+    let dof = n - p;
+    let chi2 = top.fit.chi2;
+    let p_value = ChiSquared::new(dof as f64).map_or(f64::NAN, |d| d.sf(chi2));
+    let best = Best {
+        components: top.comps.clone(),
+        theta: top.fit.theta.clone(),
+        label: label_of(&top.comps),
+        quality: Quality {
+            chi2,
+            dof,
+            chi2_reduced: chi2 / dof as f64,
+            p_value,
+            criterion: top.criterion,
+        },
+        resid: top.fit.resid.clone(),
+        jac: top.fit.jac.clone(),
+    };
+    Selection {
+        best: Some(best),
+        ranked,
+        evidence,
+    }
+}
+
+/// A point is left out when the model misses it by more than this many of
+/// its standard deviations…
+const OUTLIER_SIGMAS: f64 = 5.0;
+/// …and by more than this many times the median miss (so that a model
+/// that fits nothing well is not whittled down to the points it fits).
+const OUTLIER_MEDIAN: f64 = 3.0;
+
+/// The index of the worst-missed point, if it is an outlier.
+pub(super) fn outlier(resid: &[f64]) -> Option<usize> {
+    let mut order: Vec<f64> = resid.iter().map(|r| r.abs()).collect();
+    order.sort_unstable_by(f64::total_cmp);
+    let median = order.get(order.len() / 2).copied().unwrap_or(0.0);
+    resid
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.abs() > OUTLIER_SIGMAS && r.abs() > OUTLIER_MEDIAN * median)
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+        .map(|(i, _)| i)
+}

@@ -1,0 +1,478 @@
+//! The `imutherm.noise/1` JSON document of `imutherm noise --json`, as
+//! types. The schema only gains fields: those of the former slope method
+//! and fit (`slope`, `fit`, `chosen`, `fit_chi2_reduced`, `fit_points`,
+//! `fit_left_out_taus`, `disagreements`) are kept and filled from the one
+//! selected noise model; `model`, `filters` and `state_space` are new.
+
+use std::path::PathBuf;
+
+use allan::noise_model::NoiseModel;
+use allan::noise_terms::{Chosen, Minimum, NoiseTerms, Term, TermEstimate, TermValue};
+use serde::Serialize;
+
+use crate::filters::{FilterParams, StateSpaceTerm, filter_params, gauss_markov_state_space};
+use crate::selection::SelectedChannel;
+use crate::units::{Units, density_of, unit_of};
+
+/// The schema's name and version.
+pub const SCHEMA: &str = "imutherm.noise/1";
+
+/// The whole document.
+#[derive(Debug, Serialize)]
+pub struct NoiseDocument {
+    /// [`SCHEMA`].
+    pub schema: &'static str,
+    /// The writing imutherm's version.
+    pub imutherm_version: &'static str,
+    /// Confidence of every interval.
+    pub confidence: f64,
+    /// "si" or "datasheet": the units of the text output (the JSON gives
+    /// both).
+    pub units: &'static str,
+    /// One entry per input file.
+    pub files: Vec<FileEntry>,
+}
+
+/// One input file.
+#[derive(Debug, Serialize)]
+pub struct FileEntry {
+    /// Its path.
+    pub file: String,
+    /// Its mean temperature, °C.
+    pub mean_temperature_c: Option<f64>,
+    /// Its sample rate, Hz.
+    pub rate_hz: f64,
+    /// Its analysed channels.
+    pub channels: Vec<ChannelEntry>,
+}
+
+/// A value with its interval and unit.
+#[derive(Debug, Clone, Serialize)]
+pub struct JsonValue {
+    /// The value.
+    pub value: f64,
+    /// Lower end.
+    pub lo: f64,
+    /// Upper end.
+    pub hi: f64,
+    /// Unit.
+    pub unit: String,
+}
+
+/// One term as the former per-method lists gave it.
+#[derive(Debug, Serialize)]
+pub struct JsonTerm {
+    /// Q, N, B, K or R.
+    pub term: &'static str,
+    /// Its snake-case name.
+    pub name: &'static str,
+    /// The list it is in ("slope" or "fit"; both now hold the model's).
+    pub method: &'static str,
+    /// Whether the model holds it.
+    pub identified: bool,
+    /// In SI.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub si: Option<JsonValue>,
+    /// In the datasheets' units.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub datasheet: Option<JsonValue>,
+    /// White noise as the datasheets quote it: a density per √Hz.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub density: Option<JsonValue>,
+    /// τ it was read at (none for a fitted model).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tau: Option<f64>,
+    /// Why it is not a value.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+}
+
+/// The one answer for a term.
+#[derive(Debug, Serialize)]
+pub struct ChosenEntry {
+    /// Q, N, B, K or R.
+    pub term: &'static str,
+    /// "fit" (the model's value), "upper_bound" or "none".
+    pub method: &'static str,
+    /// In SI.
+    pub si: Option<JsonValue>,
+    /// Always false: one estimator cannot disagree with itself.
+    pub disagree: bool,
+    /// Why the term is only bounded.
+    pub note: Option<String>,
+}
+
+/// A slope stretch of the IEEE 952 reading (kept for σ_min's context).
+#[derive(Debug, Serialize)]
+pub struct Stretch {
+    /// The term whose slope held.
+    pub term: &'static str,
+    /// From τ, s.
+    pub tau_from: f64,
+    /// To τ, s.
+    pub tau_to: f64,
+}
+
+/// σ_min with its interval.
+#[derive(Debug, Serialize)]
+pub struct SigmaMin {
+    /// In SI.
+    pub si: JsonValue,
+    /// In the datasheets' units.
+    pub datasheet: JsonValue,
+    /// Its τ, s.
+    pub tau: Option<f64>,
+}
+
+/// A reading of the thesis's script.
+#[derive(Debug, Serialize)]
+pub struct ThesisValue {
+    /// In SI.
+    pub si: JsonValue,
+    /// Its τ, s.
+    pub tau: Option<f64>,
+}
+
+/// The thesis's own reading, by name.
+#[derive(Debug, Serialize)]
+pub struct ThesisReadingEntry {
+    /// What it does.
+    pub method: &'static str,
+    /// N.
+    #[serde(rename = "N")]
+    pub n: Option<ThesisValue>,
+    /// B.
+    #[serde(rename = "B")]
+    pub b: Option<ThesisValue>,
+}
+
+/// A Gauss–Markov term of the model.
+#[derive(Debug, Serialize)]
+pub struct GaussMarkovEntry {
+    /// σ in the unit of the data.
+    pub sigma: JsonValue,
+    /// T, s.
+    pub tau_c: JsonValue,
+}
+
+/// A candidate model and its criterion.
+#[derive(Debug, Serialize)]
+pub struct CandidateEntry {
+    /// Its processes.
+    pub label: String,
+    /// χ² + p·ln n.
+    pub criterion: f64,
+    /// χ² of its fit.
+    pub chi2: f64,
+    /// Its parameter count.
+    pub parameters: usize,
+}
+
+/// The selected noise model.
+#[derive(Debug, Serialize)]
+pub struct ModelEntry {
+    /// Its processes ("N + K").
+    pub label: String,
+    /// Whether it describes the curve (p ≥ 0.01).
+    pub fits: bool,
+    /// χ² on ln σ̂².
+    pub chi2: Option<f64>,
+    /// Points − parameters.
+    pub dof: Option<usize>,
+    /// χ²/dof.
+    pub chi2_reduced: Option<f64>,
+    /// P(χ²_dof ≥ χ²).
+    pub p_value: Option<f64>,
+    /// Its information criterion.
+    pub criterion: Option<f64>,
+    /// Points fitted.
+    pub points: usize,
+    /// τ of the points left out, s.
+    pub left_out_taus: Vec<f64>,
+    /// τ where its curve leaves the measured interval, s.
+    pub outside_taus: Vec<f64>,
+    /// Per process: how much worse the criterion is without it.
+    pub evidence: Vec<(String, f64)>,
+    /// The best admissible candidates.
+    pub candidates: Vec<CandidateEntry>,
+    /// Its Gauss–Markov terms.
+    pub gauss_markov: Vec<GaussMarkovEntry>,
+    /// Each term's upper bound in SI (null: no point to set one).
+    pub bounds: Vec<(String, Option<f64>)>,
+}
+
+/// One channel.
+#[derive(Debug, Serialize)]
+pub struct ChannelEntry {
+    /// Its name.
+    pub name: String,
+    /// What it measures.
+    pub quantity: &'static str,
+    /// Its data unit.
+    pub unit: String,
+    /// Where the unit came from.
+    pub unit_source: &'static str,
+    /// Where the ADEV minimum lies.
+    pub minimum: &'static str,
+    /// EDF a point needs for σ_min.
+    pub sigma_min_min_edf: f64,
+    /// The IEEE 952 slope stretches found.
+    pub slope_stretches: Vec<Stretch>,
+    /// The model's left-out τ (as `model.left_out_taus`).
+    pub fit_left_out_taus: Vec<f64>,
+    /// The thesis's reading.
+    pub thesis_reading: ThesisReadingEntry,
+    /// One answer per term.
+    pub chosen: Vec<ChosenEntry>,
+    /// Samples analysed.
+    pub samples: usize,
+    /// σ_min.
+    pub sigma_min: Option<SigmaMin>,
+    /// The model's terms (the former slope list).
+    pub slope: Vec<JsonTerm>,
+    /// The model's terms (the former fit list).
+    pub fit: Vec<JsonTerm>,
+    /// The model's χ²/dof.
+    pub fit_chi2_reduced: Option<f64>,
+    /// Points fitted.
+    pub fit_points: usize,
+    /// Always empty: one estimator.
+    pub disagreements: Vec<String>,
+    /// The selected noise model.
+    pub model: ModelEntry,
+    /// PX4 EKF2 and ArduPilot EKF3 parameters (gyros and accelerometers).
+    pub filters: Option<Vec<FilterParams>>,
+    /// The model as a state-space form.
+    pub state_space: Vec<StateSpaceTerm>,
+}
+
+/// One analysed channel, as the document reads it.
+pub struct ChannelInput<'a> {
+    /// Index of its file.
+    pub file_index: usize,
+    /// The channel.
+    pub channel: &'a SelectedChannel,
+    /// Samples analysed.
+    pub samples: usize,
+    /// Its noise terms.
+    pub terms: &'a NoiseTerms,
+}
+
+fn json_value(v: &TermValue, term: Term, ch: &SelectedChannel, units: Units) -> JsonValue {
+    let (f, unit) = unit_of(term, ch.quantity, &ch.unit, units);
+    JsonValue {
+        value: v.value * f,
+        lo: v.lo * f,
+        hi: v.hi * f,
+        unit,
+    }
+}
+
+fn interval(v: &TermValue, unit: &str) -> JsonValue {
+    JsonValue {
+        value: v.value,
+        lo: v.lo,
+        hi: v.hi,
+        unit: unit.to_string(),
+    }
+}
+
+fn json_term(term: Term, est: &TermEstimate, method: &'static str, ch: &SelectedChannel) -> JsonTerm {
+    match est {
+        TermEstimate::Value(v) => JsonTerm {
+            term: term.symbol(),
+            name: term.name(),
+            method,
+            identified: true,
+            si: Some(json_value(v, term, ch, Units::Si)),
+            datasheet: Some(json_value(v, term, ch, Units::Datasheet)),
+            density: density_of(ch.quantity)
+                .filter(|_| term == Term::WhiteNoise)
+                .map(|(f, u)| JsonValue {
+                    value: v.value * f,
+                    lo: v.lo * f,
+                    hi: v.hi * f,
+                    unit: u.to_string(),
+                }),
+            tau: v.tau,
+            reason: None,
+        },
+        TermEstimate::NotIdentifiable(why) => JsonTerm {
+            term: term.symbol(),
+            name: term.name(),
+            method,
+            identified: false,
+            si: None,
+            datasheet: None,
+            density: None,
+            tau: None,
+            reason: Some(why.clone()),
+        },
+    }
+}
+
+fn model_entry(m: &NoiseModel, ch: &SelectedChannel) -> ModelEntry {
+    ModelEntry {
+        label: m.label.clone(),
+        fits: m.fits,
+        chi2: m.quality.map(|q| q.chi2),
+        dof: m.quality.map(|q| q.dof),
+        chi2_reduced: m.chi2_reduced,
+        p_value: m.quality.map(|q| q.p_value),
+        criterion: m.quality.map(|q| q.criterion),
+        points: m.points,
+        left_out_taus: m.left_out.clone(),
+        outside_taus: m.outside.clone(),
+        evidence: m.evidence.clone(),
+        candidates: m
+            .candidates
+            .iter()
+            .map(|c| CandidateEntry {
+                label: c.label.clone(),
+                criterion: c.criterion,
+                chi2: c.chi2,
+                parameters: c.parameters,
+            })
+            .collect(),
+        gauss_markov: m
+            .gauss_markov
+            .iter()
+            .map(|g| GaussMarkovEntry {
+                sigma: interval(&g.sigma, &ch.unit),
+                tau_c: interval(&g.tau_c, "s"),
+            })
+            .collect(),
+        bounds: Term::ALL
+            .iter()
+            .map(|&t| (t.symbol().to_string(), m.bound(t)))
+            .collect(),
+    }
+}
+
+fn channel_entry(c: &ChannelInput) -> ChannelEntry {
+    let (ch, terms) = (c.channel, c.terms);
+    let model_list = |method| {
+        Term::ALL
+            .iter()
+            .map(|&t| json_term(t, terms.model.get(t), method, ch))
+            .collect()
+    };
+    let chosen = Term::ALL
+        .iter()
+        .map(|&t| {
+            let choice = terms.choose(t);
+            let (method, si) = match choice.chosen {
+                Chosen::Model(v) => ("fit", Some(json_value(&v, t, ch, Units::Si))),
+                Chosen::Bound(b) => {
+                    let (f, unit) = unit_of(t, ch.quantity, &ch.unit, Units::Si);
+                    (
+                        "upper_bound",
+                        Some(JsonValue {
+                            value: b * f,
+                            lo: 0.0,
+                            hi: b * f,
+                            unit,
+                        }),
+                    )
+                }
+                Chosen::Nothing => ("none", None),
+            };
+            ChosenEntry {
+                term: t.symbol(),
+                method,
+                si,
+                disagree: false,
+                note: choice.note,
+            }
+        })
+        .collect();
+    let thesis = &terms.slope.thesis;
+    let reading = |v: Option<TermValue>, t: Term| {
+        v.map(|v| ThesisValue {
+            si: json_value(&v, t, ch, Units::Si),
+            tau: v.tau,
+        })
+    };
+    ChannelEntry {
+        name: ch.name.clone(),
+        quantity: ch.quantity.name(),
+        unit: ch.unit.clone(),
+        unit_source: ch.unit_source.name(),
+        minimum: match terms.slope.minimum {
+            Minimum::Found => "found",
+            Minimum::StillFalling => "still_falling",
+            Minimum::RisesFromStart => "rises_from_start",
+            Minimum::Unknown => "unknown",
+        },
+        sigma_min_min_edf: allan::noise_terms::MIN_EDF,
+        slope_stretches: terms
+            .slope
+            .stretches
+            .iter()
+            .map(|&(t, a, b)| Stretch {
+                term: t.symbol(),
+                tau_from: a,
+                tau_to: b,
+            })
+            .collect(),
+        fit_left_out_taus: terms.model.left_out.clone(),
+        thesis_reading: ThesisReadingEntry {
+            method: "analyzeAllan.m: N on the -1/2 line through the slope nearest -1/2; B = sigma at the first \
+                     positive slope / 0.664",
+            n: reading(thesis.n, Term::WhiteNoise),
+            b: reading(thesis.b, Term::BiasInstability),
+        },
+        chosen,
+        samples: c.samples,
+        sigma_min: terms.slope.sigma_min.map(|v| SigmaMin {
+            si: json_value(&v, Term::BiasInstability, ch, Units::Si),
+            datasheet: json_value(&v, Term::BiasInstability, ch, Units::Datasheet),
+            tau: v.tau,
+        }),
+        slope: model_list("slope"),
+        fit: model_list("fit"),
+        fit_chi2_reduced: terms.model.chi2_reduced,
+        fit_points: terms.model.points,
+        disagreements: Vec::new(),
+        model: model_entry(&terms.model, ch),
+        filters: filter_params(ch.quantity, terms),
+        state_space: gauss_markov_state_space(&terms.model),
+    }
+}
+
+impl NoiseDocument {
+    /// The document of `channels` read from `files`, with each file's mean
+    /// temperature and rate; `units` names the text output's units.
+    pub fn new(
+        files: &[PathBuf],
+        temps: &[Option<f64>],
+        rates: &[f64],
+        channels: &[ChannelInput],
+        confidence: f64,
+        units: Units,
+    ) -> NoiseDocument {
+        NoiseDocument {
+            schema: SCHEMA,
+            imutherm_version: env!("CARGO_PKG_VERSION"),
+            confidence,
+            units: match units {
+                Units::Si => "si",
+                _ => "datasheet",
+            },
+            files: files
+                .iter()
+                .enumerate()
+                .map(|(i, f)| FileEntry {
+                    file: f.display().to_string(),
+                    mean_temperature_c: temps[i],
+                    rate_hz: rates[i],
+                    channels: channels
+                        .iter()
+                        .filter(|c| c.file_index == i)
+                        .map(channel_entry)
+                        .collect(),
+                })
+                .collect(),
+        }
+    }
+}
