@@ -200,14 +200,7 @@ pub fn read_channels(
 
 /// What a time column's stamps are when they give no clock.
 fn describe_stamps(t: &[f64]) -> String {
-    let unusable = t.iter().filter(|v| !v.is_finite()).count();
-    let finite: Vec<f64> = t.iter().copied().filter(|v| v.is_finite()).collect();
-    let equal = finite.windows(2).filter(|w| w[1] == w[0]).count();
-    let back = finite.windows(2).filter(|w| w[1] < w[0]).count();
-    format!(
-        "of {} rows, {unusable} have no stamp, {equal} repeat the previous stamp and {back} step back",
-        t.len()
-    )
+    imu::timing::describe_stamps(t, "rows", "have no stamp")
 }
 
 /// Refuses a selection holding two columns that resolve to one channel

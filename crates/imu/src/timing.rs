@@ -68,6 +68,21 @@ fn mean_gap_free_step(t: &[f64], step: f64) -> Option<(f64, usize)> {
     (steps > 0 && span > 0.0).then(|| (span / steps as f64, used))
 }
 
+/// What stamps that give no clock are: of the `items` (rows, messages),
+/// how many are unusable (`unusable`: NaN, or what the reader made NaN),
+/// repeat the previous stamp or step back. Shared by the text and the
+/// robot-log readers, so that both say it alike.
+pub fn describe_stamps(t: &[f64], items: &str, unusable: &str) -> String {
+    let bad = t.iter().filter(|v| !v.is_finite()).count();
+    let finite: Vec<f64> = t.iter().copied().filter(|v| v.is_finite()).collect();
+    let equal = finite.windows(2).filter(|w| w[1] == w[0]).count();
+    let back = finite.windows(2).filter(|w| w[1] < w[0]).count();
+    format!(
+        "of {} {items}, {bad} {unusable}, {equal} repeat the previous stamp and {back} step back",
+        t.len()
+    )
+}
+
 /// Studies timestamps in seconds. `None` with fewer than two finite,
 /// increasing timestamps (no rate can be derived).
 pub fn analyze_timestamps(t: &[f64]) -> Option<Timing> {

@@ -259,14 +259,7 @@ fn losses(path: &Path, losses: &[crate::streams::Loss], report: &mut ReadReport)
 /// What a stream's stamps are, for a clock that cannot be fitted: how many
 /// are unusable, repeat the previous one or step back.
 fn describe_stamps(t: &[f64]) -> String {
-    let unusable = t.iter().filter(|v| !v.is_finite()).count();
-    let finite: Vec<f64> = t.iter().copied().filter(|v| v.is_finite()).collect();
-    let equal = finite.windows(2).filter(|w| w[1] == w[0]).count();
-    let back = finite.windows(2).filter(|w| w[1] < w[0]).count();
-    format!(
-        "of {} messages, {unusable} have a zero, negative or NaN stamp, {equal} repeat the previous stamp and {back} step back",
-        t.len()
-    )
+    imu::timing::describe_stamps(t, "messages", "have a zero, negative or NaN stamp")
 }
 
 /// Value of (t, v) at `at`, linear between neighbours; the end values
