@@ -242,6 +242,8 @@ impl Model {
             for (k, &v) in c.coefficients.iter().enumerate() {
                 finite(format!("channels[{i}].coefficients[{k}]"), v)?;
             }
+            finite(format!("channels[{i}].residual_rms"), c.residual_rms)?;
+            finite(format!("channels[{i}].residual_max"), c.residual_max)?;
             // |p(u)| ≤ Σ|c_j|·m^j over the range; twice that bounds
             // p(T) − p(T_ref), the correction applied.
             let m = [self.t_min_c, self.t_max_c]
@@ -297,6 +299,7 @@ mod tests {
             residual_rms: 0.0,
             residual_max: 0.0,
             cross_validation: Vec::new(),
+            hysteresis: None,
         };
         Model {
             schema: SCHEMA.into(),

@@ -44,6 +44,7 @@ fn channel() -> impl Strategy<Value = ChannelModel> {
             residual_rms: 0.0,
             residual_max: 0.0,
             cross_validation: Vec::new(),
+            hysteresis: None,
         })
 }
 
