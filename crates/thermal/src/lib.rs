@@ -45,6 +45,7 @@ pub mod firmware;
 pub mod hysteresis;
 pub mod surface;
 pub mod tcal;
+pub mod weights;
 
 pub use error::ThermalError;
 pub use model_check::{ModelError, ModelFileError};
