@@ -128,7 +128,16 @@ pub fn fit(files: &[PathBuf], runs: &[RunData], req: &FitRequest) -> Result<Fitt
     })?;
     model.fitted_on = names;
     model.fitted_on_digests = digests;
-    model.device_id = recorded_device_id(files);
+    // The ids every run agrees on: PX4 applies a set only to the sensor
+    // whose device id it names.
+    let agreed = |id: fn(&RunData) -> Option<u32>| {
+        let first = runs.first().and_then(id)?;
+        runs.iter().all(|r| id(r) == Some(first)).then_some(first)
+    };
+    let gyro = agreed(|r| r.selection.device_ids.gyro).or_else(|| recorded_device_id(files));
+    let accel = agreed(|r| r.selection.device_ids.accel);
+    model.device_id = gyro;
+    model.accel_device_id = accel.filter(|a| Some(*a) != gyro);
     // A model fitted for a firmware is checked against its export now: its
     // warnings come at the fit, not at the vehicle.
     let export_warnings = match req.firmware {

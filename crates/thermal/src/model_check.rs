@@ -313,6 +313,7 @@ mod tests {
             fitted_on_digests: Vec::new(),
             dtdt_range_c_per_s: None,
             device_id: None,
+            accel_device_id: None,
             channels: vec![ch("gyro_x"), ch("accel_z")],
         }
     }

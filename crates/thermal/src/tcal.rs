@@ -170,6 +170,11 @@ pub struct Model {
     /// a calibration to a sensor by it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub device_id: Option<u32>,
+    /// The accelerometer's device id, where the recording gives it apart
+    /// from the gyro's (a PX4 ULog's `sensor_accel` `device_id`); absent,
+    /// `device_id` stands for both.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accel_device_id: Option<u32>,
     /// Per channel.
     pub channels: Vec<ChannelModel>,
 }
@@ -499,6 +504,7 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
         fitted_on_digests: Vec::new(),
         dtdt_range_c_per_s,
         device_id: None,
+        accel_device_id: None,
         channels,
     };
     // A fit never hands out a model its own loader would refuse (a channel
