@@ -9,7 +9,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 use thermal::evaluation::{BinMean, SliceMinimum, bin_means, level, spread, surface_minima};
-use thermal::firmware::{self, Calibration, Firmware, Target, sensor_axis};
+use thermal::firmware::verdict::{self, RunFacts};
+use thermal::firmware::{self, Calibration, Firmware, Sensor, Target, sensor_axis};
 use thermal::tcal::{FitOptions, Model, Order, Run, TcalChannel};
 
 use crate::AnalysisError;
@@ -295,6 +296,54 @@ pub fn as_loaded(
     })
 }
 
+/// What the firmware does with the parameter file on one run, in words.
+#[derive(Debug, Clone, Serialize)]
+pub struct FileVerdict {
+    /// Whether any sensor of the run gets a correction.
+    pub applies: bool,
+    /// The run, as named.
+    pub file: String,
+    /// One sentence per sensor type, and notes.
+    pub says: Vec<String>,
+}
+
+/// Judges the parameter file of `loaded` on the run read from `file` as
+/// the firmware would: its ENABLE flags, its ids against the recording's,
+/// its TMIN/TMAX against the run's temperatures.
+pub fn judge(loaded: &AsLoaded, file: &Path, run: &RunData) -> Result<FileVerdict, AnalysisError> {
+    let sensors: Vec<Sensor> = run
+        .selection
+        .channels
+        .iter()
+        .filter_map(|c| sensor_axis(&c.name).map(|(s, _)| s))
+        .collect();
+    let (lo, hi) = run
+        .temp
+        .iter()
+        .filter(|t| t.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &t| {
+            (a.min(t), b.max(t))
+        });
+    let facts = RunFacts {
+        gyro_id: run.selection.device_ids.gyro,
+        accel_id: run.selection.device_ids.accel,
+        has_gyro: sensors.contains(&Sensor::Gyro),
+        has_accel: sensors.contains(&Sensor::Accel),
+        t_range_c: [lo, hi],
+    };
+    let v = verdict::judge(loaded.firmware, &loaded.text, None, &facts).map_err(|cause| {
+        AnalysisError::Firmware {
+            context: format!("judging the {} parameter file", loaded.firmware.name()),
+            cause,
+        }
+    })?;
+    Ok(FileVerdict {
+        applies: v.applies,
+        file: file.display().to_string(),
+        says: v.says,
+    })
+}
+
 /// Refuses a calibration slot the firmware does not have.
 pub fn check_instance(firmware: Firmware, instance: Option<u8>) -> Result<(), AnalysisError> {
     match instance {
@@ -329,6 +378,8 @@ pub struct FirmwareView {
     pub name: &'static str,
     /// The parameter file's text.
     pub parameters: String,
+    /// What the firmware does with the file on each run.
+    pub verdicts: Vec<FileVerdict>,
     /// The export's warnings.
     pub warnings: Vec<String>,
 }
@@ -491,12 +542,18 @@ pub fn eval_rows(
 
 impl EvalDocument {
     /// The document of `rows` for the model named `model`.
-    pub fn new(model: &str, rows: Vec<EvalRow>, loaded: Option<&AsLoaded>) -> EvalDocument {
+    pub fn new(
+        model: &str,
+        rows: Vec<EvalRow>,
+        loaded: Option<&AsLoaded>,
+        verdicts: Vec<FileVerdict>,
+    ) -> EvalDocument {
         EvalDocument {
             firmware: loaded.map(|l| FirmwareView {
                 cal_temp_c: matches!(l.firmware, Firmware::ArduPilot).then_some(l.cal_temp_c),
                 name: l.firmware.key(),
                 parameters: l.text.clone(),
+                verdicts,
                 warnings: l.warnings.clone(),
             }),
             model: model.to_string(),

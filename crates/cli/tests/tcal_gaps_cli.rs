@@ -1,4 +1,5 @@
-//! Thermal recordings as they are logged: duty-cycled bursts with their
+//! Thermal recordings as they are logged, and what a flight stack does with
+//! the parameter file fitted on them. Duty-cycled bursts with their
 //! gaps in time, or gaps written out as NaN rows. Each fits with the order
 //! chosen automatically, and the model it writes loads in `tcal eval` with
 //! finite residuals.
@@ -95,4 +96,68 @@ fn nan_rows_fit_with_the_order_chosen_and_load_in_eval() {
     let dir = tempfile::tempdir().unwrap();
     let run = write_bursts(dir.path(), true);
     fits_and_loads(dir.path(), &run, &[]);
+}
+
+/// `tcal eval --export px4 --params FILE` judges the file as PX4 would, and
+/// fails where PX4 would correct nothing.
+#[test]
+fn eval_says_what_px4_does_with_a_parameter_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = write_bursts(dir.path(), true);
+    let model = dir.path().join("m.json");
+    succeed(
+        imutherm()
+            .args(["tcal", "fit", "--for", "px4"])
+            .arg(&run)
+            .arg("-o")
+            .arg(&model),
+    );
+    let params = dir.path().join("m.params");
+    succeed(
+        imutherm()
+            .args(["tcal", "export", "--firmware", "px4", "-o"])
+            .arg(&params)
+            .arg(&model),
+    );
+    let text = std::fs::read_to_string(&params).unwrap();
+    let eval = |text: &str| {
+        let p = dir.path().join("judged.params");
+        std::fs::write(&p, text).unwrap();
+        let mut cmd = imutherm();
+        cmd.args(["tcal", "eval", "--export", "px4", "--params"])
+            .arg(&p)
+            .arg(&model)
+            .arg(&run);
+        cmd.assert()
+    };
+    eval(&text)
+        .success()
+        .stdout(predicate::str::contains("PX4 applies TC_G0 to the gyro"));
+    // As PX4's own script writes it: no ENABLE.
+    let no_enable: String = text
+        .lines()
+        .filter(|l| !l.contains("_ENABLE"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    eval(&no_enable)
+        .code(1)
+        .stdout(predicate::str::contains(
+            "PX4 applies nothing to the gyro: TC_G_ENABLE is absent",
+        ))
+        .stderr(predicate::str::contains("would apply no temperature correction"));
+    // A range the run never reaches.
+    let far: String = text
+        .lines()
+        .map(|l| {
+            let f: Vec<&str> = l.split('\t').collect();
+            match f.get(2) {
+                Some(&"TC_G0_TMIN") => "1\t1\tTC_G0_TMIN\t80\t9\n".to_string(),
+                Some(&"TC_G0_TMAX") => "1\t1\tTC_G0_TMAX\t90\t9\n".to_string(),
+                _ => format!("{l}\n"),
+            }
+        })
+        .collect();
+    eval(&far)
+        .code(1)
+        .stdout(predicate::str::contains("misses TC_G0_TMIN…TMAX 80.0…90.0 °C"));
 }

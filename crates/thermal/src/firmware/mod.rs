@@ -10,6 +10,7 @@
 pub mod ardupilot;
 mod params;
 pub mod px4;
+pub mod verdict;
 
 use thiserror::Error;
 
