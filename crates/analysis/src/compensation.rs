@@ -344,6 +344,33 @@ pub fn judge(loaded: &AsLoaded, file: &Path, run: &RunData) -> Result<FileVerdic
     })
 }
 
+impl AsLoaded {
+    /// The same file as the firmware applies it to the run read from
+    /// `file`: on PX4, the set whose id is the run's gyro's, where one is
+    /// (`set_sensor_id`); else the slot already loaded.
+    pub fn for_run(&self, file: &Path, run: &RunData) -> Result<Option<AsLoaded>, AnalysisError> {
+        let (Firmware::Px4, Some(id)) = (self.firmware, run.selection.device_ids.gyro) else {
+            return Ok(None);
+        };
+        let context = || format!("{}: the PX4 set for its gyro", file.display());
+        let firmware_error = |cause| AnalysisError::Firmware {
+            context: context(),
+            cause,
+        };
+        let Some(slot) = verdict::px4_gyro_slot(&self.text, id).map_err(firmware_error)? else {
+            return Ok(None);
+        };
+        let calibration = firmware::load(self.firmware, &self.text, Some(slot)).map_err(firmware_error)?;
+        Ok(Some(AsLoaded {
+            firmware: self.firmware,
+            text: self.text.clone(),
+            warnings: self.warnings.clone(),
+            calibration,
+            cal_temp_c: self.cal_temp_c,
+        }))
+    }
+}
+
 /// Refuses a calibration slot the firmware does not have.
 pub fn check_instance(firmware: Firmware, instance: Option<u8>) -> Result<(), AnalysisError> {
     match instance {

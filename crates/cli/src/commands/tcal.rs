@@ -140,7 +140,16 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
         if let Some(l) = &loaded {
             verdicts.push(compensation::judge(l, file, &run)?);
         }
-        rows.extend(compensation::eval_rows(&model, file, run, loaded.as_ref())?);
+        let for_run = match &loaded {
+            Some(l) => l.for_run(file, &run)?,
+            None => None,
+        };
+        rows.extend(compensation::eval_rows(
+            &model,
+            file,
+            run,
+            for_run.as_ref().or(loaded.as_ref()),
+        )?);
     }
     if let Some(l) = &loaded {
         for w in &l.warnings {

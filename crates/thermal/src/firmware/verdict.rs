@@ -59,6 +59,15 @@ pub fn judge(
     }
 }
 
+/// The PX4 set (0–3) whose `TC_G{n}_ID` is the gyro's `device_id`: the
+/// one `set_sensor_id` picks.
+pub fn px4_gyro_slot(text: &str, device_id: u32) -> Result<Option<u8>, FirmwareError> {
+    let file = ParamFile::parse_qgc(text)?;
+    Ok(px4::INSTANCES
+        .clone()
+        .find(|n| file.get(&format!("TC_G{n}_ID")) == Some(ParamValue::Int(device_id as i32))))
+}
+
 fn judge_px4(file: &ParamFile, run: &RunFacts) -> Verdict {
     let mut says = Vec::new();
     let mut applies = false;
@@ -276,6 +285,14 @@ mod tests {
                 .unwrap()
                 .applies
         );
+    }
+
+    #[test]
+    fn the_px4_gyro_set_is_the_one_with_the_gyros_id() {
+        let text = px4_file(true, 7, 20.0, 70.0) + "1\t1\tTC_G2_ID\t2490378\t6\n";
+        assert_eq!(px4_gyro_slot(&text, 2_490_378).unwrap(), Some(2));
+        assert_eq!(px4_gyro_slot(&text, 7).unwrap(), Some(0));
+        assert_eq!(px4_gyro_slot(&text, 9).unwrap(), None);
     }
 
     #[test]
