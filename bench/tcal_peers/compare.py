@@ -1,14 +1,18 @@
 #!/usr/bin/env python3
-"""imutherm's PX4 temperature calibration against PX4's own script, on the
-same logs, each parameter file applied to a held-out run as PX4 applies it.
+"""imutherm's temperature calibration against PX4's and ArduPilot's own
+scripts, on the same logs, each parameter file applied to a held-out run as
+the firmware applies it.
 
     compare.py [SEEDS…]        (default 1 2 3)
 
 Environment: PX4_CALDATA, the path of the PX4 script to run (a copy of
 PX4-Autopilot's Tools/process_sensor_caldata.py, fetched or installed at
-bench time, never kept here); IMUTHERM, the imutherm binary (default
+bench time, never kept here); AP_TEMPCAL, the same for ArduPilot's
+Tools/scripts/tempcal_IMU.py (run with --no-graph --outfile; pymavlink and
+matplotlib needed), the ArduPilot half left out when unset; IMUTHERM, the imutherm binary (default
 `imutherm` on PATH); PYTHON, an interpreter with numpy, scipy, pyulog
-(default: this one); WORK, where the logs go (default a temporary folder).
+(default: this one; pymavlink too for the ArduPilot half); WORK, where the logs go (default a temporary folder;
+logs and the peer's file already there are reused).
 
 Per seed: make_logs.py writes a 45 min heating ULog (fitted) and a cooling
 one (held out) with two IMUs of known cubic bias; PX4's script and
@@ -21,6 +25,15 @@ src/modules/temperature_compensation/TemperatureCompensation.cpp
 offset = X0 + X1·dT + X2·dT² + X3·dT³ in float32; corrected = raw − offset,
 src/lib/sensor_calibration/Gyroscope.hpp `Correct`). ENABLE is reported,
 and the sets are applied as if it were 1 (PX4's script does not write it).
+
+The ArduPilot half does the same on the DataFlash logs (IMU at 25 Hz) with
+`tempcal_IMU.py` and `imutherm tcal fit --for ardupilot` + `tcal export
+--firmware ardupilot --instance N+1`, each file applied by this script's
+transcription of libraries/AP_InertialSensor/AP_InertialSensor_tempcal.cpp
+(`correct_sensor`: nothing unless INS_TCALn_ENABLE is 1; T held within
+[TMIN, TMAX]; v −= poly(T − 35) and v += poly(CALTEMP − 35), with
+`polynomial_eval` (C1 + (C2 + C3·d)·d)·d·1e-6 in float; set n for the
+IMU of index n − 1). CALTEMP only moves the level, which is left out.
 
 Printed per instance and axis, median over the seeds: the residual spread
 (standard deviation over the held-out run's 1 °C bins of the corrected
@@ -99,20 +112,94 @@ def judge(pfile, log, truth):
     return rows, enabled
 
 
+def ap_params(path):
+    out = {}
+    for line in Path(path).read_text().splitlines():
+        f = line.split()
+        if line.startswith("#") or len(f) != 2:
+            continue
+        out[f[0]] = np.float32(float(f[1]))
+    return out
+
+
+def ap_offsets(p, kind, imu, temp):
+    """What correct_sensor subtracts from IMU `imu`'s `kind` (ACC/GYR), up
+    to the constant poly(CALTEMP − 35), or None when nothing is applied."""
+    s = f"INS_TCAL{imu + 1}"
+    if p.get(f"{s}_ENABLE") != 1:
+        return None
+    t = np.clip(temp.astype(np.float32), p[f"{s}_TMIN"], p[f"{s}_TMAX"])
+    d = (t - np.float32(35.0)).astype(np.float32)
+    out = []
+    for axis in "XYZ":
+        c1, c2, c3 = (p[f"{s}_{kind}{k}_{axis}"] for k in (1, 2, 3))
+        out.append((((c1 + (c2 + c3 * d) * d) * d) * np.float32(1e-6)).astype(np.float32))
+    return out
+
+
+def dataflash_imu(path):
+    """The IMU messages of a DataFlash log, per instance, as pymavlink reads them."""
+    from pymavlink import mavutil
+    log = mavutil.mavlink_connection(str(path))
+    rows = {}
+    while (m := log.recv_match(type="IMU")) is not None:
+        rows.setdefault(m.I, []).append((m.T, m.GyrX, m.GyrY, m.GyrZ, m.AccX, m.AccY, m.AccZ))
+    return {i: np.array(r, dtype=np.float64) for i, r in rows.items()}
+
+
+def judge_ap(pfile, log, truth):
+    p = ap_params(pfile)
+    rows = {}
+    for imu, a in dataflash_imu(log).items():
+        temp = a[:, 0]
+        for sensor, kind, col in (("gyro", "GYR", 1), ("accel", "ACC", 4)):
+            off = ap_offsets(p, kind, imu, temp)
+            for k, axis in enumerate("xyz"):
+                raw = a[:, col + k].astype(np.float32)
+                corr = raw - off[k] if off is not None else raw
+                means, _ = bins(temp, corr.astype(np.float64))
+                o = off[k].astype(np.float64) if off is not None else np.zeros_like(temp)
+                c = truth["instances"][imu][sensor][k]
+                dT = temp - truth["t_mid_c"]
+                err, _ = bins(temp, o - (c[0] + c[1] * dT + c[2] * dT**2 + c[3] * dT**3))
+                rows[(imu, f"{sensor}_{axis}")] = (float(np.std(means)), float(np.std(err)), off is not None)
+    enabled = {f"INS_TCAL{i + 1}_ENABLE": p.get(f"INS_TCAL{i + 1}_ENABLE") == 1 for i in range(len(truth["ids"]))}
+    return rows, enabled
+
+
+def table(title, peer, results):
+    print(title)
+    keys = sorted(results[peer][0])
+    print(f"{'IMU':>3} {'axis':<8} {'spread ' + peer:>14} {'imutherm':>11} {'ratio':>6}   "
+          f"{'error ' + peer:>14} {'imutherm':>11} {'ratio':>6}")
+    for k in keys:
+        med = lambda name, i: statistics.median(r[k][i] for r in results[name])
+        sp, si, ep, ei = med(peer, 0), med("imutherm", 0), med(peer, 1), med("imutherm", 1)
+        print(f"{k[0]:>3} {k[1]:<8} {sp:>14.3e} {si:>11.3e} {si / sp:>6.2f}   "
+              f"{ep:>14.3e} {ei:>11.3e} {ei / ep:>6.2f}")
+
+
 def main():
     seeds = [int(s) for s in sys.argv[1:]] or [1, 2, 3]
     peer = os.environ.get("PX4_CALDATA")
     if not peer or not Path(peer).is_file():
         sys.exit("set PX4_CALDATA to a copy of PX4-Autopilot's Tools/process_sensor_caldata.py")
+    ap_peer = os.environ.get("AP_TEMPCAL")
+    if ap_peer and not Path(ap_peer).is_file():
+        sys.exit("AP_TEMPCAL is not a file: set it to a copy of ArduPilot's Tools/scripts/tempcal_IMU.py")
     imutherm = os.environ.get("IMUTHERM", "imutherm")
     python = os.environ.get("PYTHON", sys.executable)
     work = Path(os.environ.get("WORK") or tempfile.mkdtemp(prefix="tcal_peers_"))
-    results = {}
+    results, ap_results = {}, {}
     for seed in seeds:
         d = work / f"seed{seed}"
-        subprocess.run([python, str(HERE / "make_logs.py"), str(seed), str(d)], check=True)
+        # Logs and the peer's file are kept in WORK and reused, so a change
+        # of imutherm is judged on the very same files.
+        if not (d / "truth.json").is_file() or not (d / "heating.bin").is_file():
+            subprocess.run([python, str(HERE / "make_logs.py"), str(seed), str(d)], check=True)
         truth = json.loads((d / "truth.json").read_text())
-        subprocess.run([python, peer, str(d / "heating.ulg")], check=True, stdout=subprocess.DEVNULL)
+        if not (d / "heating.ulg.params").is_file():
+            subprocess.run([python, peer, str(d / "heating.ulg")], check=True, stdout=subprocess.DEVNULL)
         ours = d / "imutherm.params"
         with open(ours, "w") as out:
             for n in range(len(truth["ids"])):
@@ -125,13 +212,26 @@ def main():
             rows, enabled = judge(pfile, d / "cooling.ulg", truth)
             results.setdefault(name, []).append(rows)
             print(f"seed {seed} {name}: ENABLE {enabled}", file=sys.stderr)
-    keys = sorted(results["px4"][0])
-    print(f"{'IMU':>3} {'axis':<8} {'spread PX4':>11} {'imutherm':>11} {'ratio':>6}   "
-          f"{'error PX4':>11} {'imutherm':>11} {'ratio':>6}")
-    for k in keys:
-        med = lambda name, i: statistics.median(r[k][i] for r in results[name])
-        sp, si, ep, ei = med("px4", 0), med("imutherm", 0), med("px4", 1), med("imutherm", 1)
-        print(f"{k[0]:>3} {k[1]:<8} {sp:>11.3e} {si:>11.3e} {si / sp:>6.2f}   {ep:>11.3e} {ei:>11.3e} {ei / ep:>6.2f}")
+        if not ap_peer:
+            continue
+        theirs = d / "heating.bin.parm"
+        subprocess.run([python, ap_peer, "--no-graph", "--outfile", str(theirs), str(d / "heating.bin")],
+                       check=True, stdout=subprocess.DEVNULL)
+        ours = d / "imutherm.parm"
+        with open(ours, "w") as out:
+            for n in range(len(truth["ids"])):
+                model = d / f"ap{n}.json"
+                subprocess.run([imutherm, "tcal", "fit", str(d / "heating.bin"), "--instance", str(n), "--for",
+                                "ardupilot", "--overwrite", "-o", str(model)], check=True, stderr=subprocess.DEVNULL)
+                subprocess.run([imutherm, "tcal", "export", str(model), "--firmware", "ardupilot", "--instance",
+                                str(n + 1)], check=True, stdout=out, stderr=subprocess.DEVNULL)
+        for name, pfile in (("ArduPilot", theirs), ("imutherm", ours)):
+            rows, enabled = judge_ap(pfile, d / "cooling.bin", truth)
+            ap_results.setdefault(name, []).append(rows)
+            print(f"seed {seed} {name}: ENABLE {enabled}", file=sys.stderr)
+    table("PX4 (ULog, 200 Hz)", "px4", results)
+    if ap_results:
+        table("ArduPilot (DataFlash, IMU at 25 Hz)", "ArduPilot", ap_results)
 
 
 if __name__ == "__main__":

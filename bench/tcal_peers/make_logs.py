@@ -10,6 +10,11 @@ from SEED, MPU-9250 white noise and quantization (gyro ±500 °/s, accel
 ±8 g, temperature 1/333.87 °C), and one sensor_baro, which PX4's
 Tools/process_sensor_caldata.py requires.
 
+The same runs go to OUT_DIR/heating.bin and cooling.bin as ArduPilot
+DataFlash logs, IMU messages at 25 Hz of both instances: each the mean of
+eight 200 Hz samples, as ArduPilot logs the filtered sensor at the log
+rate (the samples, the truth and the random draws are those of the ULogs).
+
 The ULog is written here with `struct`, following docs.px4.io "ULog File
 Format" (header, F formats, A subscriptions, D data); pyulog reads it, and
 so does imutherm. The topics carry the fields of PX4's msg/SensorGyro.msg,
@@ -81,6 +86,39 @@ def write_ulog(path, records):
     Path(path).write_bytes(bytes(out))
 
 
+# ArduPilot libraries/AP_Logger/LogStructure.h: HEAD_BYTE1/2, LOG_FORMAT_MSG
+# (128) and struct log_Format; AP_InertialSensor's IMU message (LOG_IMU_MSG,
+# "QBffffffIIfBBHH", "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,T,GH,AH,
+# GHz,AHz"), as crates/robotlogs/tests/fixtures/make_fixtures.py writes it.
+DF_HEAD = b"\xa3\x95"
+DF_IMU_TYPE = 4
+DF_IMU_FMT = "QBffffffIIfBBHH"
+DF_IMU_LABELS = "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,T,GH,AH,GHz,AHz"
+DF_DECIMATE = 8
+
+
+def df_fmt(msg_type, name, fmt, labels):
+    size = 3 + struct.calcsize("<" + fmt.replace("n", "4s").replace("N", "16s").replace("Z", "64s"))
+    return DF_HEAD + struct.pack("<BBB4s16s64s", 128, msg_type, size, name.encode(), fmt.encode(), labels.encode())
+
+
+def write_dataflash(path, stamps, sims):
+    """sims: per instance (temp, gyro[3], accel[3]) at 200 Hz, logged as the
+    means of DF_DECIMATE samples."""
+    out = bytearray(df_fmt(128, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns"))
+    out += df_fmt(DF_IMU_TYPE, "IMU", DF_IMU_FMT, DF_IMU_LABELS)
+    m = len(stamps) // DF_DECIMATE
+    mean = lambda x: np.asarray(x[: m * DF_DECIMATE]).reshape(m, DF_DECIMATE).mean(axis=1)
+    us = stamps[DF_DECIMATE - 1 :: DF_DECIMATE][:m]
+    cols = [(mean(temp), [mean(g) for g in gyro], [mean(a) for a in accel]) for temp, gyro, accel in sims]
+    fmt = "<B" + DF_IMU_FMT
+    for j in range(m):
+        for inst, (temp, gyro, accel) in enumerate(cols):
+            out += DF_HEAD + struct.pack(fmt, DF_IMU_TYPE, int(us[j]), inst, *(float(g[j]) for g in gyro),
+                                         *(float(a[j]) for a in accel), 0, 0, float(temp[j]), 1, 1, 1000, 1000)
+    Path(path).write_bytes(bytes(out))
+
+
 def profile(heating):
     t = np.arange(int(DURATION_S * RATE_HZ)) / RATE_HZ
     # The board approaches its end temperature with a 15 min time constant.
@@ -110,7 +148,7 @@ def run(rng, tru, heating):
     t, temp_true = profile(heating)
     n = len(t)
     stamps = (1_000_000 + t * 1e6).astype(np.uint64)
-    records = []
+    records, sims = [], []
     for i, ((gid, aid), tr) in enumerate(zip(IDS, tru)):
         temp = np.round((temp_true + rng.normal(0, 0.02, n)) / TEMP_LSB) * TEMP_LSB
         gyro = [np.round((bias(tr["gyro"][k], temp_true) + rng.normal(0, GYRO_DENSITY * math.sqrt(RATE_HZ), n))
@@ -119,6 +157,7 @@ def run(rng, tru, heating):
         accel = [np.round((grav[k] + bias(tr["accel"][k], temp_true)
                            + rng.normal(0, ACCEL_DENSITY * math.sqrt(RATE_HZ), n)) / ACCEL_LSB) * ACCEL_LSB
                  for k in range(3)]
+        sims.append((temp, gyro, accel))
         records.append(("sensor_gyro", i, [(int(s), int(s), gid, float(gyro[0][j]), float(gyro[1][j]),
                                              float(gyro[2][j]), float(temp[j]), 0) for j, s in enumerate(stamps)]))
         records.append(("sensor_accel", i, [(int(s), int(s), aid, float(accel[0][j]), float(accel[1][j]),
@@ -126,7 +165,7 @@ def run(rng, tru, heating):
     baro_every = int(RATE_HZ / 10)
     records.append(("sensor_baro", 0, [(int(s), int(s), 4653081, 1013.25, float(temp_true[j * baro_every]), 0)
                                        for j, s in enumerate(stamps[::baro_every])]))
-    return records
+    return records, stamps, sims
 
 
 def main():
@@ -134,8 +173,10 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng(seed)
     tru = truth(rng)
-    write_ulog(out / "heating.ulg", run(rng, tru, True))
-    write_ulog(out / "cooling.ulg", run(rng, tru, False))
+    for name, heating in (("heating", True), ("cooling", False)):
+        records, stamps, sims = run(rng, tru, heating)
+        write_ulog(out / f"{name}.ulg", records)
+        write_dataflash(out / f"{name}.bin", stamps, sims)
     (out / "truth.json").write_text(json.dumps({"t_mid_c": T_MID, "ids": IDS, "instances": tru}, indent=1))
 
 
