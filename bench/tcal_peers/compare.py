@@ -35,6 +35,12 @@ transcription of libraries/AP_InertialSensor/AP_InertialSensor_tempcal.cpp
 `polynomial_eval` (C1 + (C2 + C3·d)·d)·d·1e-6 in float; set n for the
 IMU of index n − 1). CALTEMP only moves the level, which is left out.
 
+A third file sets the floor: the plain least-squares cubic through every
+sample of the fitted run (numpy's polyfit of the raw samples on their
+temperature, no filter, no bins), which under white Gaussian noise is the
+minimum-variance unbiased fit of these samples; a ratio no fit can beat
+reliably. It is written in each firmware's format and applied the same way.
+
 Printed per instance and axis, median over the seeds: the residual spread
 (standard deviation over the held-out run's 1 °C bins of the corrected
 bin means) and the error against the true bias (standard deviation over
@@ -163,7 +169,7 @@ def judge_ap(pfile, log, truth):
                 dT = temp - truth["t_mid_c"]
                 err, _ = bins(temp, o - (c[0] + c[1] * dT + c[2] * dT**2 + c[3] * dT**3))
                 rows[(imu, f"{sensor}_{axis}")] = (float(np.std(means)), float(np.std(err)), off is not None)
-    enabled = {f"INS_TCAL{i + 1}_ENABLE": p.get(f"INS_TCAL{i + 1}_ENABLE") == 1 for i in range(len(truth["ids"]))}
+    enabled = {f"INS_TCAL{i + 1}_ENABLE": bool(p.get(f"INS_TCAL{i + 1}_ENABLE") == 1) for i in range(len(truth["ids"]))}
     return rows, enabled
 
 
@@ -171,12 +177,49 @@ def table(title, peer, results):
     print(title)
     keys = sorted(results[peer][0])
     print(f"{'IMU':>3} {'axis':<8} {'spread ' + peer:>14} {'imutherm':>11} {'ratio':>6}   "
-          f"{'error ' + peer:>14} {'imutherm':>11} {'ratio':>6}")
+          f"{'error ' + peer:>14} {'imutherm':>11} {'ratio':>6} {'lsq ratio':>9}")
     for k in keys:
         med = lambda name, i: statistics.median(r[k][i] for r in results[name])
         sp, si, ep, ei = med(peer, 0), med("imutherm", 0), med(peer, 1), med("imutherm", 1)
+        el = med("lsq", 1)
         print(f"{k[0]:>3} {k[1]:<8} {sp:>14.3e} {si:>11.3e} {si / sp:>6.2f}   "
-              f"{ep:>14.3e} {ei:>11.3e} {ei / ep:>6.2f}")
+              f"{ep:>14.3e} {ei:>11.3e} {ei / ep:>6.2f} {el / ep:>9.2f}")
+    ratios = np.array([results["imutherm"][i][k][1] / results[peer][i][k][1]
+                       for i in range(len(results[peer])) for k in keys])
+    print(f"{len(ratios)} seed x IMU x axis pairs: error ratio geometric mean {np.exp(np.log(ratios).mean()):.2f}, "
+          f"imutherm below {peer} in {(ratios < 1).sum()}")
+
+
+def lsq_px4(log, out):
+    """The least-squares file in PX4's format, TREF the range's middle."""
+    lines = []
+    for d in ULog(str(log)).data_list:
+        if d.name not in ("sensor_gyro", "sensor_accel"):
+            continue
+        s = f"TC_{'G' if d.name == 'sensor_gyro' else 'A'}{d.multi_id}"
+        temp = d.data["temperature"].astype(np.float64)
+        lo, hi = temp.min(), temp.max()
+        tref = 0.5 * (lo + hi)
+        vals = {f"{s}_ID": int(d.data["device_id"][0]), f"{s}_TMIN": lo, f"{s}_TMAX": hi, f"{s}_TREF": tref}
+        for a, axis in enumerate("xyz"):
+            c = np.polyfit(temp - tref, d.data[axis].astype(np.float64), 3)
+            vals.update({f"{s}_X{k}_{a}": c[3 - k] for k in range(4)})
+        lines += [f"1\t1\t{k}\t{v}\t{6 if k.endswith('_ID') else 9}" for k, v in vals.items()]
+    Path(out).write_text("\n".join(lines + ["1\t1\tTC_G_ENABLE\t1\t6", "1\t1\tTC_A_ENABLE\t1\t6", ""]))
+
+
+def lsq_ap(log, out):
+    """The least-squares file in ArduPilot's format (about 35 °C, no constant)."""
+    lines = []
+    for imu, a in dataflash_imu(log).items():
+        s = f"INS_TCAL{imu + 1}"
+        temp = a[:, 0]
+        lines += [f"{s}_ENABLE 1", f"{s}_TMIN {float(temp.min())!r}", f"{s}_TMAX {float(temp.max())!r}"]
+        for kind, col in (("ACC", 4), ("GYR", 1)):
+            for k, axis in enumerate("XYZ"):
+                c = np.polyfit(temp - 35.0, a[:, col + k], 3)
+                lines += [f"{s}_{kind}{p}_{axis} {float(c[3 - p] * 1e6)!r}" for p in (1, 2, 3)]
+    Path(out).write_text("\n".join(lines + [""]))
 
 
 def main():
@@ -208,15 +251,17 @@ def main():
                                 "px4", "--overwrite", "-o", str(model)], check=True, stderr=subprocess.DEVNULL)
                 subprocess.run([imutherm, "tcal", "export", str(model), "--firmware", "px4", "--instance", str(n)],
                                check=True, stdout=out, stderr=subprocess.DEVNULL)
-        for name, pfile in (("px4", d / "heating.ulg.params"), ("imutherm", ours)):
+        lsq_px4(d / "heating.ulg", d / "lsq.params")
+        for name, pfile in (("px4", d / "heating.ulg.params"), ("imutherm", ours), ("lsq", d / "lsq.params")):
             rows, enabled = judge(pfile, d / "cooling.ulg", truth)
             results.setdefault(name, []).append(rows)
             print(f"seed {seed} {name}: ENABLE {enabled}", file=sys.stderr)
         if not ap_peer:
             continue
         theirs = d / "heating.bin.parm"
-        subprocess.run([python, ap_peer, "--no-graph", "--outfile", str(theirs), str(d / "heating.bin")],
-                       check=True, stdout=subprocess.DEVNULL)
+        if not theirs.is_file():
+            subprocess.run([python, ap_peer, "--no-graph", "--outfile", str(theirs), str(d / "heating.bin")],
+                           check=True, stdout=subprocess.DEVNULL)
         ours = d / "imutherm.parm"
         with open(ours, "w") as out:
             for n in range(len(truth["ids"])):
@@ -225,7 +270,8 @@ def main():
                                 "ardupilot", "--overwrite", "-o", str(model)], check=True, stderr=subprocess.DEVNULL)
                 subprocess.run([imutherm, "tcal", "export", str(model), "--firmware", "ardupilot", "--instance",
                                 str(n + 1)], check=True, stdout=out, stderr=subprocess.DEVNULL)
-        for name, pfile in (("ArduPilot", theirs), ("imutherm", ours)):
+        lsq_ap(d / "heating.bin", d / "lsq.parm")
+        for name, pfile in (("ArduPilot", theirs), ("imutherm", ours), ("lsq", d / "lsq.parm")):
             rows, enabled = judge_ap(pfile, d / "cooling.bin", truth)
             ap_results.setdefault(name, []).append(rows)
             print(f"seed {seed} {name}: ENABLE {enabled}", file=sys.stderr)
