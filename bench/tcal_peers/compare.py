@@ -12,7 +12,8 @@ Tools/scripts/tempcal_IMU.py (run with --no-graph --outfile; pymavlink and
 matplotlib needed), the ArduPilot half left out when unset; IMUTHERM, the imutherm binary (default
 `imutherm` on PATH); PYTHON, an interpreter with numpy, scipy, pyulog
 (default: this one; pymavlink too for the ArduPilot half); WORK, where the logs go (default a temporary folder;
-logs and the peer's file already there are reused).
+logs and the peer's file already there are reused; each seed's figures are
+left in WORK/seedN/rows.json).
 
 Per seed: make_logs.py writes a 45 min heating ULog (fitted) and a cooling
 one (held out) with two IMUs of known cubic bias; PX4's script and
@@ -256,7 +257,11 @@ def main():
             rows, enabled = judge(pfile, d / "cooling.ulg", truth)
             results.setdefault(name, []).append(rows)
             print(f"seed {seed} {name}: ENABLE {enabled}", file=sys.stderr)
+        seed_rows = {"px4": {f"{k[0]} {k[1]}": v for k, v in results["px4"][-1].items()}}
+        seed_rows["imutherm px4"] = {f"{k[0]} {k[1]}": v for k, v in results["imutherm"][-1].items()}
+        seed_rows["lsq px4"] = {f"{k[0]} {k[1]}": v for k, v in results["lsq"][-1].items()}
         if not ap_peer:
+            (d / "rows.json").write_text(json.dumps(seed_rows))
             continue
         theirs = d / "heating.bin.parm"
         if not theirs.is_file():
@@ -275,6 +280,10 @@ def main():
             rows, enabled = judge_ap(pfile, d / "cooling.bin", truth)
             ap_results.setdefault(name, []).append(rows)
             print(f"seed {seed} {name}: ENABLE {enabled}", file=sys.stderr)
+            seed_rows[name if name == "ArduPilot" else f"{name} ardupilot"] = {
+                f"{k[0]} {k[1]}": v for k, v in rows.items()}
+        # Each seed's rows (spread, error, applied), to pool seeds of several runs.
+        (d / "rows.json").write_text(json.dumps(seed_rows))
     table("PX4 (ULog, 200 Hz)", "px4", results)
     if ap_results:
         table("ArduPilot (DataFlash, IMU at 25 Hz)", "ArduPilot", ap_results)
