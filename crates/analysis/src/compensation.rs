@@ -9,7 +9,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 use thermal::evaluation::{BinMean, SliceMinimum, bin_means, level, spread, surface_minima};
-use thermal::firmware::{self, Calibration, Firmware, Target, sensor_axis};
+use thermal::firmware::verdict::{self, RunFacts};
+use thermal::firmware::{self, Calibration, Firmware, Sensor, Target, sensor_axis};
 use thermal::tcal::{FitOptions, Model, Order, Run, TcalChannel};
 
 use crate::AnalysisError;
@@ -128,7 +129,16 @@ pub fn fit(files: &[PathBuf], runs: &[RunData], req: &FitRequest) -> Result<Fitt
     })?;
     model.fitted_on = names;
     model.fitted_on_digests = digests;
-    model.device_id = recorded_device_id(files);
+    // The ids every run agrees on: PX4 applies a set only to the sensor
+    // whose device id it names.
+    let agreed = |id: fn(&RunData) -> Option<u32>| {
+        let first = runs.first().and_then(id)?;
+        runs.iter().all(|r| id(r) == Some(first)).then_some(first)
+    };
+    let gyro = agreed(|r| r.selection.device_ids.gyro).or_else(|| recorded_device_id(files));
+    let accel = agreed(|r| r.selection.device_ids.accel);
+    model.device_id = gyro;
+    model.accel_device_id = accel.filter(|a| Some(*a) != gyro);
     // A model fitted for a firmware is checked against its export now: its
     // warnings come at the fit, not at the vehicle.
     let export_warnings = match req.firmware {
@@ -286,6 +296,81 @@ pub fn as_loaded(
     })
 }
 
+/// What the firmware does with the parameter file on one run, in words.
+#[derive(Debug, Clone, Serialize)]
+pub struct FileVerdict {
+    /// Whether any sensor of the run gets a correction.
+    pub applies: bool,
+    /// The run, as named.
+    pub file: String,
+    /// One sentence per sensor type, and notes.
+    pub says: Vec<String>,
+}
+
+/// Judges the parameter file of `loaded` on the run read from `file` as
+/// the firmware would: its ENABLE flags, its ids against the recording's,
+/// its TMIN/TMAX against the run's temperatures.
+pub fn judge(loaded: &AsLoaded, file: &Path, run: &RunData) -> Result<FileVerdict, AnalysisError> {
+    let sensors: Vec<Sensor> = run
+        .selection
+        .channels
+        .iter()
+        .filter_map(|c| sensor_axis(&c.name).map(|(s, _)| s))
+        .collect();
+    let (lo, hi) = run
+        .temp
+        .iter()
+        .filter(|t| t.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &t| {
+            (a.min(t), b.max(t))
+        });
+    let facts = RunFacts {
+        gyro_id: run.selection.device_ids.gyro,
+        accel_id: run.selection.device_ids.accel,
+        has_gyro: sensors.contains(&Sensor::Gyro),
+        has_accel: sensors.contains(&Sensor::Accel),
+        t_range_c: [lo, hi],
+    };
+    let v = verdict::judge(loaded.firmware, &loaded.text, None, &facts).map_err(|cause| {
+        AnalysisError::Firmware {
+            context: format!("judging the {} parameter file", loaded.firmware.name()),
+            cause,
+        }
+    })?;
+    Ok(FileVerdict {
+        applies: v.applies,
+        file: file.display().to_string(),
+        says: v.says,
+    })
+}
+
+impl AsLoaded {
+    /// The same file as the firmware applies it to the run read from
+    /// `file`: on PX4, the set whose id is the run's gyro's, where one is
+    /// (`set_sensor_id`); else the slot already loaded.
+    pub fn for_run(&self, file: &Path, run: &RunData) -> Result<Option<AsLoaded>, AnalysisError> {
+        let (Firmware::Px4, Some(id)) = (self.firmware, run.selection.device_ids.gyro) else {
+            return Ok(None);
+        };
+        let context = || format!("{}: the PX4 set for its gyro", file.display());
+        let firmware_error = |cause| AnalysisError::Firmware {
+            context: context(),
+            cause,
+        };
+        let Some(slot) = verdict::px4_gyro_slot(&self.text, id).map_err(firmware_error)? else {
+            return Ok(None);
+        };
+        let calibration = firmware::load(self.firmware, &self.text, Some(slot)).map_err(firmware_error)?;
+        Ok(Some(AsLoaded {
+            firmware: self.firmware,
+            text: self.text.clone(),
+            warnings: self.warnings.clone(),
+            calibration,
+            cal_temp_c: self.cal_temp_c,
+        }))
+    }
+}
+
 /// Refuses a calibration slot the firmware does not have.
 pub fn check_instance(firmware: Firmware, instance: Option<u8>) -> Result<(), AnalysisError> {
     match instance {
@@ -320,6 +405,8 @@ pub struct FirmwareView {
     pub name: &'static str,
     /// The parameter file's text.
     pub parameters: String,
+    /// What the firmware does with the file on each run.
+    pub verdicts: Vec<FileVerdict>,
     /// The export's warnings.
     pub warnings: Vec<String>,
 }
@@ -482,12 +569,18 @@ pub fn eval_rows(
 
 impl EvalDocument {
     /// The document of `rows` for the model named `model`.
-    pub fn new(model: &str, rows: Vec<EvalRow>, loaded: Option<&AsLoaded>) -> EvalDocument {
+    pub fn new(
+        model: &str,
+        rows: Vec<EvalRow>,
+        loaded: Option<&AsLoaded>,
+        verdicts: Vec<FileVerdict>,
+    ) -> EvalDocument {
         EvalDocument {
             firmware: loaded.map(|l| FirmwareView {
                 cal_temp_c: matches!(l.firmware, Firmware::ArduPilot).then_some(l.cal_temp_c),
                 name: l.firmware.key(),
                 parameters: l.text.clone(),
+                verdicts,
                 warnings: l.warnings.clone(),
             }),
             model: model.to_string(),

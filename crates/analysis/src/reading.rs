@@ -21,6 +21,8 @@ pub struct ReadingChoices {
     pub skip_bad_lines: bool,
     /// The stream of a robot log (`--topic`, `--instance`, `--temp-topic`).
     pub stream: imu::StreamChoice,
+    /// `--max-grid-factor`: how far gaps may stretch the time grid.
+    pub max_grid_factor: Option<usize>,
 }
 
 /// Checks the choices and turns them into the reader's options; every
@@ -62,6 +64,7 @@ pub fn recording_options(c: &ReadingChoices) -> Result<RecordingOptions, Analysi
         time_unit: c.time_unit.clone(),
         skip_bad_lines: c.skip_bad_lines,
         stream: c.stream.clone(),
+        max_grid_factor: c.max_grid_factor,
     })
 }
 

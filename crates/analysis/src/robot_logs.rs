@@ -79,6 +79,7 @@ fn read_any(
         temp_topic: opts.stream.temp_topic.clone(),
         first_if_several: opts.stream.first_if_several,
         rate_hz: opts.rate_hz,
+        max_grid_factor: opts.max_grid_factor,
     };
     let r = robotlogs::read(path, opts, &choice).map_err(|e| match e {
         robotlogs::Error::Text(e) => AnalysisError::Read(e),

@@ -42,6 +42,10 @@ pub struct Selection {
     pub temperature: Option<Vec<f64>>,
     /// Sample rate, Hz.
     pub rate_hz: f64,
+    /// The device ids the recording gives its gyro and accelerometer
+    /// (PX4 ULog `sensor_gyro`/`sensor_accel` `device_id`, a text log's
+    /// `# device_id:` for both), which flight stacks match calibrations by.
+    pub device_ids: DeviceIds,
     /// What the reader found and did, one line each (`warning: …`,
     /// `note: …`), for the caller to show: an analysis never rests on
     /// filled or dropped samples unsaid. The checks' findings are among
@@ -349,7 +353,76 @@ pub(crate) fn selection(
         temperature_mean_c,
         temperature,
         rate_hz,
+        device_ids: DeviceIds::of(&rec.meta),
         notes,
         checks,
+    }
+}
+
+/// A recording's gyro and accelerometer device ids, where it gives them.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct DeviceIds {
+    /// The gyro's.
+    pub gyro: Option<u32>,
+    /// The accelerometer's.
+    pub accel: Option<u32>,
+}
+
+impl DeviceIds {
+    /// From the metadata: a PX4 stream's per-topic ids for its instance,
+    /// else the one `device_id` for both.
+    pub fn of(meta: &imu::Metadata) -> DeviceIds {
+        let parse = |v: &str| {
+            let v = v.trim();
+            match v.strip_prefix("0x") {
+                Some(hex) => u32::from_str_radix(hex, 16).ok(),
+                None => v.parse().ok(),
+            }
+        };
+        let common = meta.get("device_id").and_then(parse);
+        let topic = |name: &str| {
+            let instance = meta.get("instance")?;
+            meta.get(&format!("px4.{name}/{instance}.device_id"))
+                .and_then(parse)
+        };
+        DeviceIds {
+            gyro: topic("sensor_gyro").or(common),
+            accel: topic("sensor_accel").or(common),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_px4_streams_ids_are_its_instances_and_a_text_logs_one_id_stands_for_both() {
+        // As the ULog reader leaves them: every instance's ids, and the one
+        // read (instance 1).
+        let mut meta = imu::Metadata::default();
+        meta.set("px4.sensor_accel/0.device_id", "2424842");
+        meta.set("px4.sensor_gyro/0.device_id", "2424586");
+        meta.set("px4.sensor_accel/1.device_id", "3670050");
+        meta.set("px4.sensor_gyro/1.device_id", "3669794");
+        meta.set("instance", "1");
+        meta.set("device_id", "3669794");
+        assert_eq!(
+            DeviceIds::of(&meta),
+            DeviceIds {
+                gyro: Some(3_669_794),
+                accel: Some(3_670_050)
+            }
+        );
+        let mut text = imu::Metadata::default();
+        text.set("device_id", "0x2f0009");
+        assert_eq!(
+            DeviceIds::of(&text),
+            DeviceIds {
+                gyro: Some(0x2f0009),
+                accel: Some(0x2f0009)
+            }
+        );
+        assert_eq!(DeviceIds::of(&imu::Metadata::default()), DeviceIds::default());
     }
 }

@@ -729,6 +729,13 @@ pub struct ReadArgs {
     /// the IMU (default: the only one).
     #[arg(long, value_name = "NAME")]
     pub temp_topic: Option<String>,
+
+    /// How far gaps may stretch the time grid, as a multiple of the samples
+    /// (default 16; beyond it the time column is taken for wrong). Raise it
+    /// to read a duty-cycled log, such as 5 s logged every 305 s (61), with
+    /// its gaps.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub max_grid_factor: Option<u32>,
 }
 
 /// For the analyses of a static sensor (`noise`, `ins`, `tcal fit`,

@@ -382,6 +382,7 @@ pub fn recording_options(a: &crate::args::ReadArgs) -> anyhow::Result<imu::Recor
                 temp_topic: a.temp_topic.clone(),
                 first_if_several: false,
             },
+            max_grid_factor: a.max_grid_factor.map(|f| f as usize),
         },
     )?)
 }

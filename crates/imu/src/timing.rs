@@ -201,9 +201,11 @@ fn missing_before(d: f64, period: f64) -> usize {
     ((d / period).round() as usize).saturating_sub(1).max(1)
 }
 
-/// Largest grid a time column may ask for, as a multiple of its samples:
-/// beyond it the timestamps are wrong (a unit mix-up, a corrupt value), and
-/// filling the grid with gaps would only exhaust memory.
+/// Largest grid a time column may ask for by default, as a multiple of its
+/// samples: beyond it the timestamps are more likely wrong (a unit mix-up,
+/// a corrupt value) than gaps, and filling the grid would only exhaust
+/// memory. A duty-cycled log (5 s logged every 305 s is 61 times its
+/// samples) is read by raising it ([`crate::RecordingOptions::max_grid_factor`]).
 pub const MAX_GRID_FACTOR: usize = 16;
 
 /// Places the samples of `columns` one slot after another on the clock of
@@ -211,9 +213,15 @@ pub const MAX_GRID_FACTOR: usize = 16;
 /// it spans empty (NaN). A sample whose stamp repeats the previous one or
 /// lies before it is kept in the next slot (its stamp is wrong, not its
 /// value), unless the whole row repeats the previous row — a line written
-/// twice — which is dropped. Returns the new columns and the rows dropped, or `None` when the grid would exceed [`MAX_GRID_FACTOR`] times
-/// the samples.
-pub fn regularize(t: &[f64], rate_hz: f64, columns: &[Vec<f64>]) -> Option<(Vec<Vec<f64>>, Vec<usize>)> {
+/// twice — which is dropped. Returns the new columns and the rows dropped,
+/// or `None` when the grid would exceed `max_factor` times the samples
+/// ([`MAX_GRID_FACTOR`] unless the caller lifts it).
+pub fn regularize(
+    t: &[f64],
+    rate_hz: f64,
+    columns: &[Vec<f64>],
+    max_factor: usize,
+) -> Option<(Vec<Vec<f64>>, Vec<usize>)> {
     if !t.iter().any(|v| v.is_finite()) {
         return Some((columns.to_vec(), Vec::new()));
     }
@@ -250,7 +258,7 @@ pub fn regularize(t: &[f64], rate_hz: f64, columns: &[Vec<f64>]) -> Option<(Vec<
             }
             _ => next,
         };
-        if slot > MAX_GRID_FACTOR * t.len() + 1024 {
+        if slot > max_factor.saturating_mul(t.len()).saturating_add(1024) {
             return None;
         }
         if ti.is_finite() && last.is_none_or(|(_, r)| ti > t[r]) {
@@ -281,7 +289,7 @@ mod tests {
         // stamps took slot 0 again, and the rows before it fell off the grid.
         let t = [f64::NAN, f64::NAN, 0.0, 0.01, 0.05];
         let col = vec![1.0, 2.0, 3.0, 4.0, 5.0];
-        let (out, dropped) = regularize(&t, 100.0, std::slice::from_ref(&col)).unwrap();
+        let (out, dropped) = regularize(&t, 100.0, std::slice::from_ref(&col), MAX_GRID_FACTOR).unwrap();
         assert!(dropped.is_empty());
         let kept: Vec<f64> = out[0].iter().copied().filter(|v| !v.is_nan()).collect();
         assert_eq!(kept, col, "every row keeps a slot, in order");
@@ -307,8 +315,13 @@ mod tests {
         // slot); row 5 is a line written twice (dropped).
         let t = [0.0, 0.01, 0.04, 0.04, 0.03, 0.03, 0.07];
         let col = vec![vec![1.0, 2.0, 3.0, 4.0, 5.0, 5.0, 7.0]];
-        let (out, dropped) = regularize(&t, 100.0, &col).unwrap();
-        assert!(regularize(&[0.0, 1e9], 100.0, &col).is_none());
+        let (out, dropped) = regularize(&t, 100.0, &col, MAX_GRID_FACTOR).unwrap();
+        assert!(regularize(&[0.0, 1e9], 100.0, &col, MAX_GRID_FACTOR).is_none());
+        // Lifted, the same stamps are a long gap.
+        assert_eq!(
+            regularize(&[0.0, 1e3], 100.0, &col[..1], 1 << 20).unwrap().0[0].len(),
+            100_001
+        );
         assert_eq!(dropped, [5]);
         let v = &out[0];
         assert_eq!(v.len(), 8);
@@ -466,7 +479,7 @@ mod tests {
         assert!((tm.median_step_s - 0.005).abs() < 1e-12);
         assert!((tm.rate_hz / rate - 1.0).abs() < 5e-4, "{}", tm.rate_hz);
         assert!(tm.gaps.is_empty() && tm.duplicates.is_empty());
-        let (out, dropped) = regularize(&t, tm.rate_hz, &[vec![1.0; t.len()]]).unwrap();
+        let (out, dropped) = regularize(&t, tm.rate_hz, &[vec![1.0; t.len()]], MAX_GRID_FACTOR).unwrap();
         assert_eq!((dropped.len(), out[0].len()), (0, t.len()));
         assert!(out[0].iter().all(|v| *v == 1.0));
     }

@@ -147,11 +147,24 @@ pub fn tcal_eval(
             .map_err(analysis_err)?;
         let names: Vec<String> = model.channels.iter().map(|c| c.name.clone()).collect();
         let mut rows = Vec::new();
+        let mut verdicts = Vec::new();
+        // As `imutherm tcal eval`: each run judged as the firmware would, and
+        // corrected with the set the firmware picks for it.
         for file in &files {
             let run = run_data(file, &names, &read)?;
-            rows.extend(compensation::eval_rows(&model, file, run, loaded.as_ref()).map_err(analysis_err)?);
+            if let Some(l) = &loaded {
+                verdicts.push(compensation::judge(l, file, &run).map_err(analysis_err)?);
+            }
+            let for_run = match &loaded {
+                Some(l) => l.for_run(file, &run).map_err(analysis_err)?,
+                None => None,
+            };
+            rows.extend(
+                compensation::eval_rows(&model, file, run, for_run.as_ref().or(loaded.as_ref()))
+                    .map_err(analysis_err)?,
+            );
         }
-        let doc = EvalDocument::new(model_name, rows, loaded.as_ref());
+        let doc = EvalDocument::new(model_name, rows, loaded.as_ref(), verdicts);
         let text = serde_json::to_string_pretty(&doc).map_err(|e| refused(e.to_string()))?;
         Ok((text + "\n", loaded.map(|l| l.warnings).unwrap_or_default()))
     })

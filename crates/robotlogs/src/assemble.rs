@@ -25,6 +25,9 @@ pub struct Choice {
     pub first_if_several: bool,
     /// Sample rate overriding the stamps' clock, Hz.
     pub rate_hz: Option<f64>,
+    /// Largest time grid as a multiple of the samples; `None`:
+    /// [`imu::timing::MAX_GRID_FACTOR`].
+    pub max_grid_factor: Option<usize>,
 }
 
 /// One stream found in a log, for `info`.
@@ -428,8 +431,13 @@ pub fn assemble(
             .is_some_and(|tm| tm.gaps.is_empty() && tm.duplicates.is_empty());
     let (grid, dropped) = match rate {
         Some(_) if in_place => (columns, Vec::new()),
-        Some(r) => regularize(&t, r, &columns)
-            .ok_or_else(|| LogError::new(path, LogErrorKind::BadClock(s.name.clone())))?,
+        Some(r) => regularize(
+            &t,
+            r,
+            &columns,
+            c.max_grid_factor.unwrap_or(imu::timing::MAX_GRID_FACTOR),
+        )
+        .ok_or_else(|| LogError::new(path, LogErrorKind::BadClock(s.name.clone())))?,
         None => (columns, Vec::new()),
     };
     if let Some(tm) = &timing {

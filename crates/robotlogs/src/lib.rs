@@ -96,6 +96,7 @@ pub fn read(path: &Path, opts: &RecordingOptions, choice: &Choice) -> Result<Rea
             let d = decode(path, format)?;
             let choice = Choice {
                 rate_hz: choice.rate_hz.or(opts.rate_hz),
+                max_grid_factor: choice.max_grid_factor.or(opts.max_grid_factor),
                 ..choice.clone()
             };
             let (recording, report, streams) = assemble::assemble(path, format.name(), d, &choice)?;

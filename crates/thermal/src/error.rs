@@ -34,6 +34,16 @@ pub enum ThermalError {
         /// Bins needed.
         needed: usize,
     },
+    /// Too few temperature bins to hold any out for choosing the order.
+    #[error(
+        "{bins} temperature bins of {width_c} °C are too few to choose the polynomial order by cross-validation (it needs bins between the two ends of the range): give the order"
+    )]
+    TooFewBinsToChoose {
+        /// Bins with data.
+        bins: usize,
+        /// Bin width, °C.
+        width_c: f64,
+    },
     /// A model applied to a recording without the channel it was fitted for.
     #[error("the model has channel '{0}', which the recording does not have")]
     MissingChannel(String),

@@ -11,6 +11,9 @@
 //!   applied as the thesis does, `x_comp = x − (p(T) − p(T_ref))`, never
 //!   extrapolated beyond the fitted range; a model is checked before use
 //!   ([`ModelError`] names the field at fault);
+//! - [`branch`] and [`hysteresis`]: heating or cooling on the temperature
+//!   smoothed over minutes, and the two branches' difference where the
+//!   data show one;
 //! - [`firmware`]: a model as PX4's and ArduPilot's parameter files, and
 //!   those files applied to samples exactly as the firmware applies them;
 //! - [`evaluation`]: what a compensation leaves on a run, the bias over
@@ -35,11 +38,14 @@
 mod error;
 mod model_check;
 
+pub mod branch;
 pub mod dynamic_adev;
 pub mod evaluation;
 pub mod firmware;
+pub mod hysteresis;
 pub mod surface;
 pub mod tcal;
+pub mod weights;
 
 pub use error::ThermalError;
 pub use model_check::{ModelError, ModelFileError};

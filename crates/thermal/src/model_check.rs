@@ -266,6 +266,8 @@ impl Model {
             for (k, &v) in c.coefficients.iter().enumerate() {
                 finite(format!("channels[{i}].coefficients[{k}]"), v)?;
             }
+            finite(format!("channels[{i}].residual_rms"), c.residual_rms)?;
+            finite(format!("channels[{i}].residual_max"), c.residual_max)?;
             // |p(u)| ≤ Σ|c_j|·m^j over the range; twice that bounds
             // p(T) − p(T_ref), the correction applied.
             let m = [self.t_min_c, self.t_max_c]
@@ -321,6 +323,7 @@ mod tests {
             residual_rms: 0.0,
             residual_max: 0.0,
             cross_validation: Vec::new(),
+            hysteresis: None,
         };
         Model {
             schema: SCHEMA.into(),
@@ -334,6 +337,7 @@ mod tests {
             fitted_on_digests: Vec::new(),
             dtdt_range_c_per_s: None,
             device_id: None,
+            accel_device_id: None,
             channels: vec![ch("gyro_x", "rad/s"), ch("accel_z", "m/s^2")],
         }
     }

@@ -1,23 +1,39 @@
 //! Temperature compensation of the bias: fit, apply, evaluate.
 //!
-//! The bias of each channel is a polynomial p of temperature, fitted by least
-//! squares on a scaled temperature u = (T − centre)/half-span (powers of raw
-//! °C are ill-conditioned beyond a cubic), after averaging into temperature
-//! bins so that the slow end of a cooling curve, where the run spends most
-//! of its samples, does not outweigh the fast end. Optionally a term in
-//! dT/dt absorbs thermal lag (the die is warmer than the sensor of the
-//! temperature while heating, colder while cooling). The compensation is the
-//! thesis's `x_comp = x − (p(T) − p(T_ref))`.
+//! The bias of each channel is a polynomial p of temperature, fitted by
+//! least squares on a scaled temperature u = (T − centre)/half-span (powers
+//! of raw °C are ill-conditioned beyond a cubic) over the data's own range.
+//! The samples are gathered into temperature bins, each bin weighted by the
+//! samples it holds (the variance of its mean), and each sample weighs its
+//! bin's weight over its count: the bins keep, besides their means, the
+//! mean products u^i·u^j and x·u^j of their samples, so the normal
+//! equations are those of the samples themselves, and where no floor
+//! flattens the weights the fit is exactly least squares over every sample
+//! (the minimum-variance fit under white noise). Bin means alone (on their
+//! mean powers of u) lose the spread of the temperature inside each bin,
+//! which on the benchmark of `bench/tcal_peers` cost up to a fifth more
+//! error against the true bias.
+//! Heating and cooling are told apart on the temperature smoothed over
+//! minutes ([`crate::branch`]); where the two branches differ beyond their
+//! interval, the difference is reported ([`crate::hysteresis`]). Optionally
+//! a term in dT/dt absorbs thermal lag (the die is warmer than the sensor
+//! of the temperature while heating, colder while cooling). The
+//! compensation is the thesis's `x_comp = x − (p(T) − p(T_ref))`.
 //!
 //! `Order::Auto` chooses the order by cross-validation: leave one run out
-//! when there are several, else leave out each of five contiguous blocks of
-//! the run's bins; the smallest order within 5 % of the best held-out RMS
-//! wins, so noise does not buy extra coefficients.
+//! when there are several, else leave out blocks of the run's bins dealt to
+//! five folds; the smallest order within one standard error of the best
+//! held-out mean square wins, so noise does not buy extra coefficients.
+//! Gaps (NaN samples, bursts) only leave samples out: no score, residual or
+//! model field is ever NaN.
 
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
 use crate::ThermalError;
+use crate::branch;
+use crate::hysteresis::{BranchResidual, Hysteresis, hysteresis};
+use crate::weights;
 
 /// The schema name of a saved model.
 pub const SCHEMA: &str = "imutherm.tcal/1";
@@ -113,12 +129,17 @@ pub struct ChannelModel {
     pub coefficients: Vec<f64>,
     /// Coefficient of dT/dt (unit per °C/s), when fitted.
     pub rate_coefficient: Option<f64>,
-    /// RMS of the bin means' residuals, in the channel's unit.
+    /// RMS of the bin means' residuals, each bin weighted by its samples,
+    /// in the channel's unit.
     pub residual_rms: f64,
     /// Largest absolute bin residual.
     pub residual_max: f64,
     /// Held-out RMS per order tried (order, RMS), when chosen automatically.
     pub cross_validation: Vec<(usize, f64)>,
+    /// The heating branch minus the cooling branch, where the data show
+    /// one beyond its 95 % interval.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hysteresis: Option<Hysteresis>,
 }
 
 /// A fitted compensation.
@@ -156,79 +177,145 @@ pub struct Model {
     /// a calibration to a sensor by it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub device_id: Option<u32>,
+    /// The accelerometer's device id, where the recording gives it apart
+    /// from the gyro's (a PX4 ULog's `sensor_accel` `device_id`); absent,
+    /// `device_id` stands for both.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub accel_device_id: Option<u32>,
     /// Per channel.
     pub channels: Vec<ChannelModel>,
 }
 
-/// Temperature-bin means of one run.
+/// The samples of one bin (1 °C by default) and one direction of one run.
 struct Bin {
+    /// floor(T / width).
+    key: i64,
+    /// Heating or cooling, on the smoothed temperature.
+    heating: bool,
+    /// Samples averaged: the bin's weight in the fit.
+    n: usize,
+    /// Mean temperature, °C.
     t: f64,
+    /// Mean of u^j over the samples, j = 0, 1, … up to twice the highest
+    /// order: the mean of a polynomial over the bin is exactly the
+    /// polynomial of these, however the temperature spreads inside the bin,
+    /// and the products u^i·u^j of the normal equations are among them.
+    pw: Vec<f64>,
+    /// Mean of x·u^j of each channel, j up to the highest order.
+    xu: Vec<Vec<f64>>,
+    /// Mean dT/dt of the samples that have one; NaN when none has.
     dtdt: f64,
+    /// Mean of each channel.
     x: Vec<f64>,
+    /// White-noise variance of each channel's mean: the run's sample
+    /// variance from first differences, over n.
+    var: Vec<f64>,
     /// Index of the first sample, to order bins in time.
     first: usize,
     run: usize,
 }
 
-fn dtdt(temp: &[f64], rate_hz: f64) -> Vec<f64> {
-    let h = ((RATE_WINDOW_S * rate_hz / 2.0).round() as usize).max(1);
-    let n = temp.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (i.saturating_sub(h), (i + h).min(n - 1));
-            if b > a {
-                (temp[b] - temp[a]) * rate_hz / (b - a) as f64
-            } else {
-                0.0
-            }
-        })
-        .collect()
-}
-
 /// Running sums of one bin.
 struct BinSum {
     t: f64,
+    pw: Vec<f64>,
+    xu: Vec<Vec<f64>>,
     rate: f64,
+    rated: usize,
     x: Vec<f64>,
     n: usize,
     first: usize,
 }
 
-fn bins_of(run: &Run, index: usize, width: f64) -> Vec<Bin> {
+/// Whether sample `i` of `run` counts: its temperature and every channel
+/// finite (a gap in any of them leaves the sample out, never a NaN in a sum).
+fn usable(run: &Run, i: usize) -> bool {
+    run.temp[i].is_finite() && run.channels.iter().all(|c| c.data[i].is_finite())
+}
+
+/// The lowest and highest temperature of the samples that count: the range
+/// the model is fitted over, the data's own, not that of the bin means.
+fn data_range(runs: &[Run]) -> Option<(f64, f64)> {
+    let mut range: Option<(f64, f64)> = None;
+    for r in runs {
+        for (i, &t) in r.temp.iter().enumerate() {
+            if usable(r, i) {
+                range = Some(range.map_or((t, t), |(a, b)| (a.min(t), b.max(t))));
+            }
+        }
+    }
+    range
+}
+
+/// The bins of one run, with the powers of u up to `powers`.
+fn bins_of(run: &Run, index: usize, width: f64, centre: f64, scale: f64, powers: usize) -> Vec<Bin> {
     use std::collections::BTreeMap;
-    let rates = dtdt(run.temp, run.rate_hz);
-    // Keyed by bin and by the sign of dT/dt, so heating and cooling passes
-    // through the same temperatures stay apart (that is what the rate term
-    // learns from).
+    let white: Vec<f64> = run.channels.iter().map(|c| white_variance(run, c.data)).collect();
+    let rates = branch::dtdt(run.temp, run.rate_hz, RATE_WINDOW_S);
+    let heating = branch::heating(run.temp, run.rate_hz);
+    // Keyed by bin and direction, so heating and cooling passes through the
+    // same temperatures stay apart (that is what the rate term and the
+    // hysteresis learn from).
     let mut acc: BTreeMap<(i64, bool), BinSum> = BTreeMap::new();
     let nch = run.channels.len();
     for (i, &t) in run.temp.iter().enumerate() {
-        if !t.is_finite() || run.channels.iter().any(|c| !c.data[i].is_finite()) {
+        if !usable(run, i) {
             continue;
         }
-        let key = ((t / width).floor() as i64, rates[i] >= 0.0);
+        let key = ((t / width).floor() as i64, heating[i]);
         let e = acc.entry(key).or_insert_with(|| BinSum {
             t: 0.0,
+            pw: vec![0.0; 2 * powers + 1],
+            xu: vec![vec![0.0; powers + 1]; nch],
             rate: 0.0,
+            rated: 0,
             x: vec![0.0; nch],
             n: 0,
             first: i,
         });
         e.t += t;
-        e.rate += rates[i];
+        let u = (t - centre) / scale;
+        let mut p = 1.0;
+        for s in e.pw.iter_mut() {
+            *s += p;
+            p *= u;
+        }
+        if rates[i].is_finite() {
+            e.rate += rates[i];
+            e.rated += 1;
+        }
         for (k, c) in run.channels.iter().enumerate() {
             e.x[k] += c.data[i];
+            let mut p = c.data[i];
+            for s in e.xu[k].iter_mut() {
+                *s += p;
+                p *= u;
+            }
         }
         e.n += 1;
     }
-    acc.into_values()
-        .filter(|e| e.n > 0)
-        .map(|e| {
+    acc.into_iter()
+        .filter(|(_, e)| e.n > 0)
+        .map(|((key, heating), e)| {
             let nf = e.n as f64;
             Bin {
+                key,
+                heating,
+                n: e.n,
                 t: e.t / nf,
-                dtdt: e.rate / nf,
+                pw: e.pw.into_iter().map(|v| v / nf).collect(),
+                xu: e
+                    .xu
+                    .into_iter()
+                    .map(|c| c.into_iter().map(|v| v / nf).collect())
+                    .collect(),
+                dtdt: if e.rated > 0 {
+                    e.rate / e.rated as f64
+                } else {
+                    f64::NAN
+                },
                 x: e.x.into_iter().map(|v| v / nf).collect(),
+                var: white.iter().map(|w| w / nf).collect(),
                 first: e.first,
                 run: index,
             }
@@ -236,31 +323,87 @@ fn bins_of(run: &Run, index: usize, width: f64) -> Vec<Bin> {
         .collect()
 }
 
-/// Least squares of `y` on the columns u^0..u^order (and dT/dt).
-fn solve(
-    bins: &[&Bin],
-    k: usize,
-    order: usize,
-    rate: bool,
-    centre: f64,
-    scale: f64,
-) -> Option<(Vec<f64>, Option<f64>)> {
+/// A channel's white-noise variance per sample: half the mean square of
+/// the differences of consecutive usable samples, which slow drift and the
+/// temperature trend barely touch.
+fn white_variance(run: &Run, data: &[f64]) -> f64 {
+    let (mut sum, mut count) = (0.0, 0usize);
+    for i in 1..data.len() {
+        if usable(run, i) && usable(run, i - 1) {
+            sum += (data[i] - data[i - 1]).powi(2);
+            count += 1;
+        }
+    }
+    if count > 0 { 0.5 * sum / count as f64 } else { 0.0 }
+}
+
+/// The fitted mean of `b`.
+fn predict(b: &Bin, coeffs: &[f64], rate: Option<f64>) -> f64 {
+    let p: f64 = coeffs.iter().zip(&b.pw).map(|(c, u)| c * u).sum();
+    p + rate.map_or(0.0, |k| k * b.dtdt)
+}
+
+/// Weighted least squares over the samples on u^0..u^order (and the
+/// bin's dT/dt), each sample of `bins[i]` weighing `w[i]` over its count
+/// ([`bin_weights`]): the normal equations from the bins' mean products.
+fn solve(bins: &[&Bin], w: &[f64], k: usize, order: usize, rate: bool) -> Option<(Vec<f64>, Option<f64>)> {
     let cols = order + 1 + usize::from(rate);
     if bins.len() < cols {
         return None;
     }
-    let a = DMatrix::from_fn(bins.len(), cols, |i, j| {
-        let b = bins[i];
-        if j <= order {
-            ((b.t - centre) / scale).powi(j as i32)
-        } else {
-            b.dtdt
+    let mut a = DMatrix::<f64>::zeros(cols, cols);
+    let mut y = DVector::<f64>::zeros(cols);
+    for (b, &w) in bins.iter().zip(w) {
+        for i in 0..cols {
+            for j in 0..cols {
+                a[(i, j)] += w * match (i <= order, j <= order) {
+                    (true, true) => b.pw[i + j],
+                    (true, false) => b.pw[i] * b.dtdt,
+                    (false, true) => b.pw[j] * b.dtdt,
+                    (false, false) => b.dtdt * b.dtdt,
+                };
+            }
+            y[i] += w * if i <= order { b.xu[k][i] } else { b.x[k] * b.dtdt };
         }
-    });
-    let y = DVector::from_iterator(bins.len(), bins.iter().map(|b| b.x[k]));
-    let sol = a.svd(true, true).solve(&y, 1e-12).ok()?;
+    }
+    // Each column scaled to a unit diagonal (dT/dt is a hundredth of u),
+    // then a pseudo-inverse that drops what the data cannot determine.
+    let d: Vec<f64> = (0..cols).map(|i| a[(i, i)].sqrt()).collect();
+    if d.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
+        return None;
+    }
+    let scaled = DMatrix::from_fn(cols, cols, |i, j| a[(i, j)] / (d[i] * d[j]));
+    let rhs = DVector::from_fn(cols, |i, _| y[i] / d[i]);
+    let svd = scaled.svd(true, true);
+    let top = svd.singular_values.max();
+    let sol = svd.solve(&rhs, top * 1e-13).ok()?;
+    let sol: Vec<f64> = sol.iter().zip(&d).map(|(v, d)| v / d).collect();
+    if sol.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
     let coeffs: Vec<f64> = sol.iter().take(order + 1).copied().collect();
     Some((coeffs, rate.then(|| sol[order + 1])))
+}
+
+/// Each bin's weight for channel `k`: 1/(σ²/n + τ²), the inverse of its
+/// mean's variance with the floor τ² of [`weights::floor_variance`] fitted
+/// at `order`, scaled so that the largest is 1. A bin of a few samples
+/// never pulls the curve against bins of thousands; where the bias wanders
+/// more than white noise explains, long dwells stop outweighing the rest.
+/// Data without white noise (a noiseless simulation) weigh by their counts.
+fn bin_weights(bins: &[&Bin], k: usize, order: usize, rate: bool) -> Vec<f64> {
+    let v: Vec<f64> = bins.iter().map(|b| b.var[k]).collect();
+    if v.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
+        return bins.iter().map(|b| b.n as f64).collect();
+    }
+    let params = order + 1 + usize::from(rate);
+    let tau2 = weights::floor_variance(&v, params, |w| {
+        let (c, r) = solve(bins, w, k, order, rate)?;
+        Some(bins.iter().map(|b| b.x[k] - predict(b, &c, r)).collect())
+    });
+    let w: Vec<f64> = v.iter().map(|v| 1.0 / (v + tau2)).collect();
+    let max = w.iter().copied().fold(0.0, f64::max);
+    w.iter().map(|w| w / max).collect()
 }
 
 fn poly(coeffs: &[f64], u: f64) -> f64 {
@@ -286,20 +429,18 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
                 "runs have different channels: {names:?} and {these:?}"
             )));
         }
+        if let Some(c) = r.channels.iter().find(|c| c.data.len() != r.temp.len()) {
+            return Err(ThermalError::Invalid(format!(
+                "{} has {} samples but the temperature {}",
+                c.name,
+                c.data.len(),
+                r.temp.len()
+            )));
+        }
     }
-    let bins: Vec<Bin> = runs
-        .iter()
-        .enumerate()
-        .flat_map(|(i, r)| bins_of(r, i, opts.bin_width_c))
-        .collect();
-    let (t_min_c, t_max_c) = bins
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), bin| {
-            (a.min(bin.t), b.max(bin.t))
-        });
-    if bins.is_empty() {
+    let Some((t_min_c, t_max_c)) = data_range(runs) else {
         return Err(ThermalError::NoTemperature);
-    }
+    };
     if t_max_c - t_min_c < MIN_SPAN_C {
         return Err(ThermalError::NoSpread {
             span_c: t_max_c - t_min_c,
@@ -319,35 +460,33 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
             t_max_c,
         });
     }
+    let powers = match opts.order {
+        Order::Fixed(o) => o,
+        Order::Auto => opts.max_auto_order,
+    };
+    let mut bins: Vec<Bin> = runs
+        .iter()
+        .enumerate()
+        .flat_map(|(i, r)| bins_of(r, i, opts.bin_width_c, centre, scale, powers))
+        .collect();
+    // A rate term needs each bin's dT/dt: a bin of samples isolated by gaps
+    // has none, and is left to fits without the term.
+    if opts.rate_term {
+        bins.retain(|b| b.dtdt.is_finite());
+    }
     let all: Vec<&Bin> = bins.iter().collect();
     let needed = |order: usize| order + 1 + usize::from(opts.rate_term);
 
     let mut channels = Vec::with_capacity(names.len());
     for (k, c) in first.channels.iter().enumerate() {
+        // The floor is judged at the highest order tried, whose residuals
+        // hold the least misfit.
+        let w = bin_weights(&all, k, powers, opts.rate_term);
         let (order, cross_validation) = match opts.order {
-            Order::Fixed(o) => {
-                if all.len() < needed(o) {
-                    return Err(ThermalError::TooFewBins {
-                        bins: all.len(),
-                        width_c: opts.bin_width_c,
-                        order: o,
-                        needed: needed(o),
-                    });
-                }
-                (o, Vec::new())
-            }
-            Order::Auto => choose_order(
-                &bins,
-                k,
-                runs.len(),
-                opts.rate_term,
-                opts.max_auto_order,
-                centre,
-                scale,
-            )?,
+            Order::Fixed(o) => (o, Vec::new()),
+            Order::Auto => choose_order(&all, &w, k, runs.len(), opts, t_min_c, t_max_c)?,
         };
-        let Some((coefficients, rate_coefficient)) = solve(&all, k, order, opts.rate_term, centre, scale)
-        else {
+        let Some((coefficients, rate_coefficient)) = solve(&all, &w, k, order, opts.rate_term) else {
             return Err(ThermalError::TooFewBins {
                 bins: all.len(),
                 width_c: opts.bin_width_c,
@@ -357,14 +496,28 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
         };
         let resid: Vec<f64> = all
             .iter()
-            .map(|b| {
-                b.x[k]
-                    - poly(&coefficients, (b.t - centre) / scale)
-                    - rate_coefficient.unwrap_or(0.0) * b.dtdt
+            .map(|b| b.x[k] - predict(b, &coefficients, rate_coefficient))
+            .collect();
+        let total: f64 = all.iter().map(|b| b.n as f64).sum();
+        let residual_rms = (all
+            .iter()
+            .zip(&resid)
+            .map(|(b, r)| b.n as f64 * r * r)
+            .sum::<f64>()
+            / total)
+            .sqrt();
+        let residual_max = resid.iter().fold(0.0f64, |m, r| m.max(r.abs()));
+        let branches: Vec<BranchResidual> = all
+            .iter()
+            .zip(&resid)
+            .map(|(b, &residual)| BranchResidual {
+                bin: b.key,
+                heating: b.heating,
+                n: b.n,
+                t: b.t,
+                residual,
             })
             .collect();
-        let residual_rms = (resid.iter().map(|r| r * r).sum::<f64>() / resid.len() as f64).sqrt();
-        let residual_max = resid.iter().fold(0.0f64, |m, r| m.max(r.abs()));
         channels.push(ChannelModel {
             name: c.name.clone(),
             unit: c.unit.clone(),
@@ -374,6 +527,7 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
             residual_rms,
             residual_max,
             cross_validation,
+            hysteresis: hysteresis(&branches),
         });
     }
     let dtdt_range_c_per_s = opts.rate_term.then(|| {
@@ -394,80 +548,114 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
         fitted_on_digests: Vec::new(),
         dtdt_range_c_per_s,
         device_id: None,
+        accel_device_id: None,
         channels,
     };
     // A fit never hands out a model its own loader would refuse (a channel
-    // that is not an inertial axis, a coefficient that overflowed).
+    // that is not an inertial axis, a coefficient that overflowed, a
+    // residual that is not a number).
     model.validate()?;
     Ok(model)
 }
 
-/// Cross-validated order: held-out RMS per order, the smallest order within
-/// 5 % of the best.
+/// Cross-validated order: the held-out mean square per order, weighted by
+/// the bins' samples, and the smallest order whose excess over the best is
+/// within one standard error of that excess (the "one-standard-error rule"
+/// of Hastie, Tibshirani & Friedman, *The Elements of Statistical
+/// Learning*, 2nd ed., §7.10), so noise does not buy extra coefficients.
 fn choose_order(
-    bins: &[Bin],
+    bins: &[&Bin],
+    w: &[f64],
     k: usize,
     runs: usize,
-    rate: bool,
-    max_order: usize,
-    centre: f64,
-    scale: f64,
+    opts: &FitOptions,
+    t_min_c: f64,
+    t_max_c: f64,
 ) -> Result<(usize, Vec<(usize, f64)>), ThermalError> {
-    // Folds: one per run, else five contiguous blocks in time of one run.
-    let mut order_in_time: Vec<&Bin> = bins.iter().collect();
-    order_in_time.sort_by_key(|b| (b.run, b.first));
-    let folds: Vec<Vec<usize>> = if runs > 1 {
-        (0..runs)
-            .map(|r| {
-                (0..order_in_time.len())
-                    .filter(|&i| order_in_time[i].run == r)
-                    .collect()
-            })
-            .collect()
-    } else {
-        let n = order_in_time.len();
-        (0..5).map(|f| (f * n / 5..(f + 1) * n / 5).collect()).collect()
+    let mut by_time: Vec<usize> = (0..bins.len()).collect();
+    by_time.sort_by_key(|&i| (bins[i].run, bins[i].first));
+    let in_time: Vec<&Bin> = by_time.iter().map(|&i| bins[i]).collect();
+    let w: Vec<f64> = by_time.iter().map(|&i| w[i]).collect();
+    // The bins holding the range's ends always train: held out they would
+    // be extrapolated, and the model is never applied beyond its range.
+    let edge = |b: &Bin| {
+        let key = |t: f64| (t / opts.bin_width_c).floor() as i64;
+        b.key == key(t_min_c) || b.key == key(t_max_c)
     };
-    let mut scores = Vec::new();
-    for order in 0..=max_order {
-        let mut sq = 0.0;
-        let mut count = 0usize;
+    // Folds: one per run; in one run, blocks of about a tenth of the bins,
+    // dealt round-robin to five folds, so that most held-out bins lie
+    // between trained ones.
+    let (folds, fold_of): (usize, Vec<Option<usize>>) = if runs > 1 {
+        (
+            runs,
+            in_time.iter().map(|b| (!edge(b)).then_some(b.run)).collect(),
+        )
+    } else {
+        let block = in_time.len().div_ceil(10).max(1);
+        (
+            5,
+            in_time
+                .iter()
+                .enumerate()
+                .map(|(i, b)| (!edge(b)).then_some((i / block) % 5))
+                .collect(),
+        )
+    };
+    let too_few = || ThermalError::TooFewBinsToChoose {
+        bins: bins.len(),
+        width_c: opts.bin_width_c,
+    };
+    // Per order: each held-out bin's w·e².
+    let mut per_order: Vec<(usize, Vec<f64>)> = Vec::new();
+    for order in 0..=opts.max_auto_order {
+        let mut sq = vec![f64::NAN; in_time.len()];
         let mut ok = true;
-        for fold in &folds {
-            let train: Vec<&Bin> = (0..order_in_time.len())
-                .filter(|i| !fold.contains(i))
-                .map(|i| order_in_time[i])
-                .collect();
-            match solve(&train, k, order, rate, centre, scale) {
-                Some((c, r)) => {
-                    for &i in fold {
-                        let b = order_in_time[i];
-                        let e = b.x[k] - poly(&c, (b.t - centre) / scale) - r.unwrap_or(0.0) * b.dtdt;
-                        sq += e * e;
-                        count += 1;
-                    }
-                }
-                None => ok = false,
+        for f in 0..folds {
+            let test: Vec<usize> = (0..in_time.len()).filter(|&i| fold_of[i] == Some(f)).collect();
+            if test.is_empty() {
+                continue;
+            }
+            let kept: Vec<usize> = (0..in_time.len()).filter(|&i| fold_of[i] != Some(f)).collect();
+            let train: Vec<&Bin> = kept.iter().map(|&i| in_time[i]).collect();
+            let tw: Vec<f64> = kept.iter().map(|&i| w[i]).collect();
+            let Some((c, r)) = solve(&train, &tw, k, order, opts.rate_term) else {
+                ok = false;
+                break;
+            };
+            for i in test {
+                let b = in_time[i];
+                let e = b.x[k] - predict(b, &c, r);
+                sq[i] = w[i] * e * e;
             }
         }
-        if ok && count > 0 {
-            scores.push((order, (sq / count as f64).sqrt()));
+        if ok && sq.iter().any(|v| v.is_finite()) && sq.iter().all(|v| v.is_finite() || v.is_nan()) {
+            per_order.push((order, sq));
         }
     }
-    let best = scores.iter().map(|s| s.1).fold(f64::INFINITY, f64::min);
-    let chosen = scores
+    let held: Vec<usize> = (0..in_time.len()).filter(|&i| fold_of[i].is_some()).collect();
+    let total: f64 = held.iter().map(|&i| w[i]).sum();
+    let ms = |sq: &[f64]| held.iter().map(|&i| sq[i]).sum::<f64>() / total;
+    let Some((_, best)) = per_order
         .iter()
-        .find(|s| s.1 <= 1.05 * best)
-        .map(|s| s.0)
-        .ok_or(ThermalError::TooFewBins {
-            bins: bins.len(),
-            width_c: 0.0,
-            order: 0,
-            needed: 2,
-        })?;
+        .filter(|(_, sq)| ms(sq).is_finite())
+        .min_by(|a, b| ms(&a.1).total_cmp(&ms(&b.1)))
+    else {
+        return Err(too_few());
+    };
+    let chosen = per_order
+        .iter()
+        .find(|(_, sq)| {
+            let d: Vec<f64> = held.iter().map(|&i| sq[i] - best[i]).collect();
+            let m = d.len() as f64;
+            let mean = d.iter().sum::<f64>() / m;
+            let var = d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (m - 1.0).max(1.0);
+            mean * m / total <= (m * var).sqrt() / total
+        })
+        .map(|(o, _)| *o)
+        .ok_or_else(too_few)?;
+    let scores = per_order.iter().map(|(o, sq)| (*o, ms(sq).sqrt())).collect();
     Ok((chosen, scores))
 }
-
 impl ChannelModel {
     /// The modelled bias at temperature `t` (°C).
     pub fn bias(&self, model: &Model, t: f64) -> f64 {
@@ -538,7 +726,9 @@ impl Model {
             )));
         }
         let at_ref = ch.bias(self, self.t_ref_c);
-        let rates = ch.rate_coefficient.map(|_| dtdt(temp, rate_hz));
+        let rates = ch
+            .rate_coefficient
+            .map(|_| branch::dtdt(temp, rate_hz, RATE_WINDOW_S));
         let mut report = ApplyReport::default();
         for (i, (x, &t)) in data.iter_mut().zip(temp).enumerate() {
             if !t.is_finite() {
@@ -551,9 +741,10 @@ impl Model {
             let tc = t.clamp(self.t_min_c, self.t_max_c);
             // dT/dt is clamped to the range the rate term was fitted on: one
             // spike in the temperature would otherwise throw the channel by
-            // k times a rate no fit ever saw.
+            // k times a rate no fit ever saw. A sample isolated by gaps has
+            // no dT/dt, and gets the temperature term alone.
             let lag = match (&rates, ch.rate_coefficient, self.dtdt_range_c_per_s) {
-                (Some(r), Some(k), Some([lo, hi])) => k * r[i].clamp(lo, hi),
+                (Some(r), Some(k), Some([lo, hi])) if r[i].is_finite() => k * r[i].clamp(lo, hi),
                 _ => 0.0,
             };
             *x -= ch.bias(self, tc) - at_ref + lag;
@@ -588,6 +779,209 @@ mod tests {
             }],
             opts,
         )
+    }
+
+    /// Gaussian noise from a fixed seed (Box–Muller on an LCG): the tests
+    /// stay deterministic without a generator crate.
+    fn noise(n: usize, sigma: f64, seed: u64) -> Vec<f64> {
+        let mut state = seed.wrapping_mul(2862933555777941757).wrapping_add(3037000493);
+        let mut uniform = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        };
+        (0..n)
+            .map(|_| {
+                let (a, b) = (uniform(), uniform());
+                sigma * (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
+            })
+            .collect()
+    }
+
+    fn cubic(t: f64) -> f64 {
+        1e-3 + 2e-5 * (t - 40.0) - 3e-7 * (t - 40.0).powi(3)
+    }
+
+    fn fit_one(temp: &[f64], x: &[f64], rate_hz: f64, opts: &FitOptions) -> Result<Model, ThermalError> {
+        let channels = vec![TcalChannel::new("gyro_x", "rad/s", x)];
+        fit(
+            &[Run {
+                channels: &channels,
+                temp,
+                rate_hz,
+            }],
+            opts,
+        )
+    }
+
+    #[test]
+    fn without_a_floor_the_fit_is_least_squares_over_every_sample() {
+        // A heating run whose rate falls tenfold, so bins hold from a few
+        // dozen to hundreds of samples, the temperature noisy and spread
+        // inside each bin: the binned normal equations must give the
+        // coefficients of an ordinary least-squares cubic on the samples.
+        let n = 20_000;
+        let tn = noise(n, 0.05, 7);
+        let temp: Vec<f64> = (0..n)
+            .map(|i| {
+                let f = i as f64 / n as f64;
+                20.0 + 30.0 * (1.0 - (-2.3 * f).exp()) / (1.0 - (-2.3f64).exp()) + tn[i]
+            })
+            .collect();
+        let xn = noise(n, 2e-3, 8);
+        let x: Vec<f64> = temp.iter().zip(&xn).map(|(t, e)| cubic(*t) + e).collect();
+        let opts = FitOptions {
+            order: Order::Fixed(3),
+            ..FitOptions::default()
+        };
+        let m = fit_one(&temp, &x, 10.0, &opts).unwrap();
+        let (c, s) = (m.centre_c, m.scale_c);
+        let a = DMatrix::from_fn(n, 4, |i, j| ((temp[i] - c) / s).powi(j as i32));
+        let ols = a
+            .svd(true, true)
+            .solve(&DVector::from_column_slice(&x), 1e-14)
+            .unwrap();
+        for (j, (got, want)) in m.channels[0].coefficients.iter().zip(ols.iter()).enumerate() {
+            assert!(
+                (got - want).abs() <= 1e-9 * want.abs().max(1e-3),
+                "u^{j}: {got} vs {want}"
+            );
+        }
+    }
+
+    /// A cooling run, 24 → 16 °C over 2 h at 2 Hz, logged in bursts of 5 s
+    /// every 305 s with the gaps written out as NaN rows.
+    fn bursty_cooling() -> (Vec<f64>, Vec<f64>) {
+        let n = 2 * 7200;
+        let e = noise(n, 1e-4, 7);
+        (0..n)
+            .map(|i| {
+                let s = i as f64 / 2.0;
+                if s % 305.0 < 5.0 {
+                    let t = 16.0 + 8.0 * (-s / 3000.0).exp();
+                    (t, 1e-3 + 4e-5 * (t - 20.0) + 3e-6 * (t - 20.0).powi(2) + e[i])
+                } else {
+                    (f64::NAN, f64::NAN)
+                }
+            })
+            .unzip()
+    }
+
+    #[test]
+    fn a_bursty_run_with_nan_rows_fits_a_model_its_loader_takes() {
+        let (temp, x) = bursty_cooling();
+        for order in [Order::Auto, Order::Fixed(2)] {
+            let m = fit_one(
+                &temp,
+                &x,
+                2.0,
+                &FitOptions {
+                    order,
+                    ..FitOptions::default()
+                },
+            )
+            .unwrap();
+            let c = &m.channels[0];
+            assert!(c.residual_rms.is_finite() && c.residual_max.is_finite());
+            assert!(c.cross_validation.iter().all(|(_, s)| s.is_finite()));
+            let text = serde_json::to_string(&m).unwrap();
+            for field in [
+                "residual_rms",
+                "residual_max",
+                "cross_validation",
+                "t_min_c",
+                "t_max_c",
+            ] {
+                assert!(!text.contains(&format!("\"{field}\":null")), "{text}");
+            }
+            let loaded = Model::from_json(&text).unwrap();
+            assert_eq!(loaded.channels[0].order, c.order);
+        }
+        // One NaN row in an otherwise whole run.
+        let (mut temp, x) = ramp();
+        let mut x: Vec<f64> = x
+            .iter()
+            .zip(noise(x.len(), 1e-5, 5))
+            .map(|(x, e)| x + e)
+            .collect();
+        temp[1234] = f64::NAN;
+        x[2345] = f64::NAN;
+        let m = fit_one(&temp, &x, 1.0, &FitOptions::default()).unwrap();
+        // The data are a cubic: no lower order follows them.
+        assert!(m.channels[0].order >= 3, "{:?}", m.channels[0]);
+    }
+
+    #[test]
+    fn the_fitted_range_is_the_datas() {
+        let (temp, x) = bursty_cooling();
+        let m = fit_one(&temp, &x, 2.0, &FitOptions::default()).unwrap();
+        let finite = || temp.iter().copied().filter(|t| t.is_finite());
+        assert_eq!(m.t_min_c, finite().fold(f64::INFINITY, f64::min));
+        assert_eq!(m.t_max_c, finite().fold(f64::NEG_INFINITY, f64::max));
+        let mut y = x.clone();
+        let report = m.apply("gyro_x", &mut y, &temp, 2.0).unwrap();
+        assert_eq!(report.out_of_range, 0, "the fitted run lies inside its own range");
+    }
+
+    #[test]
+    fn a_few_samples_never_pull_the_curve() {
+        // A 20 → 70 °C heating at 4 Hz with white noise, then one lone sample
+        // 5 σ off at the far end of a short dip: the old equal-weight bins
+        // gave it the weight of a bin of thousands.
+        let n = 4 * 2700;
+        let sigma = 1e-2;
+        let e = noise(n, sigma, 3);
+        let temp: Vec<f64> = (0..n).map(|i| 20.0 + 50.0 * i as f64 / n as f64).collect();
+        let x: Vec<f64> = temp.iter().zip(&e).map(|(t, e)| cubic(*t) + e).collect();
+        let opts = FitOptions {
+            order: Order::Fixed(3),
+            ..FitOptions::default()
+        };
+        let m = fit_one(&temp, &x, 4.0, &opts).unwrap();
+        let (mut temp2, mut x2) = (temp.clone(), x.clone());
+        temp2.push(69.0);
+        x2.push(cubic(69.0) + 5.0 * sigma);
+        let m2 = fit_one(&temp2, &x2, 4.0, &opts).unwrap();
+        let c = m.channel("gyro_x").unwrap();
+        let c2 = m2.channel("gyro_x").unwrap();
+        for t in [20.0, 35.0, 50.0, 69.0] {
+            let moved = (c2.bias(&m2, t) - c.bias(&m, t)).abs();
+            assert!(moved < 0.01 * sigma, "{t} °C: {moved}");
+            // And the fit is the truth within a few σ/√n.
+            let err = (c.bias(&m, t) - cubic(t)).abs();
+            assert!(err < 6.0 * sigma / (n as f64).sqrt() * 4.0, "{t} °C: {err}");
+        }
+        assert!(c.hysteresis.is_none(), "a run that only heats has one branch");
+    }
+
+    #[test]
+    fn hysteresis_is_reported_only_where_the_branches_differ() {
+        // 20 → 60 → 20 °C at 2 Hz; the cooling branch reads `offset` lower.
+        let half = 2 * 3600;
+        let e = noise(2 * half, 1e-3, 11);
+        let temp: Vec<f64> = (0..2 * half)
+            .map(|i| {
+                let s = i.min(2 * half - i) as f64;
+                20.0 + 40.0 * s / half as f64
+            })
+            .collect();
+        for offset in [0.0, 5e-4] {
+            let x: Vec<f64> = temp
+                .iter()
+                .enumerate()
+                .map(|(i, t)| cubic(*t) + e[i] - if i > half { offset } else { 0.0 })
+                .collect();
+            let m = fit_one(&temp, &x, 2.0, &FitOptions::default()).unwrap();
+            let h = &m.channels[0].hysteresis;
+            if offset == 0.0 {
+                assert!(h.is_none(), "{h:?}");
+            } else {
+                let h = h.as_ref().expect("a 5e-4 offset over 40 bins is seen");
+                assert!(h.interval_95[0] < offset && offset < h.interval_95[1], "{h:?}");
+                assert!(h.bins > 30);
+            }
+        }
     }
 
     #[test]
@@ -665,7 +1059,7 @@ mod tests {
                 40.0 - 20.0 * ph.cos()
             })
             .collect();
-        let rates = dtdt(&temp, 1.0);
+        let rates = branch::dtdt(&temp, 1.0, RATE_WINDOW_S);
         let x: Vec<f64> = temp.iter().zip(&rates).map(|(t, r)| 1e-4 * t + 0.5 * r).collect();
         let channels = vec![TcalChannel::new("accel_x", "m/s^2", x.as_slice())];
         let m = fit(

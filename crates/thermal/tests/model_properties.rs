@@ -44,6 +44,7 @@ fn channel() -> impl Strategy<Value = ChannelModel> {
             residual_rms: 0.0,
             residual_max: 0.0,
             cross_validation: Vec::new(),
+            hysteresis: None,
         })
 }
 
@@ -72,6 +73,7 @@ fn model() -> impl Strategy<Value = Model> {
                 fitted_on_digests: Vec::new(),
                 dtdt_range_c_per_s: rates.map(|(a, b)| [a, b]),
                 device_id: None,
+                accel_device_id: None,
                 channels,
             };
             if let Some((field, v)) = spoil.filter(|_| !channels_only) {

@@ -134,23 +134,43 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
         .transpose()?;
     let names: Vec<String> = model.channels.iter().map(|c| c.name.clone()).collect();
     let mut rows = Vec::new();
+    let mut verdicts = Vec::new();
     for file in &a.files {
         let run = run_data(file, &names, &read)?;
-        rows.extend(compensation::eval_rows(&model, file, run, loaded.as_ref())?);
+        if let Some(l) = &loaded {
+            verdicts.push(compensation::judge(l, file, &run)?);
+        }
+        let for_run = match &loaded {
+            Some(l) => l.for_run(file, &run)?,
+            None => None,
+        };
+        rows.extend(compensation::eval_rows(
+            &model,
+            file,
+            run,
+            for_run.as_ref().or(loaded.as_ref()),
+        )?);
     }
     if let Some(l) = &loaded {
         for w in &l.warnings {
             eprintln!("warning: {w}");
         }
     }
-    let doc = EvalDocument::new(&a.model.display().to_string(), rows, loaded.as_ref());
+    let doc = EvalDocument::new(&a.model.display().to_string(), rows, loaded.as_ref(), verdicts);
+    let nothing: Vec<&str> = doc
+        .firmware
+        .iter()
+        .flat_map(|f| &f.verdicts)
+        .filter(|v| !v.applies)
+        .map(|v| v.file.as_str())
+        .collect();
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     if a.json {
         serde_json::to_writer_pretty(&mut out, &doc)?;
         writeln!(out)?;
         out.flush()?;
-        return Ok(());
+        return applied_somewhere(&nothing);
     }
     let mut table: Vec<String> = Vec::new();
     if !doc.rows.is_empty() {
@@ -220,6 +240,11 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
             table.push(format!("{:<24} {:<8}   σ_min: {}", "", "", pairs.join(", ")));
         }
     }
+    for v in doc.firmware.iter().flat_map(|f| &f.verdicts) {
+        for said in &v.says {
+            table.push(format!("{}: {said}", v.file));
+        }
+    }
     match &loaded {
         // The parameter lines follow on standard output: the table goes in
         // as comments, so the whole output still loads.
@@ -236,5 +261,17 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
         }
     }
     out.flush()?;
-    Ok(())
+    applied_somewhere(&nothing)
+}
+
+/// A runtime error (status 1) where the firmware would correct nothing on a
+/// run: the table above says why.
+fn applied_somewhere(nothing: &[&str]) -> Result<()> {
+    match nothing {
+        [] => Ok(()),
+        files => anyhow::bail!(
+            "the firmware would apply no temperature correction on {}",
+            files.join(", ")
+        ),
+    }
 }

@@ -41,6 +41,10 @@ pub struct RecordingOptions {
     /// a text log has one stream, and a choice given for it is refused by
     /// the readers that know streams.
     pub stream: StreamChoice,
+    /// Largest time grid, as a multiple of the samples, that gaps may fill
+    /// before the time column is refused as wrong; `None`:
+    /// [`crate::timing::MAX_GRID_FACTOR`]. Raised for duty-cycled logs.
+    pub max_grid_factor: Option<usize>,
 }
 
 /// The stream of a multi-stream log to read: `--topic`, `--instance`,
@@ -551,16 +555,24 @@ pub fn read_recording_from(
                 ));
             }
             let cols: Vec<Vec<f64>> = channels.iter_mut().map(|c| std::mem::take(&mut c.data)).collect();
-            let Some((regular, dropped)) = regularize(&t, rate, &cols) else {
+            let factor = opts.max_grid_factor.unwrap_or(crate::timing::MAX_GRID_FACTOR);
+            let Some((regular, dropped)) = regularize(&t, rate, &cols, factor) else {
                 let finite = || t.iter().copied().filter(|v| v.is_finite());
                 return Err(ReadError::new(
                     path,
                     ReadErrorKind::TimeColumn(format!(
-                        "column {} spans {:.6e} s, far more than its {} samples at {rate} Hz: \
-                         check the time unit (--time-unit) or the values",
+                        "column {} spans {:.6e} s, more than {factor} times its {} samples at {rate} Hz: \
+                         check the time unit (--time-unit) or the values; a duty-cycled log is read \
+                         with its gaps by raising the limit (--max-grid-factor {})",
                         ti + 1,
                         finite().fold(f64::NEG_INFINITY, f64::max) - finite().fold(f64::INFINITY, f64::min),
-                        t.len()
+                        t.len(),
+                        ((finite().fold(f64::NEG_INFINITY, f64::max)
+                            - finite().fold(f64::INFINITY, f64::min))
+                            * rate
+                            / t.len() as f64)
+                            .ceil()
+                            + 1.0
                     )),
                 ));
             };

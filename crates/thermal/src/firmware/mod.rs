@@ -10,6 +10,7 @@
 pub mod ardupilot;
 mod params;
 pub mod px4;
+pub mod verdict;
 
 use thiserror::Error;
 
@@ -176,7 +177,14 @@ pub fn export(model: &Model, firmware: Firmware, target: Target) -> Result<Expor
     model.validate()?;
     let instance = instance(firmware, target.instance)?;
     match firmware {
-        Firmware::Px4 => px4::write(model, instance, target.device_id.or(model.device_id)),
+        Firmware::Px4 => px4::write(
+            model,
+            instance,
+            px4::Ids {
+                gyro: target.device_id.or(model.device_id),
+                accel: target.device_id.or(model.accel_device_id).or(model.device_id),
+            },
+        ),
         Firmware::ArduPilot => ardupilot::write(model, instance, target.device_id.or(model.device_id)),
     }
 }
@@ -315,6 +323,23 @@ mod tests {
             ..FitOptions::default()
         };
         fit(&[run], &opts).unwrap()
+    }
+
+    #[test]
+    fn each_sensor_set_carries_its_own_device_id() {
+        // A ULog's sensor_gyro and sensor_accel ids of one ICM-20602 differ
+        // in their device type byte.
+        let mut m = model(3, None);
+        m.device_id = Some(2_490_378);
+        m.accel_device_id = Some(2_490_634);
+        let text = export(&m, Firmware::Px4, Target::default()).unwrap().text;
+        assert!(text.contains("TC_G0_ID\t2490378\t6"), "{text}");
+        assert!(text.contains("TC_A0_ID\t2490634\t6"), "{text}");
+        assert!(text.contains("TC_G_ENABLE\t1\t6") && text.contains("TC_A_ENABLE\t1\t6"));
+        // One id (a text log's `# device_id:`) stands for both.
+        m.accel_device_id = None;
+        let text = export(&m, Firmware::Px4, Target::default()).unwrap().text;
+        assert!(text.contains("TC_A0_ID\t2490378\t6"), "{text}");
     }
 
     #[test]

@@ -44,8 +44,18 @@ fn enable_name(sensor: Sensor) -> &'static str {
     }
 }
 
+/// The device ids a set is matched to, per sensor: a gyro and an
+/// accelerometer on one chip have different ids (their device type byte).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Ids {
+    /// `TC_G{n}_ID`.
+    pub gyro: Option<u32>,
+    /// `TC_A{n}_ID`.
+    pub accel: Option<u32>,
+}
+
 /// Writes QGroundControl's parameter file for slot `n`.
-pub(super) fn write(model: &Model, n: u8, device_id: Option<u32>) -> Result<Export, FirmwareError> {
+pub(super) fn write(model: &Model, n: u8, ids: Ids) -> Result<Export, FirmwareError> {
     let cubics = cubics(model, Firmware::Px4, model.t_ref_c)?;
     let mut warnings = Vec::new();
     let mut s = String::new();
@@ -84,6 +94,10 @@ pub(super) fn write(model: &Model, n: u8, device_id: Option<u32>) -> Result<Expo
         let (what, listener, cal) = match sensor {
             Sensor::Gyro => ("gyro", "sensor_gyro", "CAL_GYRO"),
             Sensor::Accel => ("accelerometer", "sensor_accel", "CAL_ACC"),
+        };
+        let device_id = match sensor {
+            Sensor::Gyro => ids.gyro,
+            Sensor::Accel => ids.accel,
         };
         match device_id {
             Some(id) => lines(&mut s, &format!("{p}_ID"), &(id as i32).to_string(), TYPE_INT32),
