@@ -461,7 +461,7 @@ mod tests {
             proptest::prop_assume!(!kept.is_empty());
             let mean = kept.iter().sum::<f64>() / kept.len() as f64;
             proptest::prop_assert!((tm.rate_hz * mean - 1.0).abs() < 1e-9, "{} vs {}", tm.rate_hz, 1.0 / mean);
-            let (grid, dropped) = regularize(&t, tm.rate_hz, &[vec![1.0; t.len()]]).unwrap();
+            let (grid, dropped) = regularize(&t, tm.rate_hz, &[vec![1.0; t.len()]], MAX_GRID_FACTOR).unwrap();
             let missing: usize = tm.gaps.iter().map(|g| g.1).sum();
             proptest::prop_assert!(dropped.is_empty());
             proptest::prop_assert_eq!(grid[0].len(), t.len() + missing);
