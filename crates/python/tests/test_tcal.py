@@ -106,14 +106,14 @@ def test_fit_recovers_a_known_bias(synthetic):
     assert model.t_ref == 40.0
     applied = model.apply(imutherm.read(path))
     comp = applied.channels["gyro_x"]
-    # Within the fitted range (the bin means' temperatures), what is left is
-    # the bias at T_ref (3e-3) plus the noise. The fit is made on 1 degC bin
-    # means, and the mean of a*(T-Tc)^2 over a bin of width w is a*w^2/12
-    # (8.3e-6 here) above its value at the bin's centre: that is the scale
-    # of the fit's error (the noise adds 1e-5/sqrt(100) per bin). Outside
-    # the range the temperature is clamped to the edge, never extrapolated.
+    # The fitted range is the data's own, so the run the model was fitted on
+    # has no sample out of range. What is left is the bias at T_ref (3e-3)
+    # plus the noise: the fit solves the samples' own normal equations (bins
+    # keep their samples' sums of products), so the bins' width adds no error
+    # of its own; the bound is the one a 1 degC bin-mean fit met, a*w^2/12.
+    assert model.t_min == pytest.approx(t.min()) and model.t_max == pytest.approx(t.max())
     inside = (t >= model.t_min) & (t <= model.t_max)
-    assert 0 < applied.out_of_range == np.count_nonzero(~inside)
+    assert applied.out_of_range == np.count_nonzero(~inside) == 0
     np.testing.assert_allclose((comp - (gyro - bias))[inside], 3e-3, atol=1e-4 * 1.0**2 / 12)
     row = model.evaluate(path)["rows"][0]
     assert row["held_out"] is False
