@@ -12,7 +12,8 @@ use predicates::prelude::*;
 
 mod support;
 use support::{
-    Simulation, imutherm, json_of, json_stdout, replaces_only_with_overwrite, stderr_of, tcal_fit,
+    Simulation, imutherm, json_of, json_stdout, replaces_only_with_overwrite, scratch_files, stderr_of,
+    tcal_fit,
 };
 
 /// A temperature run to fit: 20 minutes at 2 Hz.
@@ -39,17 +40,11 @@ fn simulate_refuses_an_existing_file_unless_overwrite() {
             .unwrap()
             .starts_with("# format: imutherm-log/1")
     );
-    let scratch = std::fs::read_dir(dir.path())
-        .unwrap()
-        .filter(|e| {
-            e.as_ref()
-                .unwrap()
-                .file_name()
-                .to_string_lossy()
-                .ends_with(".partial")
-        })
-        .count();
-    assert_eq!(scratch, 0, "scratch files left beside run.txt");
+    assert_eq!(
+        scratch_files(dir.path()),
+        Vec::<String>::new(),
+        "scratch files left beside run.txt"
+    );
 }
 
 #[test]

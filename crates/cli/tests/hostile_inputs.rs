@@ -19,6 +19,9 @@ use std::time::{Duration, Instant};
 
 use assert_cmd::cargo::CommandCargoExt;
 
+mod support;
+use support::scratch_files;
+
 /// The address space each run may take: a bomb fails instead of paging.
 const MEMORY: u64 = 2 << 30;
 /// How long a run may take before it counts as a hang.
@@ -320,16 +323,6 @@ fn simulated(dir: &Path, name: &str) {
         ],
     )
     .expect(0, &[]);
-}
-
-fn scratch_files(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".partial"))
-        .collect();
-    v.sort();
-    v
 }
 
 // ---- scratch files ------------------------------------------------------

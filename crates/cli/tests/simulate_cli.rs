@@ -3,7 +3,7 @@
 use predicates::prelude::*;
 
 mod support;
-use support::{Simulation, imutherm, json_stdout, succeed};
+use support::{Simulation, imutherm, json_stdout, scratch_files, succeed};
 
 #[test]
 fn writes_a_log_with_its_truth_that_reads_back() {
@@ -23,17 +23,11 @@ fn writes_a_log_with_its_truth_that_reads_back() {
     }
     // Same seed, same bytes.
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
-    let scratch = std::fs::read_dir(dir.path())
-        .unwrap()
-        .filter(|e| {
-            e.as_ref()
-                .unwrap()
-                .file_name()
-                .to_string_lossy()
-                .ends_with(".partial")
-        })
-        .count();
-    assert_eq!(scratch, 0, "scratch files left beside a.txt");
+    assert_eq!(
+        scratch_files(dir.path()),
+        Vec::<String>::new(),
+        "scratch files left beside a.txt"
+    );
     let doc = json_stdout(imutherm().args(["info", "--json"]).arg(&a));
     let f = &doc["files"][0];
     assert_eq!(f["format"], "imutherm log");

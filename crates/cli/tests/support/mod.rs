@@ -14,6 +14,18 @@ use assert_cmd::Command;
 use assert_cmd::assert::Assert;
 use serde_json::Value;
 
+/// The scratch files (`*.partial`) in `dir`, sorted: a finished run leaves
+/// none of its own.
+pub fn scratch_files(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".partial"))
+        .collect();
+    v.sort();
+    v
+}
+
 /// The `imutherm` binary built with these tests.
 pub fn imutherm() -> Command {
     Command::cargo_bin("imutherm").unwrap()
