@@ -42,8 +42,15 @@ pub fn read(
         ..ReadingChoices::default()
     };
     let opts = recording_options(&choices).map_err(analysis_err)?;
-    let (rec, report, streams) = py
-        .detach(|| read_recording_with_report(&path, &opts))
+    // The channel checks read every sample: with the GIL released, as the
+    // read itself.
+    let (rec, report, streams, checks) = py
+        .detach(|| {
+            read_recording_with_report(&path, &opts).map(|(rec, report, streams)| {
+                let checks = analysis::channel_checks::check(&rec);
+                (rec, report, streams, checks)
+            })
+        })
         .map_err(analysis_err)?;
     let format = format_of(&path).unwrap_or_else(|| report.format.name());
     let rate_source = if opts.rate_hz.is_some() {
@@ -57,8 +64,6 @@ pub fn read(
     } else {
         "unknown"
     };
-    // Checked before the samples move into NumPy.
-    let checks = analysis::channel_checks::check(&rec);
     let slots = rec
         .timestamps
         .as_ref()
