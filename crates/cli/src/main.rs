@@ -28,10 +28,7 @@ fn main() -> ExitCode {
         #[cfg(feature = "analysis")]
         args::Command::Info(a) => commands::info::run(&a),
         #[cfg(feature = "analysis")]
-        args::Command::Noise(a) => {
-            print::analyse_a_static_sensor(a.motion.allow_motion);
-            commands::noise::run(&a)
-        }
+        args::Command::Noise(a) => commands::noise::run(&a),
         #[cfg(feature = "analysis")]
         args::Command::Simulate(a) => commands::simulate::run(&a),
         #[cfg(feature = "analysis")]
@@ -41,24 +38,15 @@ fn main() -> ExitCode {
         #[cfg(feature = "record")]
         args::Command::Record(a) => commands::record::run(&a),
         #[cfg(feature = "analysis")]
-        args::Command::Tcal(args::TcalCommand::Fit(a)) => {
-            print::analyse_a_static_sensor(a.motion.allow_motion);
-            commands::tcal::fit(&a)
-        }
+        args::Command::Tcal(args::TcalCommand::Fit(a)) => commands::tcal::fit(&a),
         #[cfg(feature = "analysis")]
         args::Command::Tcal(args::TcalCommand::Apply(a)) => commands::tcal::apply(&a),
         #[cfg(feature = "analysis")]
-        args::Command::Tcal(args::TcalCommand::Eval(a)) => {
-            print::analyse_a_static_sensor(a.motion.allow_motion);
-            commands::tcal::eval(&a)
-        }
+        args::Command::Tcal(args::TcalCommand::Eval(a)) => commands::tcal::eval(&a),
         #[cfg(feature = "analysis")]
         args::Command::Tcal(args::TcalCommand::Export(a)) => commands::tcal_export::run(&a),
         #[cfg(feature = "analysis")]
-        args::Command::Ins(a) => {
-            print::analyse_a_static_sensor(a.motion.allow_motion);
-            commands::ins::run(&a)
-        }
+        args::Command::Ins(a) => commands::ins::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -20,7 +20,7 @@ use thermal::tcal::Model;
 
 use crate::args::InsArgs;
 use crate::flags::{UsageError, recording_options};
-use crate::print::{notes, read_channels};
+use crate::print::{notes, read_static_channels};
 
 const SCHEMA: &str = "imutherm.ins/1";
 
@@ -92,7 +92,7 @@ pub fn run(a: &InsArgs) -> Result<()> {
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     for file in &a.files {
-        let sel = read_channels(file, &[], &read)?;
+        let sel = read_static_channels(file, &[], &read, a.motion.allow_motion)?;
         let rate = sel.rate_hz;
         // Levelling averages the samples of the alignment window: one
         // shorter than a sample holds none.

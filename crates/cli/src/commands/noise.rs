@@ -21,7 +21,7 @@ use analysis::units::{Units, density_of, unit_of};
 
 use crate::args::{NoiseArgs, TermUnits};
 use crate::flags::recording_options;
-use crate::print::read_channels;
+use crate::print::read_static_channels;
 
 struct Analysed {
     file_index: usize,
@@ -64,7 +64,7 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
     let mut rates = Vec::new();
     let mut work = Vec::new();
     for (i, file) in a.files.iter().enumerate() {
-        let sel = read_channels(file, &a.channels, &read)?;
+        let sel = read_static_channels(file, &a.channels, &read, a.motion.allow_motion)?;
         // Noise terms are an inertial sensor's: without a recognised axis
         // (and no explicit choice) the header is not one imutherm knows.
         if a.channels.is_empty()

@@ -15,12 +15,20 @@ use thermal::tcal::Model;
 
 use crate::args::{TcalApplyArgs, TcalEvalArgs, TcalFitArgs};
 use crate::flags::{recording_options, usage_error};
-use crate::print::read_channels;
+use crate::print::read_static_channels;
 
-/// Reads channels and the temperature of one run, printing the reader's
-/// notes.
-fn run_data(file: &Path, channels: &[String], read: &RecordingOptions) -> Result<RunData> {
-    Ok(RunData::new(file, read_channels(file, channels, read)?)?)
+/// Reads channels and the temperature of one run of a static sensor,
+/// printing the reader's notes.
+fn run_data(
+    file: &Path,
+    channels: &[String],
+    read: &RecordingOptions,
+    allow_motion: bool,
+) -> Result<RunData> {
+    Ok(RunData::new(
+        file,
+        read_static_channels(file, channels, read, allow_motion)?,
+    )?)
 }
 
 /// A compensation error; one in the flags given ends the program as a
@@ -50,7 +58,7 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
     let runs: Vec<RunData> = a
         .files
         .iter()
-        .map(|f| run_data(f, &a.channels, &read))
+        .map(|f| run_data(f, &a.channels, &read, a.motion.allow_motion))
         .collect::<Result<_>>()?;
     let fitted = compensation::fit(&a.files, &runs, &req).map_err(exit_status)?;
     let model = fitted.model;
@@ -136,7 +144,7 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
     let mut rows = Vec::new();
     let mut verdicts = Vec::new();
     for file in &a.files {
-        let run = run_data(file, &names, &read)?;
+        let run = run_data(file, &names, &read, a.motion.allow_motion)?;
         if let Some(l) = &loaded {
             verdicts.push(compensation::judge(l, file, &run)?);
         }
