@@ -372,7 +372,7 @@ impl<B: Bus, D: DelayNs, S: Storage> Run<'_, B, D, S> {
                 // retries included).
                 self.tick.before_read(self.imu, self.clock, self.sleeper);
                 let t = self.clock.now_s();
-                match self.imu.read_fifo(&mut frames) {
+                match self.imu.read_frames(&mut frames) {
                     Ok(r) => {
                         read = Some((t, r));
                         break;
@@ -403,7 +403,7 @@ impl<B: Bus, D: DelayNs, S: Storage> Run<'_, B, D, S> {
                             break;
                         }
                         let host = unix_start + self.stream.sample_time(t, i, n);
-                        self.out.sample(config.to_si(f), host).map_err(w)?;
+                        self.out.sample(config.sample(f).to_log_row(), host).map_err(w)?;
                     }
                     if n == 0 && t - last_frame > stall_limit {
                         match self.imu.configure(config) {

@@ -31,7 +31,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // 20 ms between reads: the 512-byte FIFO holds 36 frames, 180 ms at 200 Hz.
     for _ in 0..50 {
         std::thread::sleep(std::time::Duration::from_millis(20));
-        match imu.read_fifo(&mut frames) {
+        match imu.read_frames(&mut frames) {
             Ok(FifoRead::Frames(_)) => {}
             Ok(lost) => println!("samples lost: {lost:?}"),
             Err(e) => println!("bus error, retried at the next read: {e}"),
@@ -39,10 +39,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     println!("{} frames in 1 s", frames.len());
     if let Some(last) = frames.last() {
-        let si = config.to_si(last);
+        let s = config.sample(last);
+        let ([ax, ay, az], [gx, gy, gz]) = (s.accel, s.gyro);
         println!(
-            "last: accel {:.3} {:.3} {:.3} m/s², gyro {:.4} {:.4} {:.4} rad/s, {:.2} °C",
-            si[0], si[1], si[2], si[3], si[4], si[5], si[6]
+            "last: accel {ax:.3} {ay:.3} {az:.3} m/s², gyro {gx:.4} {gy:.4} {gz:.4} rad/s, {:.2} °C",
+            s.temp_c
         );
     }
     Ok(())

@@ -1,6 +1,7 @@
 //! Configuration: full scales, low-pass filter, sample rate, and the
 //! conversion of raw counts to SI that follows from them.
 
+use crate::frame::{RawFrame, Sample};
 use crate::regs;
 
 /// Gyroscope full scale.
@@ -146,19 +147,21 @@ impl Config {
             .map_or(6, |(cfg, _)| *cfg)
     }
 
-    /// A frame of raw counts (ACCEL_X..Z, TEMP, GYRO_X..Z) in SI, in the log's
-    /// order: ax, ay, az (m/s²), gx, gy, gz (rad/s), temperature (°C).
-    pub fn to_si(&self, raw: &[i16; 7]) -> [f64; 7] {
+    /// A frame of raw counts in SI units.
+    pub fn sample(&self, raw: &RawFrame) -> Sample {
         let a = self.accel_range.lsb_si();
         let g = self.gyro_range.lsb_rad();
-        [
-            f64::from(raw[0]) * a,
-            f64::from(raw[1]) * a,
-            f64::from(raw[2]) * a,
-            f64::from(raw[4]) * g,
-            f64::from(raw[5]) * g,
-            f64::from(raw[6]) * g,
-            f64::from(raw[3]) / regs::TEMP_LSB_PER_C + regs::TEMP_OFFSET_C,
-        ]
+        Sample {
+            accel: raw.accel.map(|c| f64::from(c) * a),
+            gyro: raw.gyro.map(|c| f64::from(c) * g),
+            temp_c: f64::from(raw.temp) / regs::TEMP_LSB_PER_C + regs::TEMP_OFFSET_C,
+        }
+    }
+
+    /// A frame of raw counts in register order (ACCEL_X..Z, TEMP,
+    /// GYRO_X..Z) in SI, in the log's order: ax, ay, az (m/s²), gx, gy, gz
+    /// (rad/s), temperature (°C). [`Config::sample`] names the fields.
+    pub fn to_si(&self, raw: &[i16; 7]) -> [f64; 7] {
+        self.sample(&RawFrame::from(*raw)).to_log_row()
     }
 }

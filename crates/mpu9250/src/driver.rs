@@ -6,6 +6,7 @@ use embedded_hal::i2c::{Error as _, ErrorKind, I2c, NoAcknowledgeSource};
 use embedded_hal::spi::{Operation, SpiDevice};
 
 use crate::config::Config;
+use crate::frame::RawFrame;
 use crate::regs;
 
 /// Register access over I2C or SPI.
@@ -324,7 +325,35 @@ impl<B: Bus, D: DelayNs> Mpu9250<B, D> {
     /// address NACK) or left the burst unverified, the next call resets the
     /// FIFO and says why ([`FifoRead::Resync`]) instead of decoding bytes it
     /// cannot vouch for.
+    ///
+    /// [`Mpu9250::read_frames`] gives the same frames with named fields.
     pub fn read_fifo(&mut self, out: &mut Vec<[i16; 7]>) -> Result<FifoRead, Error<B::Error>> {
+        let read = self.read_whole_frames()?;
+        if let FifoRead::Frames(_) = read {
+            out.extend(self.frames_read().map(<[i16; 7]>::from));
+        }
+        Ok(read)
+    }
+
+    /// As [`Mpu9250::read_fifo`], each frame as a [`RawFrame`]: the
+    /// accelerometer, temperature and gyroscope counts by name.
+    pub fn read_frames(&mut self, out: &mut Vec<RawFrame>) -> Result<FifoRead, Error<B::Error>> {
+        let read = self.read_whole_frames()?;
+        if let FifoRead::Frames(_) = read {
+            out.extend(self.frames_read());
+        }
+        Ok(read)
+    }
+
+    /// The frames the last successful burst brought, decoded.
+    fn frames_read(&self) -> impl Iterator<Item = RawFrame> + '_ {
+        let (frames, _) = self.scratch.as_chunks::<{ regs::FRAME_BYTES }>();
+        frames.iter().map(RawFrame::from_be_bytes)
+    }
+
+    /// The transfers of a FIFO read; on `Frames(n)`, `scratch` holds the
+    /// n frames' bytes.
+    fn read_whole_frames(&mut self) -> Result<FifoRead, Error<B::Error>> {
         if let Some(cause) = self.pending {
             return self.resync(cause);
         }
@@ -349,6 +378,7 @@ impl<B: Bus, D: DelayNs> Mpu9250<B, D> {
         }
         let frames = bytes / regs::FRAME_BYTES;
         if frames == 0 {
+            self.scratch.clear();
             return Ok(FifoRead::Frames(0));
         }
         self.scratch.resize(frames * regs::FRAME_BYTES, 0);
@@ -379,11 +409,6 @@ impl<B: Bus, D: DelayNs> Mpu9250<B, D> {
                 self.pending = Some(Pending::Resync);
                 return Err(e);
             }
-        }
-        for f in self.scratch.chunks_exact(regs::FRAME_BYTES) {
-            out.push(std::array::from_fn(|k| {
-                i16::from_be_bytes([f[2 * k], f[2 * k + 1]])
-            }));
         }
         Ok(FifoRead::Frames(frames))
     }

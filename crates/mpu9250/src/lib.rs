@@ -7,8 +7,9 @@
 //! sample rate, and reading the FIFO in whole 14-byte frames: overflow is
 //! judged by the count and by INT_STATUS after each burst, and a FIFO reset
 //! regains frame alignment after an overflow or a read broken off, so no
-//! frame is ever decoded from misaligned bytes. Conversion to SI is in
-//! [`config::Config::to_si`]. The register map is [`regs`].
+//! frame is ever decoded from misaligned bytes. Frames are named in
+//! [`frame`] (raw counts and SI); conversion to SI is
+//! [`config::Config::sample`]. The register map is [`regs`].
 //! [`stream_clock::StreamClock`] sizes lost stretches from host time, to
 //! ±1 sample whatever the chip's clock error.
 //!
@@ -43,6 +44,7 @@
 mod clock_region;
 pub mod config;
 pub mod driver;
+pub mod frame;
 pub mod regs;
 pub mod sim;
 pub mod stream_clock;

@@ -24,6 +24,7 @@ use embedded_hal::i2c::{ErrorKind, I2c, NoAcknowledgeSource, Operation};
 
 use crate::config::{AccelRange, GyroRange};
 use crate::driver::{Error, I2cBus, Mpu9250, SpiBus};
+use crate::frame::{RawFrame, Sample};
 use crate::regs;
 
 /// Where the simulated chip's samples come from: (sample index, time s) →
@@ -373,19 +374,13 @@ impl SimChip {
         // periods and must not miss the end of an interval by rounding.
         while self.next_time_s <= end + 1e-9 * period {
             let k = self.stats.samples;
-            let s = (self.source)(k, self.next_time_s);
-            let raw: [i16; 7] = [
-                q(s[0], accel.lsb_si()),
-                q(s[1], accel.lsb_si()),
-                q(s[2], accel.lsb_si()),
-                q((s[6] - regs::TEMP_OFFSET_C) * regs::TEMP_LSB_PER_C, 1.0),
-                q(s[3], gyro.lsb_rad()),
-                q(s[4], gyro.lsb_rad()),
-                q(s[5], gyro.lsb_rad()),
-            ];
-            for v in raw {
-                self.fifo.extend(v.to_be_bytes());
-            }
+            let s = Sample::from_log_row((self.source)(k, self.next_time_s));
+            let raw = RawFrame {
+                accel: s.accel.map(|v| q(v, accel.lsb_si())),
+                temp: q((s.temp_c - regs::TEMP_OFFSET_C) * regs::TEMP_LSB_PER_C, 1.0),
+                gyro: s.gyro.map(|v| q(v, gyro.lsb_rad())),
+            };
+            self.fifo.extend(raw.to_be_bytes());
             if self.fifo.len() > regs::FIFO_BYTES {
                 // FIFO_MODE clear: the oldest bytes go, whatever frame
                 // they belong to.

@@ -53,6 +53,43 @@ fn ten_seconds_at_200_hz_are_2000_aligned_frames() {
     }
 }
 
+/// The named frames are the register-order words, field by field: the
+/// temperature is the fourth word and the gyroscope follows it.
+#[test]
+fn named_frames_hold_the_same_words_as_register_order_frames() {
+    let cfg = Config::default();
+    // Each field its own value: a field read from the wrong word shows.
+    let chip = |cfg: Config| {
+        let (a, g) = (cfg.accel_range.lsb_si(), cfg.gyro_range.lsb_rad());
+        SimChip::new(Box::new(move |_, _| {
+            [
+                a,
+                2.0 * a,
+                3.0 * a,
+                5.0 * g,
+                6.0 * g,
+                7.0 * g,
+                4.0 / 333.87 + 21.0,
+            ]
+        }))
+    };
+    let mut words = imu_on_i2c(chip(cfg), ADDRESS).unwrap();
+    let mut named = imu_on_i2c(chip(cfg), ADDRESS).unwrap();
+    words.configure(cfg).unwrap();
+    named.configure(cfg).unwrap();
+    words.bus_mut().inner_mut().advance(0.05);
+    named.bus_mut().inner_mut().advance(0.05);
+    let (mut w, mut n) = (Vec::new(), Vec::new());
+    assert_eq!(words.read_fifo(&mut w).unwrap(), FifoRead::Frames(10));
+    assert_eq!(named.read_frames(&mut n).unwrap(), FifoRead::Frames(10));
+    for (w, n) in w.iter().zip(&n) {
+        assert_eq!(*w, [1, 2, 3, 4, 5, 6, 7]);
+        assert_eq!((n.accel, n.temp, n.gyro), ([1, 2, 3], 4, [5, 6, 7]));
+        assert_eq!(cfg.to_si(w), cfg.sample(n).to_log_row());
+        assert!((cfg.sample(n).temp_c - (4.0 / 333.87 + 21.0)).abs() < 1e-12);
+    }
+}
+
 #[test]
 fn full_scale_sets_the_quantization_step() {
     for (g, a) in [
