@@ -57,7 +57,7 @@
 mod error;
 
 pub mod config;
-pub mod earth;
+pub use earth;
 pub mod flicker;
 pub mod presets;
 pub mod sensor;

@@ -77,6 +77,17 @@ mod tests {
     use super::*;
 
     #[test]
+    fn gravity_agrees_with_the_earth_frame() {
+        // The specific force (up) in the sensor's axes is the level frame's
+        // up axis seen from the body, times g.
+        let (r, p, h) = (0.3, -0.2, 1.1);
+        let c = earth::body_to_level(r, p, h);
+        for (j, w) in gravity(r, p).iter().enumerate() {
+            assert!((c[2][j] * G - w).abs() < 1e-12);
+        }
+    }
+
+    #[test]
     fn datasheet_figures() {
         assert_eq!(gyro_lsb_per_dps(250.0), 131.0);
         assert_eq!(gyro_lsb_per_dps(500.0), 65.5);

@@ -133,7 +133,7 @@ impl PredictionSetup {
             gravity,
             align_s,
             gyro_bias_removed,
-            attitude: imusim::earth::body_to_level(a.roll, a.pitch, 0.0),
+            attitude: earth::body_to_level(a.roll, a.pitch, 0.0),
             schuler_rate: None,
         }
     }
@@ -144,7 +144,7 @@ impl PredictionSetup {
             gravity,
             align_s,
             gyro_bias_removed,
-            attitude: imusim::earth::body_to_level(0.0, 0.0, 0.0),
+            attitude: earth::body_to_level(0.0, 0.0, 0.0),
             schuler_rate: None,
         }
     }
@@ -155,7 +155,7 @@ impl PredictionSetup {
     /// transport rate of [`crate::strapdown::Navigator`] does.
     pub fn with_latitude(mut self, latitude_deg: Option<f64>) -> Self {
         self.schuler_rate = latitude_deg.map(|l| {
-            let (meridian, prime) = imusim::earth::radii(l.to_radians());
+            let (meridian, prime) = earth::radii(l.to_radians());
             [
                 schuler::schuler_rate(self.gravity, meridian),
                 schuler::schuler_rate(self.gravity, prime),
@@ -303,7 +303,7 @@ mod tests {
         assert!((p.total_m - axis * 2f64.sqrt()).abs() < 1e-12 * axis);
         // A rotation about the vertical leaves the level prediction as it was.
         let mut turned = setup;
-        turned.attitude = imusim::earth::body_to_level(0.0, 0.0, 0.7);
+        turned.attitude = earth::body_to_level(0.0, 0.0, 0.7);
         assert!((predict(&model, &turned, 60.0).total_m - p.total_m).abs() < 1e-9 * axis);
     }
 }

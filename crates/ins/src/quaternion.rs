@@ -150,7 +150,7 @@ mod tests {
         let q = Quat::from_rotation_vector([0.0, 0.0, std::f64::consts::FRAC_PI_2]);
         let v = q.rotate([1.0, 0.0, 0.0]);
         assert!(v[0].abs() < 1e-15 && (v[1] - 1.0).abs() < 1e-15);
-        let m = imusim::earth::body_to_level(0.3, -0.2, 1.1);
+        let m = earth::body_to_level(0.3, -0.2, 1.1);
         let q = Quat::from_matrix(m);
         for j in 0..3 {
             let mut e = [0.0; 3];

@@ -1,6 +1,6 @@
 //! Coarse alignment by levelling and the strapdown update: quaternion
 //! attitude with a coning correction, velocity and position in the
-//! local-level frame (x north, y west, z up, see [`imusim::earth`]) with
+//! local-level frame (x north, y west, z up, see [`earth`]) with
 //! normal gravity, and, for a given latitude, the Earth's rate, the
 //! transport rate and the Coriolis acceleration.
 //!
@@ -9,8 +9,6 @@
 //! & Weston, *Strapdown Inertial Navigation Technology*, 2nd ed., §11.2):
 //! the coning term Δθ_{k−1} × Δθ_k / 12 on the attitude, the rotation term
 //! Δθ × Δv / 2 on the velocity.
-
-use imusim::earth;
 
 use crate::InsError;
 use crate::quaternion::{Quat, cross};

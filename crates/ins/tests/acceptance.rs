@@ -207,7 +207,7 @@ fn with_the_latitude_the_rotating_earth_leaves_no_drift() {
         remove_gyro_bias: false,
     };
     let d = drift_over_windows(&imu(&c), &opts, 10.0, &[120.0]).unwrap();
-    let want = G * imusim::earth::EARTH_RATE * 48f64.to_radians().cos() * 120f64.powi(3) / 6.0;
+    let want = G * earth::EARTH_RATE * 48f64.to_radians().cos() * 120f64.powi(3) / 6.0;
     let got = d.curve[0].horizontal_position_m.rms;
     assert!((got / want - 1.0).abs() < 0.02, "{got} m against {want} m");
 }

@@ -73,7 +73,7 @@ fn one(n: f64, b: f64, k: f64) -> [AxisNoise; 3] {
 /// The propagated DRMS of one term: both level axes, north through the
 /// meridian radius, west through the prime-vertical radius.
 fn propagated(g: f64, initial: impl Fn(&mut M), q: impl Fn(&mut M)) -> Vec<f64> {
-    let (meridian, prime) = imusim::earth::radii(LATITUDE.to_radians());
+    let (meridian, prime) = earth::radii(LATITUDE.to_radians());
     let (mut p0, mut qm) = ([[0.0; 5]; 5], [[0.0; 5]; 5]);
     initial(&mut p0);
     q(&mut qm);
@@ -83,7 +83,7 @@ fn propagated(g: f64, initial: impl Fn(&mut M), q: impl Fn(&mut M)) -> Vec<f64> 
 }
 
 fn check(name: &str, model: NoiseModel, term: PredictedTerm, want: &[f64]) {
-    let g = imusim::earth::normal_gravity(LATITUDE.to_radians());
+    let g = earth::normal_gravity(LATITUDE.to_radians());
     let setup = PredictionSetup::level(g, ALIGN_S, true).with_latitude(Some(LATITUDE));
     for (t, w) in TIMES.iter().zip(want) {
         let p = predict(&model, &setup, *t);
@@ -97,7 +97,7 @@ fn check(name: &str, model: NoiseModel, term: PredictedTerm, want: &[f64]) {
 
 #[test]
 fn every_term_with_the_schuler_loop_is_the_propagated_one() {
-    let g = imusim::earth::normal_gravity(LATITUDE.to_radians());
+    let g = earth::normal_gravity(LATITUDE.to_radians());
     let (na, ng, ka, kg) = (3e-3, 1.5e-4, 2e-4, 3e-6);
     let model = |gyro, accel| NoiseModel { gyro, accel };
     let zero = one(0.0, 0.0, 0.0);
@@ -181,7 +181,7 @@ fn without_a_latitude_the_prediction_keeps_the_flat_earth_law() {
 #[test]
 fn the_spectral_integral_of_a_white_noise_is_its_closed_form() {
     use ins::spectral::{Kernel, variance};
-    let g = imusim::earth::normal_gravity(LATITUDE.to_radians());
+    let g = earth::normal_gravity(LATITUDE.to_radians());
     let (na, ng) = (3e-3, 1.5e-4);
     let model = NoiseModel {
         gyro: one(ng, 0.0, 0.0),
