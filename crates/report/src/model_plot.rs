@@ -110,10 +110,10 @@ pub fn lines(axis: &ModelAxis, taus: &[f64]) -> Vec<Line> {
             }),
             TermEstimate::NotIdentifiable(_) => {
                 if let Some(b) = m.bound(t) {
-                    let why = if m.quality.is_some() {
-                        "dropped"
-                    } else {
-                        "no model"
+                    let why = match (m.quality.is_some(), m.fits) {
+                        (_, true) => "dropped",
+                        (true, false) => "the model does not fit",
+                        (false, _) => "no model",
                     };
                     out.push(Line {
                         label: format!("{} ≤ {b:.2e} {unit} ({why}: its bound)", t.symbol()),
@@ -316,14 +316,14 @@ fn residual_panel<DB: DrawingBackend>(
     tau_range: (f64, f64),
 ) -> Result<(), PlotError> {
     // At least 0.5–1.5 so that a fitting model does not fill the panel with
-    // its noise; wider where the intervals reach further, up to 0–3 (an
+    // its noise; wider where the intervals reach further, up to 0–10 (an
     // interval beyond is cut at the edge).
     let (lo, hi) = res
         .iter()
         .flat_map(|&(_, _, l, h)| [l, h])
         .filter(|v| v.is_finite())
         .fold((0.5f64, 1.5f64), |(a, b), v| (a.min(v), b.max(v)));
-    let (lo, hi) = (lo.max(0.0), hi.min(3.0));
+    let (lo, hi) = (lo.max(0.0), hi.min(10.0));
     let mut chart = ChartBuilder::on(area)
         .margin_left(10)
         .margin_right(10)
