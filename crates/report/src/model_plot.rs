@@ -545,6 +545,52 @@ mod tests {
     }
 
     #[test]
+    fn a_model_that_does_not_fit_labels_its_bounds_so() {
+        // Every other point 15 % high, each with 400 degrees of freedom
+        // (σ known to 3.5 %): a zigzag no sum of the candidates follows,
+        // under which the candidates' lines still fit.
+        let pts: Vec<Point> = white_and_walk()
+            .into_iter()
+            .enumerate()
+            .map(|(j, p)| {
+                let dev = p.dev * if j % 2 == 1 { 1.15 } else { 1.0 };
+                let half = 2.0 / 400f64.sqrt();
+                Point {
+                    dev,
+                    edf: 400.0,
+                    dev_lo: dev * (1.0 - half),
+                    dev_hi: dev * (1.0 + half),
+                    ..p
+                }
+            })
+            .collect();
+        let model = estimate(&pts, 0.95);
+        let unit = |_: Term| String::new();
+        let axis = ModelAxis {
+            title: "bump".into(),
+            unit: "rad/s".into(),
+            points: &pts,
+            model: &model,
+            term_unit: &unit,
+        };
+        let ls = lines(&axis, &[1.0]);
+        if model.quality.is_some() && !model.fits {
+            assert!(ls.iter().all(|l| l.stroke != Stroke::Kept), "{ls:?}");
+            assert!(
+                ls.iter()
+                    .filter(|l| l.stroke == Stroke::Bound)
+                    .all(|l| l.label.ends_with("(the model does not fit: its bound)")),
+                "{ls:?}"
+            );
+        } else {
+            panic!(
+                "expected a model that does not fit: {} (fits: {})",
+                model.label, model.fits
+            );
+        }
+    }
+
+    #[test]
     fn a_curve_no_model_fits_is_said_and_drawn_without_lines() {
         let mut pts = white_and_walk();
         pts.truncate(1);
