@@ -34,8 +34,6 @@ pub struct ModelAxis<'a> {
 /// How one line of the figure is drawn.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Stroke {
-    /// The measured deviation: points joined, with its interval as a band.
-    Measured,
     /// The model's sum.
     Model,
     /// A kept process of the model.
@@ -271,7 +269,7 @@ fn model_plot_on<DB: DrawingBackend>(
                     .map_err(err)?;
                 Mark::Dashed(c)
             }
-            Stroke::Bound | Stroke::Measured => {
+            Stroke::Bound => {
                 chart
                     .draw_series(DashedLineSeries::new(xy(), 2, 4, BOUND_GREY.stroke_width(1)))
                     .map_err(err)?;
