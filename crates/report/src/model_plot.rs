@@ -14,6 +14,7 @@ use allan::noise_model::{NoiseModel, lm::power_basis, process};
 use allan::noise_terms::{Term, TermEstimate};
 
 use crate::PlotError;
+use crate::html::significant;
 use crate::plots::{Drawn, PALETTE, Target, err, font, log_range, tick_label, to_png, to_svg};
 
 /// What a reader needs beside the model to label it: the channel's unit
@@ -128,9 +129,11 @@ pub fn lines(axis: &ModelAxis, taus: &[f64]) -> Vec<Line> {
         let (s, tc) = (g.sigma, g.tau_c);
         out.push(Line {
             label: format!(
-                "{name}: σ = {}, T = {}",
+                "{name}: σ = {}\nT = {} [{}, {}] s",
                 interval(s.value, s.lo, s.hi, &axis.unit),
-                interval(tc.value, tc.lo, tc.hi, "s")
+                significant(tc.value),
+                significant(tc.lo),
+                significant(tc.hi)
             ),
             stroke: Stroke::Kept,
             sigma: taus
@@ -420,8 +423,15 @@ fn legend_column<DB: DrawingBackend>(
                 ))
                 .map_err(err)?,
         }
-        area.draw(&Text::new(label.clone(), (x + 30, y), style.clone()))
-            .map_err(err)?;
+        // A long label goes on as indented lines under its first.
+        for (k, text) in label.split('\n').enumerate() {
+            if k > 0 {
+                y += 18;
+            }
+            let indent = if k > 0 { 16 } else { 0 };
+            area.draw(&Text::new(text.to_string(), (x + 30 + indent, y), style.clone()))
+                .map_err(err)?;
+        }
         y += 22;
     }
     y += 12;
@@ -513,6 +523,62 @@ mod tests {
                 "the exact curve's residual interval holds 1: {r}"
             );
         }
+    }
+
+    #[test]
+    fn a_gauss_markov_term_is_drawn_apart_with_its_correlation_time() {
+        // White noise N plus one Gauss–Markov process (σ, T = 100 s), its
+        // exact Allan variance (process::gauss_markov), at octave τ.
+        let (n, s, tc) = (1e-4f64, 3e-5f64, 100.0);
+        let pts: Vec<Point> = (0..18)
+            .map(|j| {
+                let tau = 0.01 * 2f64.powi(j);
+                let dev = (n * n / tau + s * s * process::gauss_markov(tau, tc)).sqrt();
+                let edf = (2e6 / tau).max(4.0);
+                let half = 2.0 / edf.sqrt();
+                Point {
+                    tau,
+                    m: 1 << j,
+                    dev,
+                    n: 2_000_000,
+                    edf,
+                    dev_lo: dev * (1.0 - half),
+                    dev_hi: dev * (1.0 + half),
+                    alpha: 0,
+                    noise_id: allan::NoiseIdMethod::Assumed,
+                }
+            })
+            .collect();
+        let model = estimate(&pts, 0.95);
+        assert_eq!(model.gauss_markov.len(), 1, "model {}", model.label);
+        let unit = |_: Term| "u".to_string();
+        let axis = ModelAxis {
+            title: "gm".into(),
+            unit: "rad/s".into(),
+            points: &pts,
+            model: &model,
+            term_unit: &unit,
+        };
+        let taus: Vec<f64> = pts.iter().map(|p| p.tau).collect();
+        let ls = lines(&axis, &taus);
+        let gm = ls
+            .iter()
+            .find(|l| l.label.starts_with("GM: σ = "))
+            .expect("a GM line");
+        assert_eq!(gm.stroke, Stroke::Kept);
+        assert!(gm.label.contains("\nT = "), "{}", gm.label);
+        let sum = ls.iter().find(|l| l.stroke == Stroke::Model).unwrap();
+        for (i, p) in pts.iter().enumerate() {
+            assert!(gm.sigma[i] <= p.dev_hi, "GM above the curve at τ = {}", p.tau);
+            let kept: f64 = ls
+                .iter()
+                .filter(|l| l.stroke == Stroke::Kept)
+                .map(|l| l.sigma[i].powi(2))
+                .sum();
+            assert!((kept.sqrt() / sum.sigma[i] - 1.0).abs() < 1e-9);
+        }
+        let svg = model_plot(Target::Svg, &axis).unwrap().into_svg().unwrap();
+        assert!(svg.contains("T = "), "the correlation time is in the legend");
     }
 
     #[test]
