@@ -7,6 +7,7 @@ use allan::noise_terms::{Chosen, NoiseTerms, Term};
 use imu::Quantity;
 
 use crate::AnalysisError;
+use crate::filters::FilterParam;
 use crate::selection::SelectedChannel;
 
 /// One analysed channel, as the Kalibr file reads it.
@@ -22,14 +23,14 @@ pub struct KalibrChannel<'a> {
 /// a random walk overstated, not with one understated, and K is the least
 /// certain term of a record of hours); the term's upper bound where the
 /// model does not hold it.
-fn kalibr_value(r: &KalibrChannel, term: Term) -> Option<(f64, String)> {
-    let choice = r.terms.choose(term);
+fn kalibr_value(terms: &NoiseTerms, term: Term) -> Option<(f64, String)> {
+    let choice = terms.choose(term);
     match choice.chosen {
         Chosen::Model(v) if term == Term::RateRandomWalk => Some((
             v.hi,
             format!("upper end of the model's interval (model {:.6e})", v.value),
         )),
-        Chosen::Model(v) => Some((v.value, format!("model {}", r.terms.model.label))),
+        Chosen::Model(v) => Some((v.value, format!("model {}", terms.model.label))),
         Chosen::Bound(b) => Some((
             b,
             format!(
@@ -39,6 +40,53 @@ fn kalibr_value(r: &KalibrChannel, term: Term) -> Option<(f64, String)> {
         )),
         Chosen::Nothing => None,
     }
+}
+
+/// Kalibr's sensors: quantity, name, and the units of `*_noise_density`
+/// and `*_random_walk` (ethz-asl/kalibr wiki, "IMU Noise Model").
+const SENSORS: [(Quantity, &str, &str, &str); 2] = [
+    (
+        Quantity::Acceleration,
+        "accelerometer",
+        "m/s^2/sqrt(Hz)",
+        "m/s^3/sqrt(Hz)",
+    ),
+    (
+        Quantity::AngularRate,
+        "gyroscope",
+        "rad/s/sqrt(Hz)",
+        "rad/s^2/sqrt(Hz)",
+    ),
+];
+
+/// One axis's Kalibr values, as the file's per-axis comments give them:
+/// `*_noise_density` = N and `*_random_walk` = K (continuous-time, so no
+/// Δt), each with where it came from; `None` for a channel that is neither
+/// gyro nor accelerometer.
+pub fn kalibr_params(quantity: Quantity, terms: &NoiseTerms) -> Option<Vec<FilterParam>> {
+    let (_, _, n_unit, k_unit) = SENSORS.into_iter().find(|s| s.0 == quantity)?;
+    let names = if quantity == Quantity::AngularRate {
+        ["gyroscope_noise_density", "gyroscope_random_walk"]
+    } else {
+        ["accelerometer_noise_density", "accelerometer_random_walk"]
+    };
+    Some(
+        [
+            (Term::WhiteNoise, names[0], n_unit, "N"),
+            (Term::RateRandomWalk, names[1], k_unit, "K"),
+        ]
+        .into_iter()
+        .filter_map(|(term, name, unit, sym)| {
+            kalibr_value(terms, term).map(|(value, source)| FilterParam {
+                name,
+                value,
+                unit,
+                formula: format!("{sym}, a continuous-time density (no Δt)"),
+                source,
+            })
+        })
+        .collect(),
+    )
 }
 
 /// Kalibr's `imu.yaml` (the IMU noise model of ethz-asl/kalibr's wiki,
@@ -72,20 +120,7 @@ pub fn kalibr_yaml(
         100.0 * allan::noise_model::CEILING_CONFIDENCE
     );
     let mut values = Vec::new();
-    for (q, sensor, n_unit, k_unit) in [
-        (
-            Quantity::Acceleration,
-            "accelerometer",
-            "m/s^2/sqrt(Hz)",
-            "m/s^3/sqrt(Hz)",
-        ),
-        (
-            Quantity::AngularRate,
-            "gyroscope",
-            "rad/s/sqrt(Hz)",
-            "rad/s^2/sqrt(Hz)",
-        ),
-    ] {
+    for (q, sensor, n_unit, k_unit) in SENSORS {
         let axes: Vec<&KalibrChannel> = channels.iter().filter(|r| r.channel.quantity == q).collect();
         if axes.is_empty() {
             return Err(AnalysisError::Kalibr(format!(
@@ -101,7 +136,7 @@ pub fn kalibr_yaml(
                 .map(|r| {
                     (
                         format!("{} ({})", r.channel.name, r.channel.file.display()),
-                        kalibr_value(r, term),
+                        kalibr_value(r.terms, term),
                     )
                 })
                 .collect();
@@ -137,4 +172,53 @@ pub fn kalibr_yaml(
         imu::log_file::round_rate(rate_hz)
     );
     Ok(text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use allan::noise_terms::analyze_terms;
+
+    /// Gaussian white noise of density `n` at `rate` Hz (per-sample σ =
+    /// n·√rate), from a fixed xorshift generator and Box–Muller.
+    fn white(n: f64, rate: f64, len: usize) -> Vec<f64> {
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut u = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            ((s >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        };
+        (0..len)
+            .map(|_| n * rate.sqrt() * (-2.0 * u().ln()).sqrt() * (std::f64::consts::TAU * u()).cos())
+            .collect()
+    }
+
+    #[test]
+    fn the_per_axis_values_are_the_models_n_and_ks_bound() {
+        let (n, rate) = (2e-4, 100.0);
+        let (_, terms) = analyze_terms(&white(n, rate, 200_000), rate, 0.95).unwrap();
+        let p = kalibr_params(Quantity::AngularRate, &terms).unwrap();
+        assert_eq!(p[0].name, "gyroscope_noise_density");
+        assert_eq!(p[0].unit, "rad/s/sqrt(Hz)");
+        let model_n = terms
+            .model
+            .get(Term::WhiteNoise)
+            .value()
+            .expect("N in the model")
+            .value;
+        assert_eq!(p[0].value, model_n);
+        // White noise of density n: N within 5 % of it (2000 s, the
+        // shortest τ holds ~10^5 degrees of freedom).
+        assert!((model_n / n - 1.0).abs() < 0.05, "N = {model_n}");
+        // No random walk in the data: K is its bound.
+        assert_eq!(p[1].name, "gyroscope_random_walk");
+        assert_eq!(p[1].unit, "rad/s^2/sqrt(Hz)");
+        assert_eq!(Some(p[1].value), terms.model.bound(Term::RateRandomWalk));
+        assert!(p[1].source.starts_with("upper bound"), "{}", p[1].source);
+        let a = kalibr_params(Quantity::Acceleration, &terms).unwrap();
+        assert_eq!(a[0].name, "accelerometer_noise_density");
+        assert_eq!(a[1].unit, "m/s^3/sqrt(Hz)");
+        assert!(kalibr_params(Quantity::Temperature, &terms).is_none());
+    }
 }

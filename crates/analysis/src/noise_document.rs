@@ -311,7 +311,9 @@ fn json_term(term: Term, est: &TermEstimate, method: &'static str, ch: &Selected
     }
 }
 
-fn model_entry(m: &NoiseModel, ch: &SelectedChannel) -> ModelEntry {
+/// The document's entry for a selected model of data in `unit` (the
+/// Gauss–Markov σ's unit).
+pub fn model_entry(m: &NoiseModel, unit: &str) -> ModelEntry {
     ModelEntry {
         label: m.label.clone(),
         fits: m.fits,
@@ -338,7 +340,7 @@ fn model_entry(m: &NoiseModel, ch: &SelectedChannel) -> ModelEntry {
             .gauss_markov
             .iter()
             .map(|g| GaussMarkovEntry {
-                sigma: interval(&g.sigma, &ch.unit),
+                sigma: interval(&g.sigma, unit),
                 tau_c: interval(&g.tau_c, "s"),
             })
             .collect(),
@@ -434,7 +436,7 @@ fn channel_entry(c: &ChannelInput) -> ChannelEntry {
         fit_chi2_reduced: terms.model.chi2_reduced,
         fit_points: terms.model.points,
         disagreements: Vec::new(),
-        model: model_entry(&terms.model, ch),
+        model: model_entry(&terms.model, &ch.unit),
         filters: filter_params(ch.quantity, terms),
         state_space: gauss_markov_state_space(&terms.model),
     }

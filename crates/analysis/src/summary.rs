@@ -88,6 +88,9 @@ pub struct TermSummary {
     pub tau_s: Option<f64>,
     /// "fit", "slope", "upper bound" or "not identified".
     pub how: &'static str,
+    /// The selected noise model the value or bound was read from ("N + B +
+    /// K"; "none" when no candidate model fits).
+    pub model: String,
     /// The datasheet's figure.
     pub datasheet: DatasheetCell,
 }
@@ -341,6 +344,7 @@ fn term_summary(c: &ChannelNoise, term: Term, sheet: Option<&Datasheet>) -> Term
         hi,
         tau_s,
         how,
+        model: c.terms.model.label.clone(),
         datasheet,
     }
 }

@@ -70,7 +70,9 @@ fn the_demo_report_renders_in_chromium() {
     // A figure whose chart the script drew is `plot live`; its SVG stays,
     // for print.
     let figures: Vec<&str> = html.split("<figure class=\"plot").skip(1).collect();
-    assert_eq!(figures.len(), 35, "figures in the rendered page");
+    // 35, and the noise model of each of the six axes in each of the four
+    // constant-temperature runs.
+    assert_eq!(figures.len(), 35 + 24, "figures in the rendered page");
     let live = figures.iter().filter(|f| f.starts_with(" live\"")).count();
     assert_eq!(live, 16, "ADEV and raw-data figures drawn as interactive charts");
     for (i, f) in figures.iter().enumerate() {

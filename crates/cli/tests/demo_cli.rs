@@ -20,13 +20,19 @@ fn quick_demo_writes_a_complete_report() {
     // Eight sensor ADEV plots (two per run), six per-axis ADEV plots over
     // temperature, two raw-data plots, six heat maps of temperature bins and
     // six of the dynamic ADEV, six bias plots, the navigation's error
-    // against time. The ADEV and raw-data plots are also interactive
-    // charts, their SVG kept for print.
+    // against time, and the noise model of each of the six axes in each of
+    // the four constant-temperature runs. The ADEV and raw-data plots are
+    // also interactive charts, their SVG kept for print.
     let charts = html
         .matches("<figure class=\"plot\"><div class=\"static\"><svg")
         .count();
     let figures = html.matches("<figure class=\"plot\"><svg").count() + charts;
-    assert_eq!(figures, 35, "figures");
+    assert_eq!(figures, 35 + 24, "figures");
+    assert_eq!(
+        html.matches("noise model: measured ADEV").count(),
+        24,
+        "noise-model figures"
+    );
     assert_eq!(charts, 16, "interactive charts");
     // The dynamic ADEV's 3D views, raw and compensated per channel, over
     // the thesis's windows: a 1 h quick cooling run holds 21.
@@ -54,7 +60,7 @@ fn quick_demo_writes_a_complete_report() {
     }
     // --format png: every plot also as a PNG file.
     let pngs = std::fs::read_dir(out.join("figures")).unwrap().count();
-    assert_eq!(pngs, 35, "PNG figures");
+    assert_eq!(pngs, 35 + 24, "PNG figures");
     let model = read_json(&out.join("tcal_model.json"));
     assert_eq!(model["schema"], "imutherm.tcal/1");
 }

@@ -39,12 +39,13 @@ fn report_escapes_file_names_and_draws_every_figure() {
     // Two sensor ADEV plots per run, six per-axis ADEV plots; for the run
     // whose temperature changes two raw-data plots, six heat maps of its
     // temperature bins and six of its dynamic ADEV (one 30 min window); the
-    // navigation's error against time per run.
+    // navigation's error against time per run; the noise model of each of
+    // the six axes of each run.
     let static_svg = html.matches("<figure class=\"plot\"><svg").count();
     let with_chart = html
         .matches("<figure class=\"plot\"><div class=\"static\"><svg")
         .count();
-    assert_eq!(static_svg + with_chart, 26);
+    assert_eq!(static_svg + with_chart, 26 + 12);
     // Every ADEV and raw-data plot is also an interactive chart; the heat
     // maps stay static.
     assert_eq!(with_chart, 12);

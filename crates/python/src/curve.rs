@@ -172,6 +172,8 @@ fn terms_dict<'py>(py: Python<'py>, terms: &NoiseTerms) -> PyResult<Bound<'py, P
         entry.set_item("slope", model.clone())?;
         entry.set_item("fit", model)?;
         entry.set_item("bound", terms.model.bound(term))?;
+        // In the selected model as a value, or dropped (its bound stands).
+        entry.set_item("kept", terms.model.get(term).value().is_some())?;
         let choice = terms.choose(term);
         let how = match choice.chosen {
             Chosen::Model(_) => "fit",
@@ -187,18 +189,22 @@ fn terms_dict<'py>(py: Python<'py>, terms: &NoiseTerms) -> PyResult<Bound<'py, P
 }
 
 /// The IEEE 952 noise terms of rate samples `y`, from the selected noise
-/// model, with the octave OADEV curve they were read from.
+/// model, with the octave OADEV curve they were read from, and the model's
+/// details as JSON text ([`crate::model::details_json`]; the filters'
+/// parameters where `quantity` names the sensor).
 #[pyfunction]
-#[pyo3(signature = (y, rate, confidence))]
+#[pyo3(signature = (y, rate, confidence, quantity=None))]
 pub fn noise_terms<'py>(
     py: Python<'py>,
     y: PyReadonlyArray1<'py, f64>,
     rate: f64,
     confidence: f64,
+    quantity: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
     if !(confidence > 0.0 && confidence < 1.0) {
         return Err(to_py_err(allan::AllanError::InvalidConfidence(confidence)));
     }
+    let quantity = crate::model::parse_quantity(quantity)?;
     let data = samples(&y)?;
     let (points, terms) = py
         .detach(|| analyze_terms(data, rate, confidence))
@@ -208,5 +214,6 @@ pub fn noise_terms<'py>(
     let dict = PyDict::new(py);
     dict.set_item("curve", curve)?;
     dict.set_item("terms", terms_dict(py, &terms)?)?;
+    dict.set_item("details", crate::model::details_json(&terms, quantity)?)?;
     Ok(dict)
 }

@@ -14,6 +14,7 @@ use pyo3::prelude::*;
 mod curve;
 mod errors;
 mod estimates;
+mod model;
 mod recording;
 mod simulation;
 mod stamps;

@@ -58,3 +58,62 @@ def test_same_terms_as_the_command_line(gyro, tmp_path):
         mine = symbols[cli["term"]]
         assert mine["how"] == cli["method"] and mine["note"] == cli["note"], cli["term"]
         assert mine["value"] == pytest.approx(cli["si"]["value"], rel=1e-12), cli["term"]
+
+
+def cli_channels(tmp_path, columns, values, *extra):
+    """`imutherm noise --json` on `values` (one column per name) at RATE."""
+    path = tmp_path / "imu.txt"
+    np.savetxt(path, np.column_stack(values), fmt="%.17g", delimiter=",",
+               header=",".join(columns), comments="")
+    out = subprocess.run([str(cli_binary()), "noise", str(path), "--rate", str(RATE), "--json", *extra],
+                         check=True, capture_output=True, text=True).stdout
+    return {c["name"]: c for c in json.loads(out)["files"][0]["channels"]}
+
+
+def test_the_model_and_the_filters_are_the_command_lines(gyro, tmp_path):
+    # The same serde types on both sides: equal field by field, number by number.
+    channel = cli_channels(tmp_path, ["gyro_x[rad/s]"], [gyro])["gyro_x"]
+    mine = imutherm.noise_terms(gyro, rate=RATE, quantity="angular_rate")
+    assert mine["model"] == channel["model"]
+    assert mine["state_space"] == channel["state_space"]
+    assert mine["filters"] == channel["filters"]
+    assert [f["filter"] for f in mine["filters"]] == ["px4_ekf2", "ardupilot_ekf3"]
+    assert mine["verdict"] == "fits" and mine["model"]["label"] == "N"
+
+
+def test_kalibr_values_are_the_yamls(gyro, tmp_path):
+    accel = 0.05 * np.random.default_rng(4).standard_normal(gyro.size)
+    yaml = tmp_path / "imu.yaml"
+    cli_channels(tmp_path, ["gyro_x[rad/s]", "acc_x[m/s^2]"], [gyro, accel], "--kalibr", str(yaml))
+    written = dict(line.split(": ", 1) for line in yaml.read_text().splitlines()
+                   if line and not line.startswith("#") and ": " in line)
+    for y, quantity in ((gyro, "angular_rate"), (accel, "acceleration")):
+        for p in imutherm.noise_terms(y, rate=RATE, quantity=quantity)["kalibr"]:
+            # One axis per sensor: the worst axis is this one.
+            # The file's values carry 7 significant digits and a unit comment.
+            value = float(written[p["name"]].split("#")[0])
+            assert value == pytest.approx(p["value"], rel=1e-6), p["name"]
+
+
+def test_kept_terms_have_values_and_dropped_ones_their_bounds(gyro):
+    t = imutherm.noise_terms(gyro, rate=RATE)
+    assert t["terms"]["white_noise"]["kept"]
+    for name, term in t["terms"].items():
+        assert term["kept"] == (term["fit"]["value"] is not None), name
+        if not term["kept"]:
+            assert term["how"] == "upper_bound" and term["value"] == term["bound"], name
+    bounds = dict(t["model"]["bounds"])
+    assert bounds["K"] == t["terms"]["rate_random_walk"]["bound"]
+    assert t["filters"] is None and t["kalibr"] is None
+
+
+def test_a_record_no_candidate_fits_says_so_and_holds_no_term():
+    t = imutherm.noise_terms(np.random.default_rng(5).standard_normal(10), rate=RATE)
+    assert t["verdict"] == "no_candidate_fits"
+    assert t["model"]["label"] == "none" and t["model"]["p_value"] is None
+    assert not any(term["kept"] for term in t["terms"].values())
+
+
+def test_an_unknown_sensor_is_refused(gyro):
+    with pytest.raises(ValueError, match="angular_rate"):
+        imutherm.noise_terms(gyro, rate=RATE, quantity="gyro")

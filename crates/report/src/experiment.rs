@@ -20,6 +20,7 @@ use crate::PlotError;
 use crate::ReportError;
 use crate::charts::{Chart, adev_chart, time_chart};
 use crate::html::{Page, significant};
+use crate::model_plot::{ModelAxis, evidence, model_plot};
 use crate::navigation_plot::navigation_plot;
 use crate::plots::{
     Asymptote, Curve, Drawn, Target, adev_heatmap, adev_heatmap_slices, adev_plot, bias_plot,
@@ -324,6 +325,92 @@ pub fn adev_figures(page: &mut Page, runs: &[RunNoise], png: &PngDir) -> Result<
             |t| adev_plot(t, &name, &unit, &curves),
             &adev_chart(&name, &unit, &curves),
         )?;
+    }
+    Ok(())
+}
+
+/// Each axis's selected noise model against its measured ADEV, one figure
+/// per axis and run: the measured curve with its intervals, the model, each
+/// kept process's own curve and each dropped term at its bound, and the
+/// residuals below; with a table of each axis's model, its goodness of fit
+/// and why each process was kept.
+pub fn model_figures(page: &mut Page, runs: &[RunNoise], png: &PngDir) -> Result<(), ReportError> {
+    page.heading("Noise model of each axis");
+    page.paragraph(
+        "The selected model (terms chosen by the information criterion BIC) drawn on the measured \
+         overlapping ADEV: each kept process dashed, each dropped term dotted at its upper bound, the \
+         residual panel measured/model with the measured interval. \"criterion +x\" is how much worse the \
+         best model without that process describes the curve (BIC; above 10 is very strong evidence, Kass & Raftery 1995).",
+    );
+    for r in runs {
+        let run = r.temperature_mean_c.map(|t| format!("{t:.0} °C"));
+        let at = run.as_ref().map_or(String::new(), |t| format!(" at {t}"));
+        let rows: Vec<Vec<String>> = r
+            .channels
+            .iter()
+            .map(|c| {
+                let m = &c.terms.model;
+                let fit = match m.quality {
+                    Some(q) if m.fits => format!("{:.2} (p = {:.2})", q.chi2_reduced, q.p_value),
+                    Some(q) => format!(
+                        "{:.2} (p = {:.1e}): does not describe the curve",
+                        q.chi2_reduced, q.p_value
+                    ),
+                    None => "no candidate model fits".to_string(),
+                };
+                let why = m
+                    .evidence
+                    .iter()
+                    .map(|(name, d)| format!("{name}: {}", evidence(*d)))
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                let outside = if m.outside.is_empty() {
+                    "—".to_string()
+                } else {
+                    m.outside
+                        .iter()
+                        .map(|t| format!("{t:.3}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                };
+                vec![c.channel.name.clone(), m.label.clone(), fit, why, outside]
+            })
+            .collect();
+        page.table(
+            &format!("Selected noise model per axis{at}"),
+            &[
+                "axis".into(),
+                "model".into(),
+                "χ²/dof".into(),
+                "criterion without each process".into(),
+                "τ [s] where the model leaves the measured interval".into(),
+            ],
+            &rows,
+        );
+        for c in &r.channels {
+            let title = format!("{}{at}: noise model", c.channel.name);
+            let (q, u) = (c.channel.quantity, c.channel.unit.clone());
+            let term_unit = move |t: Term| si_unit(t, q, &u);
+            let axis = ModelAxis {
+                title: title.clone(),
+                unit: c.channel.unit.clone(),
+                points: &c.points,
+                model: &c.terms.model,
+                term_unit: &term_unit,
+            };
+            figure(
+                page,
+                png,
+                &format!("model_{title}"),
+                &format!(
+                    "{}: measured ADEV ({:.0} % intervals), the selected model {} and each of its terms; residuals below",
+                    title,
+                    100.0 * c.terms.model.confidence,
+                    c.terms.model.label
+                ),
+                |t| model_plot(t, &axis),
+            )?;
+        }
     }
     Ok(())
 }

@@ -29,6 +29,7 @@
 pub mod charts;
 pub mod experiment;
 pub mod html;
+pub mod model_plot;
 pub mod navigation_plot;
 pub mod plots;
 

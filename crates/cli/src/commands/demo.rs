@@ -16,8 +16,8 @@ use imu::output::{AtomicFile, OutputPolicy, write_file};
 use imusim::thermal::Profile;
 use imusim::{Simulator, presets};
 use report::experiment::{
-    LOG_MARK, PAGE_MARK, PngDir, adev_figures, command_section, compensation_section, navigation_section,
-    noise_tables, refuse_foreign_files, surface_section, time_figures,
+    LOG_MARK, PAGE_MARK, PngDir, adev_figures, command_section, compensation_section, model_figures,
+    navigation_section, noise_tables, refuse_foreign_files, surface_section, time_figures,
 };
 use report::html::Page;
 use thermal::evaluation::spread;
@@ -175,6 +175,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
 
     noise_tables(&mut page, &exp.runs);
     adev_figures(&mut page, &exp.runs, &png)?;
+    model_figures(&mut page, &exp.runs, &png)?;
 
     page.heading("Cooling run: raw data");
     time_figures(&mut page, &exp.cooling, "cooling run", &png)?;

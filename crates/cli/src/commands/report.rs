@@ -11,7 +11,7 @@ use analysis::summary::Summary;
 use ins::drift::report_times;
 use report::experiment::{
     PAGE_MARK, PngDir, adev_figures, command_section, dynamic_heatmap, dynamic_note, dynamic_slices, figure,
-    noise_tables, recordings_navigation_section, refuse_foreign_files, time_figures,
+    model_figures, noise_tables, recordings_navigation_section, refuse_foreign_files, time_figures,
 };
 use report::html::Page;
 use report::plots::adev_heatmap;
@@ -137,6 +137,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
 
     noise_tables(&mut page, &analysed);
     adev_figures(&mut page, &analysed, &png)?;
+    model_figures(&mut page, &analysed, &png)?;
 
     for f in &changing {
         page.heading(&format!("ADEV over temperature: {}", f.display()));

@@ -17,6 +17,7 @@ computation runs with the GIL released on all cores.
 phase data by default.
 """
 
+import json
 import os
 import warnings
 
@@ -108,26 +109,49 @@ theo1 = _statistic("theo1", "Theo1 deviation (NIST SP 1065 eq. 30) at tau = 0.75
 
 
 @in_python_words()
-def noise_terms(y, rate=1.0, confidence=0.95):
+def noise_terms(y, rate=1.0, confidence=0.95, quantity=None):
     """The IEEE Std 952 noise terms of rate samples ``y`` at ``rate`` Hz, as
-    ``imutherm noise`` reads them: by the slope method and by the fit, each
-    with its interval (at 95 % by default, as on the command line), and the
-    estimate that holds.
+    ``imutherm noise`` reads them: from the selected noise model, each with
+    its interval (at 95 % by default, as on the command line), or its upper
+    bound where the model does not hold it.
 
     Returns a dict: ``"curve"`` (the octave OADEV points it was read from,
     NumPy arrays as in :class:`Curve`) and ``"terms"``, keyed by term name
     (quantization, white noise, bias instability, rate random walk, rate
-    ramp), each with ``symbol``, ``slope`` and ``fit`` (``value``, ``lo``,
-    ``hi``, or ``value`` None and the ``reason``), and ``value``, ``how``
-    ("fit", "slope", "upper_bound" or "none") and ``note``: the estimate
-    ``imutherm noise`` shows, with its JSON's names.
+    ramp), each with ``symbol``, ``slope`` and ``fit`` (both the model's:
+    ``value``, ``lo``, ``hi``, or ``value`` None and the ``reason``),
+    ``bound``, ``kept`` (in the model as a value, or dropped), and
+    ``value``, ``how`` ("fit", "upper_bound" or "none") and ``note``: the
+    estimate ``imutherm noise`` shows, with its JSON's names.
+
+    The model itself, with the fields and numbers of ``imutherm noise
+    --json`` (schema imutherm.noise/1):
+
+    * ``"model"`` -- ``label`` ("N + K"), ``fits``, ``chi2``, ``dof``,
+      ``chi2_reduced``, ``p_value``, ``criterion``, the τ it leaves out or
+      leaves the measured interval at, ``evidence`` (per process, how much
+      worse the criterion is without it), ``candidates``, its
+      ``gauss_markov`` terms (``sigma`` and ``tau_c`` with intervals) and
+      each term's ``bounds``;
+    * ``"verdict"`` -- "fits", "does_not_fit" (p below 0.01) or
+      "no_candidate_fits" (then every term is a bound, none a value);
+    * ``"state_space"`` -- the model as white noise, random-walk and
+      first-order Gauss-Markov states;
+    * with ``quantity`` "angular_rate" (``y`` in rad/s) or "acceleration"
+      (m/s²): ``"filters"``, PX4 EKF2's and ArduPilot EKF3's parameters,
+      each with its unit, formula and source, and ``"kalibr"``, Kalibr's
+      ``*_noise_density`` and ``*_random_walk``; both None without it.
 
     >>> t = imutherm.noise_terms(np.random.default_rng(3).standard_normal(100_000), rate=100.0)
     >>> sorted(t["terms"])[:2]
     ['bias_instability', 'quantization']
+    >>> t["model"]["label"], t["verdict"]
+    ('N', 'fits')
     """
-    fields = _imutherm.noise_terms(as_samples(y), float(rate), float(confidence))
+    fields = _imutherm.noise_terms(as_samples(y), float(rate), float(confidence),
+                                   None if quantity is None else str(quantity))
     fields["curve"]["noise_id"] = np.asarray(fields["curve"]["noise_id"], dtype=str)
+    fields.update(json.loads(fields.pop("details")))
     return fields
 
 

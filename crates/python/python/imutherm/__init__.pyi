@@ -70,15 +70,75 @@ class _TermReading(TypedDict):
     symbol: str
     slope: _TermEstimate
     fit: _TermEstimate
+    bound: float | None
+    kept: bool
     value: float | None
     how: Literal["fit", "slope", "upper_bound", "none"]
     note: str | None
 
+class _Interval(TypedDict):
+    value: float
+    lo: float
+    hi: float
+    unit: str
+
+class _GaussMarkov(TypedDict):
+    sigma: _Interval
+    tau_c: _Interval
+
+class _Candidate(TypedDict):
+    label: str
+    criterion: float
+    chi2: float
+    parameters: int
+
+class _Model(TypedDict):
+    label: str
+    fits: bool
+    chi2: float | None
+    dof: int | None
+    chi2_reduced: float | None
+    p_value: float | None
+    criterion: float | None
+    points: int
+    left_out_taus: list[float]
+    outside_taus: list[float]
+    evidence: list[list[Any]]
+    candidates: list[_Candidate]
+    gauss_markov: list[_GaussMarkov]
+    bounds: list[list[Any]]
+
+class _StateSpaceTerm(TypedDict):
+    kind: str
+    tau_c_s: float | None
+    q_c: float | None
+    sigma: float | None
+    note: str
+
+class _FilterParam(TypedDict):
+    name: str
+    value: float
+    unit: str
+    formula: str
+    source: str
+
+class _FilterParams(TypedDict):
+    filter: Literal["px4_ekf2", "ardupilot_ekf3"]
+    dt_s: float
+    params: list[_FilterParam]
+    left_out: list[str]
+
 class _NoiseTerms(TypedDict):
     curve: dict[str, Any]
     terms: dict[str, _TermReading]
+    model: _Model
+    verdict: Literal["fits", "does_not_fit", "no_candidate_fits"]
+    state_space: list[_StateSpaceTerm]
+    filters: list[_FilterParams] | None
+    kalibr: list[_FilterParam] | None
 
-def noise_terms(y: _Samples, rate: float = 1.0, confidence: float = 0.95) -> _NoiseTerms: ...
+def noise_terms(y: _Samples, rate: float = 1.0, confidence: float = 0.95,
+                quantity: Literal["angular_rate", "acceleration"] | None = None) -> _NoiseTerms: ...
 
 class Channel:
     def __init__(self, fields: dict[str, Any]) -> None: ...

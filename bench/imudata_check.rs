@@ -1,0 +1,203 @@
+//! The selected noise model of real recordings held against their own
+//! measured curves: the rules no output may break, checked from outside the
+//! estimator.
+//!
+//! For each file and axis (read and analysed as `imutherm noise` and the
+//! report do, by `analysis::noise::analyse_run`, octave τ, 95 %
+//! intervals):
+//! - each kept term's own curve (Q, N, B, K, R, each Gauss–Markov process)
+//!   against the measured deviation's 95 % upper end at every point with
+//!   at least `allan::noise_model::MIN_EDF` degrees of freedom: the
+//!   largest ratio is printed and must not exceed 1;
+//! - each bound (a term the model does not hold) against the measured
+//!   99 % upper end (`allan::noise_model::CEILING_CONFIDENCE`, the level
+//!   the bounds are defined at): likewise at most 1 (where it is not, the
+//!   ratio with each point's most cautious EDF, the weighting the bounds
+//!   are set under, is printed beside it);
+//! - the model's curve against the measured 95 % interval at each fitted
+//!   point: the τ it leaves, and whether the model says so itself
+//!   (`NoiseModel::outside`, or "no candidate fits").
+//!
+//! usage: cargo run --release -p analysis --example imudata_check -- RATE_HZ FILE...
+//! Prints one Markdown row per axis; exits 1 when a rule is broken or the
+//! model leaves the intervals without saying so.
+
+use std::path::Path;
+
+use allan::Point;
+use allan::noise_model::{CEILING_CONFIDENCE, MAX_FIT_EDF, MIN_EDF, NoiseModel, lm::power_basis, process};
+use allan::noise_terms::{Term, TermEstimate};
+use analysis::noise::analyse_run;
+use imu::RecordingOptions;
+use statrs::distribution::{ChiSquared, ContinuousCDF};
+
+/// The measured variance's upper end at `confidence`: σ̂²·ν/χ²_ν((1 − c)/2).
+fn upper(p: &Point, confidence: f64) -> f64 {
+    let nu = p.edf.min(MAX_FIT_EDF);
+    let q = ChiSquared::new(nu).map_or(f64::NAN, |d| d.inverse_cdf((1.0 - confidence) / 2.0));
+    (p.dev * p.dev * nu / q).sqrt()
+}
+
+/// The point with the smallest EDF any power-law noise gives it: the
+/// weighting the estimator starts from before it has a model, under which
+/// its bounds are set.
+fn cautious(p: &Point) -> Point {
+    let n_phase = p.n + 2 * p.m;
+    let edf = [2, 1, 0, -1, -2]
+        .iter()
+        .filter_map(|&a| allan::edf::edf_for(allan::Stat::Oadev, a, p.m, n_phase))
+        .fold(p.edf, f64::min);
+    Point { edf, ..*p }
+}
+
+/// The largest ratio of a term's own σ(τ) to the measured upper end, over
+/// the points with enough degrees of freedom (all points when none has),
+/// and the τ it is at.
+fn worst(points: &[Point], sigma: impl Fn(f64) -> f64, ceiling: impl Fn(&Point) -> f64) -> (f64, f64) {
+    let supported = points.iter().any(|p| p.edf >= MIN_EDF);
+    points
+        .iter()
+        .filter(|p| !supported || p.edf >= MIN_EDF)
+        .map(|p| (sigma(p.tau) / ceiling(p), p.tau))
+        .fold((0.0, f64::NAN), |a, b| if b.0 > a.0 { b } else { a })
+}
+
+struct Verdict {
+    row: String,
+    broken: bool,
+}
+
+fn check(file: &str, axis: &str, unit: &str, points: &[Point], m: &NoiseModel) -> Verdict {
+    let mut kept = Vec::new();
+    let mut bounds = Vec::new();
+    let mut broken = false;
+    for t in Term::ALL {
+        match m.get(t) {
+            TermEstimate::Value(v) => {
+                let (r, at) = worst(points, |tau| v.value * power_basis(t, tau).sqrt(), |p| p.dev_hi);
+                broken |= r > 1.0;
+                kept.push(format!("{} {:.3e} ({r:.2} at {at:.3} s)", t.symbol(), v.value));
+            }
+            TermEstimate::NotIdentifiable(_) => {
+                if let Some(b) = m.bound(t) {
+                    let line = |tau: f64| b * power_basis(t, tau).sqrt();
+                    let (r, at) = worst(points, line, |p| upper(p, CEILING_CONFIDENCE));
+                    let (rc, _) = worst(points, line, |p| upper(&cautious(p), CEILING_CONFIDENCE));
+                    broken |= r > 1.0 + 1e-9;
+                    bounds.push(if r > 1.0 + 1e-9 {
+                        format!(
+                            "{} ≤ {b:.3e} ({r:.2} at {at:.3} s; {rc:.2} at cautious EDF)",
+                            t.symbol()
+                        )
+                    } else {
+                        format!("{} ≤ {b:.3e} ({r:.2})", t.symbol())
+                    });
+                }
+            }
+        }
+    }
+    for g in &m.gauss_markov {
+        let (s, tc) = (g.sigma.value, g.tau_c.value);
+        let (r, at) = worst(
+            points,
+            |tau| s * process::gauss_markov(tau, tc).sqrt(),
+            |p| p.dev_hi,
+        );
+        broken |= r > 1.0;
+        kept.push(format!("GM σ {s:.3e}, T {tc:.3e} s ({r:.2} at {at:.3} s)"));
+    }
+    let (model, leaves) = if m.quality.is_some() {
+        let fitted = points
+            .iter()
+            .filter(|p| !m.left_out.iter().any(|&t| (t - p.tau).abs() <= 1e-9 * t));
+        let off: Vec<f64> = fitted
+            .filter(|p| {
+                let s = m.avar(p.tau).sqrt();
+                s < p.dev_lo || s > p.dev_hi
+            })
+            .map(|p| p.tau)
+            .collect();
+        let unsaid = off
+            .iter()
+            .filter(|&&t| !m.outside.iter().any(|&o| (o - t).abs() <= 1e-9 * t))
+            .count();
+        broken |= unsaid > 0;
+        let q = m.quality.map_or(f64::NAN, |q| q.p_value);
+        let taus = off
+            .iter()
+            .map(|t| format!("{t:.3}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        (
+            format!(
+                "{} (χ²/dof {:.2}, p {q:.2})",
+                m.label,
+                m.chi2_reduced.unwrap_or(f64::NAN)
+            ),
+            if off.is_empty() {
+                "within".to_string()
+            } else if unsaid == 0 {
+                format!("leaves at τ = {taus} s; said")
+            } else {
+                format!("leaves at τ = {taus} s; {unsaid} NOT said")
+            },
+        )
+    } else {
+        ("none fits".to_string(), "no curve; said".to_string())
+    };
+    let row = format!(
+        "| {file} | {axis} [{unit}] | {model} | {} | {} | {leaves} |",
+        if kept.is_empty() {
+            "—".into()
+        } else {
+            kept.join("; ")
+        },
+        if bounds.is_empty() {
+            "—".into()
+        } else {
+            bounds.join("; ")
+        },
+    );
+    Verdict { row, broken }
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let Some((rate, files)) = args
+        .split_first()
+        .and_then(|(r, f)| Some((r.parse::<f64>().ok()?, f)))
+    else {
+        eprintln!("usage: imudata_check RATE_HZ FILE...");
+        std::process::exit(2);
+    };
+    let read = RecordingOptions {
+        rate_hz: Some(rate),
+        ..RecordingOptions::default()
+    };
+    println!(
+        "| file | axis | model | kept terms (largest σ_term/σ̂ 95 % upper) | bounds (largest σ_bound/σ̂ 99 % upper) | model curve vs 95 % intervals |"
+    );
+    println!("|---|---|---|---|---|---|");
+    let mut broken = false;
+    for f in files {
+        let run = match analyse_run(Path::new(f), &read) {
+            Ok(r) => r,
+            Err(e) => {
+                eprintln!("{f}: {e}");
+                std::process::exit(1);
+            }
+        };
+        let name = Path::new(f)
+            .file_name()
+            .map_or(f.clone(), |n| n.to_string_lossy().into_owned());
+        for c in &run.channels {
+            let v = check(&name, &c.channel.name, &c.channel.unit, &c.points, &c.terms.model);
+            println!("{}", v.row);
+            broken |= v.broken;
+        }
+    }
+    if broken {
+        eprintln!("a rule is broken (a ratio above 1, or the model leaves the intervals unsaid)");
+        std::process::exit(1);
+    }
+}
