@@ -49,30 +49,33 @@ pub fn format_of(path: &Path) -> Option<&'static str> {
 }
 
 /// Reads any recording, robot log or text log, with its report and (for a
-/// robot log) every stream in it.
+/// robot log) every stream in it; [`crate::source::read_source`] keeps the
+/// format found too.
 pub fn read_recording_with_report(
     path: &Path,
     opts: &RecordingOptions,
 ) -> Result<(Recording, ReadReport, Vec<Stream>), AnalysisError> {
-    #[cfg(not(feature = "robotlogs"))]
-    {
-        if opts.stream.is_given() {
-            return Err(AnalysisError::Option(
-                "--topic, --instance and --temp-topic need imutherm built with robot-log support".into(),
-            ));
-        }
-        let (rec, rep) = imu::read_recording_with_report(path, opts)?;
-        Ok((rec, rep, Vec::new()))
+    let (rec, report, streams, _) = read_any(path, opts)?;
+    Ok((rec, report, streams))
+}
+
+/// The recording, its report, its streams and, for a robot log, its
+/// format's name.
+pub(crate) type AnyRead = (Recording, ReadReport, Vec<Stream>, Option<&'static str>);
+
+#[cfg(not(feature = "robotlogs"))]
+pub(crate) fn read_any(path: &Path, opts: &RecordingOptions) -> Result<AnyRead, AnalysisError> {
+    if opts.stream.is_given() {
+        return Err(AnalysisError::Option(
+            "--topic, --instance and --temp-topic need imutherm built with robot-log support".into(),
+        ));
     }
-    #[cfg(feature = "robotlogs")]
-    read_any(path, opts)
+    let (rec, rep) = imu::read_recording_with_report(path, opts)?;
+    Ok((rec, rep, Vec::new(), None))
 }
 
 #[cfg(feature = "robotlogs")]
-fn read_any(
-    path: &Path,
-    opts: &RecordingOptions,
-) -> Result<(Recording, ReadReport, Vec<Stream>), AnalysisError> {
+pub(crate) fn read_any(path: &Path, opts: &RecordingOptions) -> Result<AnyRead, AnalysisError> {
     let choice = robotlogs::Choice {
         topic: opts.stream.topic.clone(),
         instance: opts.stream.instance,
@@ -99,7 +102,12 @@ fn read_any(
             selected: s.selected,
         })
         .collect();
-    Ok((r.recording, r.report, streams))
+    Ok((
+        r.recording,
+        r.report,
+        streams,
+        r.format.map(robotlogs::Format::name),
+    ))
 }
 
 /// The channels of a robot log an analysis takes, in SI, as
