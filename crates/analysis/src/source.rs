@@ -93,3 +93,47 @@ pub fn read_source(path: &Path, opts: &RecordingOptions) -> Result<Source, Analy
         report,
     })
 }
+
+/// Whether `path` gives its bytes only once: standard input (`-`), a pipe,
+/// a FIFO, a device. A directory (a ROS 2 bag) and a regular file can be
+/// read again.
+pub fn is_stream(path: &Path) -> bool {
+    path == Path::new("-") || std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
+/// Refuses a stream ([`is_stream`]) as the input of an analysis that reads
+/// it again for `why`, before any work: read once, the second read would
+/// wait for bytes that never come.
+pub fn require_rereadable(path: &Path, why: &'static str) -> Result<(), AnalysisError> {
+    if is_stream(path) {
+        return Err(AnalysisError::ReadTwice {
+            file: path.to_path_buf(),
+            why,
+        });
+    }
+    Ok(())
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_fifo_is_refused_and_a_file_is_not() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("run.txt");
+        std::fs::write(&file, "gyro_x\n1\n").unwrap();
+        let fifo = dir.path().join("pipe");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status().unwrap();
+        assert!(made.success());
+        assert!(!is_stream(&file) && !is_stream(dir.path()));
+        assert!(is_stream(&fifo) && is_stream(Path::new("-")));
+        require_rereadable(&file, "the model keeps its digest").unwrap();
+        let e = require_rereadable(&fifo, "the model keeps its digest").unwrap_err();
+        assert!(
+            e.to_string()
+                .ends_with("pipe: the model keeps its digest, which a pipe or standard input cannot give; save it to a file first"),
+            "{e}"
+        );
+    }
+}
