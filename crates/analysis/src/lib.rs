@@ -5,6 +5,7 @@
 //! - [`selection`]: which channels of a file are analysed, read in SI with
 //!   their gaps, and what the reader noted on the way;
 //! - [`reading`]: the reader's options from what a user gives;
+//! - [`channel_spec`]: what a channel list names (a group or a channel);
 //! - [`source`]: one read of a recording, with its format, streams and
 //!   where its rate came from, which every caller shares;
 //! - [`info_document`], [`adev_document`], [`noise_document`],
@@ -60,6 +61,7 @@ mod error;
 
 pub mod adev_document;
 pub mod channel_checks;
+pub mod channel_spec;
 pub mod compensation;
 pub mod datasheet;
 pub use thermal::dynamic_adev;
