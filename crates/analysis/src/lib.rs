@@ -5,6 +5,12 @@
 //! - [`selection`]: which channels of a file are analysed, read in SI with
 //!   their gaps, and what the reader noted on the way;
 //! - [`reading`]: the reader's options from what a user gives;
+//! - [`channel_spec`]: what a channel list names (a group or a channel);
+//! - [`source`]: one read of a recording, with its format, streams and
+//!   where its rate came from, which every caller shares;
+//! - [`info_document`], [`adev_document`], [`noise_document`],
+//!   [`navigation_document`]: the versioned JSON documents of `info`,
+//!   `adev`, `noise` and `ins` as types;
 //! - [`channel_checks`]: what a recording's channels rule out (a dead or
 //!   clipped channel, an accelerometer far from g, motion), with figures;
 //! - [`units`]: the unit systems of noise terms (SI, datasheet, thesis);
@@ -53,20 +59,25 @@
 
 mod error;
 
+pub mod adev_document;
 pub mod channel_checks;
+pub mod channel_spec;
 pub mod compensation;
 pub mod datasheet;
 pub use thermal::dynamic_adev;
 pub mod experiment;
 pub mod file_identity;
 pub mod filters;
+pub mod info_document;
 pub mod kalibr;
 pub mod navigation;
+pub mod navigation_document;
 pub mod noise;
 pub mod noise_document;
 pub mod reading;
 pub mod robot_logs;
 pub mod selection;
+pub mod source;
 pub mod summary;
 pub mod thesis;
 pub mod units;

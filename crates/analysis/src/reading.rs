@@ -1,7 +1,7 @@
 //! How a recording is read: the reader's options from what a user gives
 //! (`--rate`, `--unit COL=UNIT`, the time column), and a unit as shown.
 
-use imu::units::parse_unit;
+use imu::units::{UnitOverride, parse_unit};
 use imu::{Quantity, RecordingOptions};
 
 use crate::AnalysisError;
@@ -44,17 +44,10 @@ pub fn recording_options(c: &ReadingChoices) -> Result<RecordingOptions, Analysi
     let units = c
         .units
         .iter()
-        .map(|p| match p.split_once('=') {
-            Some((col, u)) if !col.trim().is_empty() && parse_unit(u).is_some() => {
-                Ok((col.trim().to_string(), u.trim().to_string()))
-            }
-            Some((_, u)) if parse_unit(u).is_none() => Err(AnalysisError::Option(format!(
-                "--unit {p}: unknown unit '{}' (known: m/s^2 g mg ug rad/s mrad/s deg/s deg/h degC degF K)",
-                u.trim()
-            ))),
-            _ => Err(AnalysisError::Option(format!(
-                "--unit {p}: expected COLUMN=UNIT, e.g. gyro_x=deg/s"
-            ))),
+        .map(|p| {
+            p.parse::<UnitOverride>()
+                .map(|o| (o.column, o.unit_text))
+                .map_err(|e| AnalysisError::Option(format!("--unit {p}: {e}")))
         })
         .collect::<Result<Vec<_>, _>>()?;
     Ok(RecordingOptions {

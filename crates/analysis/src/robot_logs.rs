@@ -5,10 +5,15 @@
 
 use std::path::Path;
 
-use imu::{Quantity, ReadReport, Recording, RecordingOptions};
+use imu::log_file::read_recording_from;
+use imu::table::TableReader;
+use imu::{ReadReport, Recording, RecordingOptions};
 use serde::Serialize;
 
 use crate::AnalysisError;
+#[cfg(feature = "robotlogs")]
+use crate::channel_spec::ChannelSpec;
+#[cfg(feature = "robotlogs")]
 use crate::selection::{Selection, checked, reader_notes, selection, take_channel};
 
 /// A stream found in a log, as `info` lists it.
@@ -49,67 +54,123 @@ pub fn format_of(path: &Path) -> Option<&'static str> {
 }
 
 /// Reads any recording, robot log or text log, with its report and (for a
-/// robot log) every stream in it.
+/// robot log) every stream in it; [`crate::source::read_source`] keeps the
+/// format found too.
 pub fn read_recording_with_report(
     path: &Path,
     opts: &RecordingOptions,
 ) -> Result<(Recording, ReadReport, Vec<Stream>), AnalysisError> {
-    #[cfg(not(feature = "robotlogs"))]
-    {
-        if opts.stream.is_given() {
-            return Err(AnalysisError::Option(
-                "--topic, --instance and --temp-topic need imutherm built with robot-log support".into(),
-            ));
-        }
-        let (rec, rep) = imu::read_recording_with_report(path, opts)?;
-        Ok((rec, rep, Vec::new()))
-    }
+    let (rec, report, streams, _) = read_any(path, opts)?;
+    Ok((rec, report, streams))
+}
+
+/// The recording, its report, its streams and, for a robot log, its
+/// format's name.
+pub(crate) type AnyRead = (Recording, ReadReport, Vec<Stream>, Option<&'static str>);
+
+/// An input opened once: a robot log by its format, or a text log with its
+/// header read on the one open file.
+pub(crate) enum Input {
+    /// A robot log.
     #[cfg(feature = "robotlogs")]
-    read_any(path, opts)
+    Log(robotlogs::Format),
+    /// A text log, a pipe or standard input.
+    Text(TableReader),
 }
 
 #[cfg(feature = "robotlogs")]
-fn read_any(
-    path: &Path,
-    opts: &RecordingOptions,
-) -> Result<(Recording, ReadReport, Vec<Stream>), AnalysisError> {
-    let choice = robotlogs::Choice {
+fn choice_of(opts: &RecordingOptions) -> robotlogs::Choice {
+    robotlogs::Choice {
         topic: opts.stream.topic.clone(),
         instance: opts.stream.instance,
         temp_topic: opts.stream.temp_topic.clone(),
         first_if_several: opts.stream.first_if_several,
         rate_hz: opts.rate_hz,
         max_grid_factor: opts.max_grid_factor,
-    };
-    let r = robotlogs::read(path, opts, &choice).map_err(|e| match e {
+    }
+}
+
+#[cfg(feature = "robotlogs")]
+fn log_error(e: robotlogs::Error) -> AnalysisError {
+    match e {
         robotlogs::Error::Text(e) => AnalysisError::Read(e),
         robotlogs::Error::Log(e) => AnalysisError::RobotLog(e.to_string()),
-    })?;
-    let streams = r
-        .streams
-        .into_iter()
-        .map(|s| Stream {
-            name: s.name,
-            kind: s.kind,
-            instance: s.instance,
-            message_type: s.msg_type,
-            messages: s.messages,
-            rate_hz: s.rate_hz,
-            temperature_source: s.temperature,
-            selected: s.selected,
-        })
-        .collect();
-    Ok((r.recording, r.report, streams))
+    }
+}
+
+/// Opens `path` once, telling a robot log from a text log by its first
+/// bytes ([`robotlogs::open`]).
+#[cfg(feature = "robotlogs")]
+pub(crate) fn open(path: &Path, opts: &RecordingOptions) -> Result<Input, AnalysisError> {
+    Ok(
+        match robotlogs::open(path, &choice_of(opts)).map_err(log_error)? {
+            robotlogs::Opened::Log(format) => Input::Log(format),
+            robotlogs::Opened::Text(reader) => Input::Text(reader),
+        },
+    )
+}
+
+/// Opens `path` once as a text log.
+#[cfg(not(feature = "robotlogs"))]
+pub(crate) fn open(path: &Path, opts: &RecordingOptions) -> Result<Input, AnalysisError> {
+    if opts.stream.is_given() {
+        return Err(AnalysisError::Option(
+            "--topic, --instance and --temp-topic need imutherm built with robot-log support".into(),
+        ));
+    }
+    Ok(Input::Text(TableReader::open(path)?))
+}
+
+/// Reads an input [`open`] opened (`path` names a robot log's errors).
+#[cfg_attr(not(feature = "robotlogs"), allow(unused_variables))]
+pub(crate) fn read_input(
+    path: &Path,
+    input: Input,
+    opts: &RecordingOptions,
+) -> Result<AnyRead, AnalysisError> {
+    match input {
+        #[cfg(feature = "robotlogs")]
+        Input::Log(format) => {
+            let r = robotlogs::read_opened(path, robotlogs::Opened::Log(format), opts, &choice_of(opts))
+                .map_err(log_error)?;
+            let streams = r
+                .streams
+                .into_iter()
+                .map(|s| Stream {
+                    name: s.name,
+                    kind: s.kind,
+                    instance: s.instance,
+                    message_type: s.msg_type,
+                    messages: s.messages,
+                    rate_hz: s.rate_hz,
+                    temperature_source: s.temperature,
+                    selected: s.selected,
+                })
+                .collect();
+            Ok((r.recording, r.report, streams, Some(format.name())))
+        }
+        Input::Text(reader) => {
+            let (rec, report) = read_recording_from(reader, opts)?;
+            Ok((rec, report, Vec::new(), None))
+        }
+    }
+}
+
+/// Opens and reads `path`, robot log or text log, once.
+pub(crate) fn read_any(path: &Path, opts: &RecordingOptions) -> Result<AnyRead, AnalysisError> {
+    read_input(path, open(path, opts)?, opts)
 }
 
 /// The channels of a robot log an analysis takes, in SI, as
 /// [`crate::selection::read_channels`] gives them for a text log.
+#[cfg(feature = "robotlogs")]
 pub(crate) fn read_channels(
     file: &Path,
+    format: robotlogs::Format,
     wanted: &[String],
     read: &RecordingOptions,
 ) -> Result<Selection, AnalysisError> {
-    let (mut rec, report, _) = read_recording_with_report(file, read)?;
+    let (mut rec, report, _, _) = read_input(file, Input::Log(format), read)?;
     let mut notes = reader_notes(file, &report, "the messages' clock");
     let checks = checked(file, &rec, &mut notes);
     let rate_hz = rec.rate_hz.unwrap_or(1.0);
@@ -117,29 +178,16 @@ pub(crate) fn read_channels(
     let inertial: Vec<usize> = (0..rec.channels.len())
         .filter(|&i| rec.channels[i].is_inertial())
         .collect();
-    let of = |q: Quantity| -> Vec<usize> {
-        inertial
-            .iter()
-            .copied()
-            .filter(|&i| rec.channels[i].quantity == q)
-            .collect()
-    };
-    let mut select: Vec<usize> = if wanted.is_empty() {
-        inertial.clone()
-    } else {
-        Vec::new()
-    };
+    let mut select: Vec<usize> = if wanted.is_empty() { inertial } else { Vec::new() };
     for w in wanted {
-        let w = w.trim();
-        let group: Vec<usize> = match w.to_ascii_lowercase().as_str() {
-            "gyro" | "gyros" => of(Quantity::AngularRate),
-            "accel" | "accels" | "acc" => of(Quantity::Acceleration),
-            "inertial" | "imu" => inertial.clone(),
-            "all" => (0..rec.channels.len()).collect(),
-            _ => match rec
+        let group: Vec<usize> = match ChannelSpec::parse(w) {
+            ChannelSpec::Group(g) => (0..rec.channels.len())
+                .filter(|&i| g.holds(rec.channels[i].quantity, rec.channels[i].is_inertial()))
+                .collect(),
+            ChannelSpec::Named(w) => match rec
                 .channels
                 .iter()
-                .position(|c| c.name.eq_ignore_ascii_case(w) || c.source_name == w)
+                .position(|c| c.name.eq_ignore_ascii_case(&w) || c.source_name == w)
             {
                 Some(i) => vec![i],
                 None => {
@@ -153,7 +201,7 @@ pub(crate) fn read_channels(
         if group.is_empty() {
             return Err(AnalysisError::NoGroup {
                 file: file.to_path_buf(),
-                group: w.to_string(),
+                group: w.trim().to_string(),
                 columns: names.join(", "),
             });
         }

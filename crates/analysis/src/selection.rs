@@ -3,11 +3,12 @@
 use std::path::{Path, PathBuf};
 
 use imu::log_file::{ColumnKind, classify_with_overrides, read_recording_from};
-use imu::table::TableReader;
 use imu::{Quantity, RecordingOptions};
 
 use crate::AnalysisError;
 use crate::channel_checks::{self, Checks};
+use crate::channel_spec::ChannelSpec;
+use crate::robot_logs::Input;
 
 /// One column to analyse (a file's column as selected, not the data
 /// model's [`imu::Channel`]).
@@ -63,26 +64,19 @@ pub fn read_channels(
     wanted: &[String],
     read: &RecordingOptions,
 ) -> Result<Selection, AnalysisError> {
-    if crate::robot_logs::format_of(file).is_some() {
-        return crate::robot_logs::read_channels(file, wanted, read);
-    }
-    if read.stream.is_given() {
-        // Refused by the reader that knows streams, naming the flag.
-        crate::robot_logs::read_recording_with_report(file, read)?;
-    }
-    // The header alone decides what is selected, before the body is read.
-    let reader = TableReader::open(file)?;
+    // Opened once: a robot log goes to its reader, a text log's header
+    // alone decides what is selected, before the body is read.
+    let reader = match crate::robot_logs::open(file, read)? {
+        #[cfg(feature = "robotlogs")]
+        Input::Log(format) => return crate::robot_logs::read_channels(file, format, wanted, read),
+        Input::Text(reader) => reader,
+    };
     let headers = reader.names().to_vec();
     let kinds: Vec<ColumnKind> = headers
         .iter()
         .map(|h| classify_with_overrides(h, &read.units))
         .collect();
     let inertial: Vec<usize> = (0..kinds.len()).filter(|&i| kinds[i].axis.is_some()).collect();
-    let of = |q: Quantity| -> Vec<usize> {
-        (0..kinds.len())
-            .filter(|&i| kinds[i].quantity == q && kinds[i].axis.is_some())
-            .collect()
-    };
     let mut select: Vec<usize> = Vec::new();
     // Columns the user named by their full header.
     let mut by_header: Vec<usize> = Vec::new();
@@ -96,28 +90,22 @@ pub fn read_channels(
         };
     }
     for w in wanted {
-        let group = match w.trim().to_ascii_lowercase().as_str() {
-            "gyro" | "gyros" => Some(of(Quantity::AngularRate)),
-            "accel" | "accels" | "acc" => Some(of(Quantity::Acceleration)),
-            "inertial" | "imu" => Some(inertial.clone()),
-            "all" => Some(
-                (0..kinds.len())
-                    .filter(|&i| kinds[i].quantity != Quantity::Time)
-                    .collect(),
-            ),
-            _ => None,
-        };
-        let found = match group {
-            Some(g) if !g.is_empty() => g,
-            Some(_) => {
-                return Err(AnalysisError::NoGroup {
-                    file: file.to_path_buf(),
-                    group: w.trim().to_string(),
-                    columns: headers.join(", "),
-                });
+        let found = match ChannelSpec::parse(w) {
+            ChannelSpec::Group(g) => {
+                let members: Vec<usize> = (0..kinds.len())
+                    .filter(|&i| g.holds(kinds[i].quantity, kinds[i].axis.is_some()))
+                    .collect();
+                if members.is_empty() {
+                    return Err(AnalysisError::NoGroup {
+                        file: file.to_path_buf(),
+                        group: w.trim().to_string(),
+                        columns: headers.join(", "),
+                    });
+                }
+                members
             }
-            None => {
-                let w = w.trim();
+            ChannelSpec::Named(w) => {
+                let w = w.as_str();
                 // A full header names its column, whatever else resolves
                 // to the same channel.
                 match headers.iter().position(|h| h == w) {

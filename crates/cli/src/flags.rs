@@ -182,16 +182,12 @@ pub fn duration(text: &str) -> Result<f64, String> {
     Ok(seconds)
 }
 
-/// `--unit COL=UNIT`, with a unit imutherm converts.
+/// `--unit COL=UNIT`, with a unit imutherm converts
+/// ([`imu::units::UnitOverride`], whose reader takes the text again).
 pub fn unit_override(text: &str) -> Result<String, String> {
-    match text.split_once('=') {
-        Some((c, u)) if !c.trim().is_empty() && parse_unit(u).is_some() => Ok(text.to_string()),
-        Some((c, u)) if !c.trim().is_empty() => Err(format!(
-            "unknown unit '{}' (known: m/s^2 g mg ug rad/s mrad/s deg/s deg/h degC K)",
-            u.trim()
-        )),
-        _ => Err("expected COLUMN=UNIT, e.g. gyro_x=deg/s".to_string()),
-    }
+    text.parse::<imu::units::UnitOverride>()
+        .map(|_| text.to_string())
+        .map_err(|e| e.to_string())
 }
 
 /// `--time-unit`: a unit of time.

@@ -48,7 +48,7 @@ pub enum ReadErrorKind {
     },
     /// A unit imutherm does not know, given for a column.
     #[error(
-        "unknown unit '{unit}' for column '{column}' (known: m/s^2, g, mg, ug, rad/s, deg/s, deg/h, degC, degF, K, s, ms, us, ns)"
+        "unknown unit '{unit}' for column '{column}' (known: {})", crate::units::KNOWN_UNITS.join(", ")
     )]
     UnknownUnit {
         /// The column.

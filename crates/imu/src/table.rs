@@ -262,18 +262,34 @@ impl TableReader {
     /// and works out the layout.
     pub fn open(path: impl AsRef<Path>) -> Result<TableReader, ReadError> {
         let path = path.as_ref().to_path_buf();
+        if path == Path::new("-") {
+            return Self::from_input(path, Box::new(std::io::stdin()), None);
+        }
+        let file = File::open(&path).map_err(|e| ReadError::new(&path, ReadErrorKind::Io(e)))?;
+        Self::from_file(path, file)
+    }
+
+    /// [`TableReader::open`] of `file`, already opened from `path` and at
+    /// its start (a caller that looked at its first bytes and rewound): the
+    /// file is not opened again.
+    pub fn from_file(path: impl AsRef<Path>, file: File) -> Result<TableReader, ReadError> {
+        let path = path.as_ref().to_path_buf();
+        let meta = file
+            .metadata()
+            .map_err(|e| ReadError::new(&path, ReadErrorKind::Io(e)))?;
+        if meta.is_dir() {
+            return Err(ReadError::new(&path, ReadErrorKind::IsDirectory));
+        }
+        let size = meta.is_file().then_some(meta.len());
+        Self::from_input(path, Box::new(file), size)
+    }
+
+    fn from_input(
+        path: PathBuf,
+        raw_input: Box<dyn Read + Send>,
+        regular_bytes: Option<u64>,
+    ) -> Result<TableReader, ReadError> {
         let io_err = |e: std::io::Error| ReadError::new(&path, ReadErrorKind::Io(e));
-        let (raw_input, regular_bytes): (Box<dyn Read + Send>, Option<u64>) = if path == Path::new("-") {
-            (Box::new(std::io::stdin()), None)
-        } else {
-            let file = File::open(&path).map_err(io_err)?;
-            let meta = file.metadata().map_err(io_err)?;
-            if meta.is_dir() {
-                return Err(ReadError::new(&path, ReadErrorKind::IsDirectory));
-            }
-            let size = meta.is_file().then_some(meta.len());
-            (Box::new(file), size)
-        };
         let mut buffered = BufReader::with_capacity(1 << 16, raw_input);
         let gz = buffered.fill_buf().map_err(io_err)?.starts_with(&[0x1f, 0x8b]);
         let decoded: Box<dyn Read + Send> = if gz {

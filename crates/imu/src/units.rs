@@ -173,6 +173,58 @@ pub fn parse_unit(text: &str) -> Option<Unit> {
     }
 }
 
+/// The units imutherm converts, one spelling each, as messages list them;
+/// [`parse_unit`] reads each (and the other spellings it knows).
+pub const KNOWN_UNITS: [&str; 15] = [
+    "m/s^2", "g", "mg", "ug", "rad/s", "mrad/s", "deg/s", "deg/h", "degC", "degF", "K", "s", "ms", "us", "ns",
+];
+
+/// A unit given for a column (`gyro_x=deg/s`), parsed once: the column's
+/// name, the unit as given and what it converts to.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UnitOverride {
+    /// The column, by header or imutherm name.
+    pub column: String,
+    /// The unit as given, trimmed.
+    pub unit_text: String,
+    /// The unit.
+    pub unit: Unit,
+}
+
+/// Why a `COLUMN=UNIT` pair is not one.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum UnitOverrideError {
+    /// Not `COLUMN=UNIT`, or no column.
+    #[error("expected COLUMN=UNIT, e.g. gyro_x=deg/s")]
+    Malformed,
+    /// A unit imutherm does not convert.
+    #[error("unknown unit '{unit}' (known: {})", KNOWN_UNITS.join(" "))]
+    UnknownUnit {
+        /// The unit as given.
+        unit: String,
+    },
+}
+
+impl std::str::FromStr for UnitOverride {
+    type Err = UnitOverrideError;
+
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        let (column, unit_text) = text
+            .split_once('=')
+            .map(|(c, u)| (c.trim(), u.trim()))
+            .filter(|(c, _)| !c.is_empty())
+            .ok_or(UnitOverrideError::Malformed)?;
+        let unit = parse_unit(unit_text).ok_or_else(|| UnitOverrideError::UnknownUnit {
+            unit: unit_text.to_string(),
+        })?;
+        Ok(UnitOverride {
+            column: column.to_string(),
+            unit_text: unit_text.to_string(),
+            unit,
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -197,5 +249,34 @@ mod tests {
             assert!((u.to_si(raw) - si).abs() < 1e-12, "{text}");
         }
         assert!(parse_unit("furlong/fortnight").is_none());
+    }
+
+    #[test]
+    fn every_listed_unit_parses() {
+        for u in KNOWN_UNITS {
+            assert!(parse_unit(u).is_some(), "{u}");
+        }
+    }
+
+    #[test]
+    fn a_unit_override_is_parsed_once_with_its_reason() {
+        let o: UnitOverride = " gyro_x = deg/s".parse().unwrap();
+        assert_eq!((o.column.as_str(), o.unit_text.as_str()), ("gyro_x", "deg/s"));
+        assert_eq!(o.unit.quantity, Quantity::AngularRate);
+        let e = "gyro_x=furlong".parse::<UnitOverride>().unwrap_err();
+        assert_eq!(
+            e,
+            UnitOverrideError::UnknownUnit {
+                unit: "furlong".into()
+            }
+        );
+        assert!(e.to_string().contains("degC degF K s ms us ns)"), "{e}");
+        for bad in ["gyro_x", "=deg/s", " = furlong"] {
+            assert_eq!(
+                bad.parse::<UnitOverride>().unwrap_err(),
+                UnitOverrideError::Malformed,
+                "{bad}"
+            );
+        }
     }
 }

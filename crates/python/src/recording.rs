@@ -5,9 +5,10 @@
 
 use std::path::PathBuf;
 
-use analysis::channel_checks::{Checks, Finding};
+use analysis::channel_checks::Checks;
 use analysis::reading::{ReadingChoices, recording_options};
-use analysis::robot_logs::{Stream, format_of, read_recording_with_report};
+use analysis::robot_logs::Stream;
+use analysis::source::{Source, read_source};
 use imu::{ReadReport, Recording};
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
@@ -44,26 +45,22 @@ pub fn read(
     let opts = recording_options(&choices).map_err(analysis_err)?;
     // The channel checks read every sample: with the GIL released, as the
     // read itself.
-    let (rec, report, streams, checks) = py
+    let (source, checks) = py
         .detach(|| {
-            read_recording_with_report(&path, &opts).map(|(rec, report, streams)| {
-                let checks = analysis::channel_checks::check(&rec);
-                (rec, report, streams, checks)
+            read_source(&path, &opts).map(|source| {
+                let checks = analysis::channel_checks::check(&source.recording);
+                (source, checks)
             })
         })
         .map_err(analysis_err)?;
-    let format = format_of(&path).unwrap_or_else(|| report.format.name());
-    let rate_source = if opts.rate_hz.is_some() {
-        "given"
-    } else if report.timing.is_some() && format_of(&path).is_some() {
-        "derived from the message times"
-    } else if report.timing.is_some() {
-        "derived from the time column"
-    } else if rec.rate_hz.is_some() {
-        "file metadata"
-    } else {
-        "unknown"
-    };
+    let Source {
+        format,
+        rate_source,
+        streams,
+        recording: rec,
+        report,
+        ..
+    } = source;
     let slots = rec
         .timestamps
         .as_ref()
@@ -73,7 +70,7 @@ pub fn read(
     d.set_item("timestamp_slots", slots.flatten())?;
     d.set_item("file", path.display().to_string())?;
     d.set_item("format", format)?;
-    d.set_item("rate_source", rate_source)?;
+    d.set_item("rate_source", rate_source.name())?;
     put_report(py, &d, &report)?;
     d.set_item("streams", streams_list(py, &streams)?)?;
     Ok(d.unbind())
@@ -110,51 +107,10 @@ pub(crate) fn recording_dict(py: Python<'_>, rec: Recording) -> PyResult<Bound<'
 fn put_checks(py: Python<'_>, d: &Bound<'_, PyDict>, checks: &Checks) -> PyResult<()> {
     let list = PyList::empty(py);
     for f in &checks.findings {
-        let q = PyDict::new(py);
+        // The finding's own fields, through serde (its `kind` tag first),
+        // and its sentence.
+        let q = pythonize::pythonize(py, f)?.cast_into::<PyDict>()?;
         q.set_item("message", f.to_string())?;
-        match f {
-            Finding::Stuck {
-                channel,
-                value,
-                samples,
-                of,
-                first_sample,
-            } => {
-                q.set_item("kind", "stuck")?;
-                q.set_item("channel", channel)?;
-                q.set_item("value", value)?;
-                q.set_item("samples", samples)?;
-                q.set_item("of", of)?;
-                q.set_item("first_sample", first_sample)?;
-            }
-            Finding::Saturated {
-                channel,
-                full_scale,
-                full_scale_label,
-                samples,
-            } => {
-                q.set_item("kind", "saturated")?;
-                q.set_item("channel", channel)?;
-                q.set_item("full_scale", full_scale)?;
-                q.set_item("full_scale_label", full_scale_label)?;
-                q.set_item("samples", samples)?;
-            }
-            Finding::AccelNorm { norm, gravity } => {
-                q.set_item("kind", "accel_norm")?;
-                q.set_item("norm", norm)?;
-                q.set_item("gravity", gravity)?;
-            }
-            Finding::Motion(m) => {
-                q.set_item("kind", "motion")?;
-                q.set_item("channel", &m.channel)?;
-                q.set_item("stretches", m.stretches.clone())?;
-                q.set_item("moving_s", m.moving_s)?;
-                q.set_item("total_s", m.total_s)?;
-                q.set_item("max_window_std", m.max_window_std)?;
-                q.set_item("max_level_change", m.max_level_change)?;
-                q.set_item("noise_floor", m.noise_floor)?;
-            }
-        }
         list.append(q)?;
     }
     d.set_item("checks", list)

@@ -87,12 +87,80 @@ pub fn decode(path: &Path, format: Format) -> Result<streams::Decoded, LogError>
     Ok(d)
 }
 
+/// An input opened once: a robot log by the format its first bytes show,
+/// or a text log with its header read, on the one open file.
+pub enum Opened {
+    /// A robot log (read by its decoder).
+    Log(Format),
+    /// A text log, a pipe or standard input.
+    Text(imu::table::TableReader),
+}
+
+/// Opens `path` once and tells a robot log from a text log by its first
+/// bytes: a regular file is opened, looked at and rewound for the text
+/// reader; a pipe or standard input goes to the text reader unlooked at
+/// (its bytes can be read once); a directory is a ROS 2 bag or nothing. A
+/// stream choice given for a text log is an error, not ignored.
+pub fn open(path: &Path, choice: &Choice) -> Result<Opened, Error> {
+    use std::io::{Read as _, Seek, SeekFrom};
+    let text = |reader: Result<imu::table::TableReader, imu::ReadError>| -> Result<Opened, Error> {
+        for (given, flag) in [
+            (choice.topic.is_some(), "--topic"),
+            (choice.instance.is_some(), "--instance"),
+            (choice.temp_topic.is_some(), "--temp-topic"),
+        ] {
+            if given {
+                return Err(LogError::new(path, LogErrorKind::NotARobotLog(flag)).into());
+            }
+        }
+        Ok(Opened::Text(reader?))
+    };
+    let Ok(meta) = std::fs::metadata(path) else {
+        // Standard input, or a path the reader names the error of.
+        return text(imu::table::TableReader::open(path));
+    };
+    if meta.is_dir() {
+        return match detect(path) {
+            Some(format) => Ok(Opened::Log(format)),
+            None => text(imu::table::TableReader::open(path)),
+        };
+    }
+    if !meta.is_file() {
+        return text(imu::table::TableReader::open(path));
+    }
+    let mut file = match std::fs::File::open(path) {
+        Ok(f) => f,
+        Err(_) => return text(imu::table::TableReader::open(path)),
+    };
+    let mut head = Vec::with_capacity(16);
+    // A file that cannot be read is the text reader's to name.
+    let looked = (&mut file).take(16).read_to_end(&mut head).is_ok();
+    if let Some(format) = format::of_bytes(&head).filter(|_| looked) {
+        return Ok(Opened::Log(format));
+    }
+    if file.seek(SeekFrom::Start(0)).is_err() {
+        // A regular file that cannot rewind: the reader opens it afresh.
+        return text(imu::table::TableReader::open(path));
+    }
+    text(imu::table::TableReader::from_file(path, file))
+}
+
 /// Reads a recording from any file imutherm reads: a robot log by its
 /// content, anything else as a text log. A stream choice given for a text
 /// log is an error, not ignored.
 pub fn read(path: &Path, opts: &RecordingOptions, choice: &Choice) -> Result<Read, Error> {
-    match detect(path) {
-        Some(format) => {
+    read_opened(path, open(path, choice)?, opts, choice)
+}
+
+/// [`read`] of an input [`open`] opened.
+pub fn read_opened(
+    path: &Path,
+    opened: Opened,
+    opts: &RecordingOptions,
+    choice: &Choice,
+) -> Result<Read, Error> {
+    match opened {
+        Opened::Log(format) => {
             let d = decode(path, format)?;
             let choice = Choice {
                 rate_hz: choice.rate_hz.or(opts.rate_hz),
@@ -107,17 +175,8 @@ pub fn read(path: &Path, opts: &RecordingOptions, choice: &Choice) -> Result<Rea
                 format: Some(format),
             })
         }
-        None => {
-            for (given, flag) in [
-                (choice.topic.is_some(), "--topic"),
-                (choice.instance.is_some(), "--instance"),
-                (choice.temp_topic.is_some(), "--temp-topic"),
-            ] {
-                if given {
-                    return Err(LogError::new(path, LogErrorKind::NotARobotLog(flag)).into());
-                }
-            }
-            let (recording, report) = imu::read_recording_with_report(path, opts)?;
+        Opened::Text(reader) => {
+            let (recording, report) = imu::log_file::read_recording_from(reader, opts)?;
             Ok(Read {
                 recording,
                 report,

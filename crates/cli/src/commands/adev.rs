@@ -5,19 +5,16 @@ use std::io::{IsTerminal, Write};
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
-use serde::Serialize;
 
 use allan::{Curve, DataType, Options, Stat};
 
 use crate::args::AdevArgs;
+use analysis::adev_document::AdevDocument;
 use analysis::reading::unit_text;
 use analysis::selection::SelectedChannel;
 
 use crate::flags::recording_options;
 use crate::print::read_channels;
-
-/// The JSON schema name, versioned: scripts rely on its fields.
-const SCHEMA: &str = "imutherm.adev/1";
 
 pub fn run(a: &AdevArgs) -> Result<()> {
     let opts = options(a)?;
@@ -159,88 +156,13 @@ fn options(a: &AdevArgs) -> Result<Options> {
     })
 }
 
-#[derive(Serialize)]
-struct JsonDoc<'a> {
-    schema: &'static str,
-    imutherm_version: &'static str,
-    stat: &'static str,
-    data_type: &'static str,
-    rate_hz: f64,
-    confidence: f64,
-    channels: Vec<JsonChannel<'a>>,
-}
-
-#[derive(Serialize)]
-struct JsonChannel<'a> {
-    name: &'a str,
-    unit: &'a str,
-    /// Where the file's unit came from: header, flag, metadata or assumed.
-    unit_source: &'static str,
-    file: String,
-    column: usize,
-    rate_hz: f64,
-    samples: usize,
-    nan_samples: usize,
-    points: Vec<JsonPoint>,
-}
-
-#[derive(Serialize)]
-struct JsonPoint {
-    tau: f64,
-    m: usize,
-    dev: f64,
-    n: usize,
-    edf: f64,
-    dev_lo: f64,
-    dev_hi: f64,
-    alpha: i32,
-    noise_id: &'static str,
-}
-
 fn write_json(
     out: &mut impl Write,
     opts: &Options,
     channels: &[SelectedChannel],
     curves: &[Curve],
 ) -> Result<()> {
-    let doc = JsonDoc {
-        schema: SCHEMA,
-        imutherm_version: env!("CARGO_PKG_VERSION"),
-        stat: opts.stat.name(),
-        data_type: opts.data_type.name(),
-        // Every channel carries its own rate; this is the first file's.
-        rate_hz: curves.first().map_or(opts.rate_hz, |c| c.rate_hz),
-        confidence: opts.confidence,
-        channels: channels
-            .iter()
-            .zip(curves)
-            .map(|(ch, c)| JsonChannel {
-                name: &ch.name,
-                unit: &ch.unit,
-                unit_source: ch.unit_source.name(),
-                file: ch.file.display().to_string(),
-                column: ch.column,
-                rate_hz: c.rate_hz,
-                samples: c.samples,
-                nan_samples: c.nan_samples,
-                points: c
-                    .points
-                    .iter()
-                    .map(|p| JsonPoint {
-                        tau: p.tau,
-                        m: p.m,
-                        dev: p.dev,
-                        n: p.n,
-                        edf: p.edf,
-                        dev_lo: p.dev_lo,
-                        dev_hi: p.dev_hi,
-                        alpha: p.alpha,
-                        noise_id: p.noise_id.name(),
-                    })
-                    .collect(),
-            })
-            .collect(),
-    };
+    let doc = AdevDocument::new(env!("CARGO_PKG_VERSION"), opts, channels, curves);
     serde_json::to_writer(&mut *out, &doc)?;
     writeln!(out)?;
     Ok(())

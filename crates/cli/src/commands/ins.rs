@@ -6,12 +6,11 @@ use std::io::Write;
 use std::path::Path;
 
 use anyhow::Result;
-use serde_json::{Value, json};
 
-use analysis::navigation::{AGREEMENT, CHANNELS, Navigated, Plan, raw_and_compensated};
+use analysis::navigation::{AGREEMENT, Navigated, Plan, raw_and_compensated};
+use analysis::navigation_document::{NavigationDocument, NavigationEntry};
 use imu::output::{OutputPolicy, check_output, write_file};
-use ins::drift::{Spread, report_times};
-use ins::prediction::AxisNoise;
+use ins::drift::report_times;
 use ins::schuler::flat_earth_limit_s;
 use ins::strapdown::NavOptions;
 use report::navigation_plot::navigation_plot;
@@ -21,8 +20,6 @@ use thermal::tcal::Model;
 use crate::args::InsArgs;
 use crate::flags::{UsageError, recording_options};
 use crate::print::{notes, read_static_channels};
-
-const SCHEMA: &str = "imutherm.ins/1";
 
 /// How a plot is written, from the name's extension.
 enum PlotFormat {
@@ -111,14 +108,14 @@ pub fn run(a: &InsArgs) -> Result<()> {
         notes(&noted);
         let (raw, compensated) = navigated?;
         if a.json {
-            let mut doc = file_json(&raw, a, rate);
-            doc["file"] = json!(file.display().to_string());
+            let mut entry = NavigationEntry::of(&raw, rate, &plan, a.horizon);
+            entry.file = Some(file.display().to_string());
             if let (Some(c), Some(path)) = (&compensated, &a.model) {
-                let mut cj = file_json(c, a, rate);
-                cj["model"] = json!(path.display().to_string());
-                doc["compensated"] = cj;
+                let mut comp = NavigationEntry::of(c, rate, &plan, a.horizon);
+                comp.model = Some(path.display().to_string());
+                entry.compensated = Some(Box::new(comp));
             }
-            files.push(doc);
+            files.push(entry);
         } else {
             print_file(&mut out, file, a, rate, &raw, compensated.as_ref())?;
         }
@@ -137,11 +134,7 @@ pub fn run(a: &InsArgs) -> Result<()> {
         write_plot(path, format, &plotted, &policy)?;
     }
     if a.json {
-        let doc = json!({
-            "schema": SCHEMA,
-            "imutherm_version": env!("CARGO_PKG_VERSION"),
-            "files": files,
-        });
+        let doc = NavigationDocument::new(env!("CARGO_PKG_VERSION"), files);
         serde_json::to_writer_pretty(&mut out, &doc)?;
         writeln!(out)?;
     }
@@ -170,74 +163,6 @@ fn write_plot(
         }
     }
     Ok(())
-}
-
-fn spread_json(s: Spread) -> Value {
-    json!({ "rms": s.rms, "p50": s.p50, "p95": s.p95 })
-}
-
-fn file_json(n: &Navigated, a: &InsArgs, rate: f64) -> Value {
-    let deg = 180.0 / std::f64::consts::PI;
-    let curve: Vec<Value> = n
-        .rows
-        .iter()
-        .map(|r| {
-            let m = &r.measured;
-            let terms: serde_json::Map<String, Value> = r
-                .predicted
-                .terms
-                .iter()
-                .map(|(t, v)| (t.key().to_string(), json!(v)))
-                .collect();
-            json!({
-                "t_s": m.t_s,
-                "horizontal_position_m": spread_json(m.horizontal_position_m),
-                "horizontal_velocity_m_s": spread_json(m.horizontal_velocity_m_s),
-                "tilt_deg": spread_json(m.tilt_rad.scaled(deg)),
-                "heading_deg": spread_json(m.heading_rad.scaled(deg)),
-                "vertical_position_m": spread_json(m.vertical_position_m),
-                // The old name of the DRMS, kept: it is not a 1σ of the distance.
-                "predicted_horizontal_position_1sigma_m": r.predicted.total_m,
-                "predicted_horizontal_position_drms_m": r.predicted.total_m,
-                "predicted_vertical_position_1sigma_m": r.predicted.vertical_m,
-                "predicted_terms_m": terms,
-                "prediction_within_monte_carlo": r.prediction_holds(),
-                "monte_carlo_horizontal_position_m": spread_json(r.monte_carlo),
-                "monte_carlo_horizontal_position_rms_95_m": r.monte_carlo_rms_95,
-                "monte_carlo_vertical_position_m": spread_json(r.monte_carlo_vertical),
-                "monte_carlo_vertical_position_rms_95_m": r.monte_carlo_vertical_rms_95,
-                "vertical_prediction_within_monte_carlo": r.vertical_prediction_holds(),
-            })
-        })
-        .collect();
-    let axis = |x: &AxisNoise| json!({ "n": x.n, "b": x.b, "k": x.k });
-    let mut noise = serde_json::Map::new();
-    for (k, name) in CHANNELS.iter().enumerate() {
-        let x = if k < 3 {
-            &n.noise.accel[k]
-        } else {
-            &n.noise.gyro[k - 3]
-        };
-        noise.insert(name.to_string(), axis(x));
-    }
-    json!({
-        "rate_hz": rate,
-        "align_s": a.align,
-        "every_s": a.every,
-        "horizon_s": a.horizon,
-        "latitude_deg": a.latitude,
-        "windows": n.windows,
-        "windows_with_gaps": n.windows_with_gaps,
-        "schuler_loop": a.latitude.is_some(),
-        "monte_carlo_runs": n.monte_carlo_runs,
-        "monte_carlo_seed": n.monte_carlo_seed,
-        "monte_carlo_agreement": AGREEMENT,
-        "prediction_stops_at_s": n.prediction_stops_at(),
-        "vertical_prediction_stops_at_s": n.vertical_prediction_stops_at(),
-        "noise_from": n.noise_from.key(),
-        "noise_si": noise,
-        "curve": curve,
-    })
 }
 
 /// Four significant figures, without an exponent in the usual range.

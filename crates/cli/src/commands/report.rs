@@ -1,8 +1,6 @@
 //! `imutherm report`: one HTML page for a set of recordings.
 
-use std::path::Path;
-
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 
 use analysis::dynamic_adev::{DynamicAdevError, dynamic_adev};
 use analysis::navigation::{Plan, navigate, take_six_channels};
@@ -27,17 +25,6 @@ const SURFACE_SPAN_C: f64 = 5.0;
 pub fn run(a: &ReportArgs) -> Result<()> {
     let read = recording_options(&a.read)?;
     let sheet = a.datasheet.as_deref().map(crate::flags::datasheet).transpose()?;
-    // The report reads each recording several times (inventory, noise
-    // terms, surfaces): a stream can be read only once.
-    for f in &a.files {
-        let stream = f == Path::new("-") || std::fs::metadata(f).is_ok_and(|m| !m.is_file() && !m.is_dir());
-        if stream {
-            bail!(
-                "{}: the report reads each recording more than once, which a pipe or standard input cannot give; save it to a file first",
-                f.display()
-            );
-        }
-    }
     // Before any work: the page is never one of the inputs, nor a file
     // imutherm did not write.
     imu::output::check_output(
