@@ -696,6 +696,44 @@ fn table_of_60000_columns_is_read_in_linear_time() {
     );
 }
 
+/// A gzip table of `rows` rows of `columns` zeros, 4 MB at most: one
+/// member repeated (members read as their concatenation), so that each
+/// kilobyte stands for a megabyte of text and four of samples.
+fn gzip_of_long_rows(columns: usize, rows: usize) -> Vec<u8> {
+    let row = vec!["0"; columns].join(",") + "\n";
+    let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+    e.write_all(row.as_bytes()).unwrap();
+    let member = e.finish().unwrap();
+    let bytes = member.repeat(rows);
+    assert!(bytes.len() <= 4 << 20, "{}", bytes.len());
+    bytes
+}
+
+#[test]
+fn gzip_of_long_rows_unpacking_past_the_memory_limit_is_refused_at_its_line() {
+    // 2 GB of text, 8 GB of samples: the columns read stop at a quarter of
+    // the address space this run may take, at the line that crosses it,
+    // where the allocator used to abort.
+    let dir = dir_with(&[("long.csv.gz", &gzip_of_long_rows(20_000, 50_000))]);
+    let r = read_only(&dir, &["adev", "long.csv.gz", "--rate", "100"]);
+    r.expect(1, &["MiB a read may take", "read fewer columns"]);
+    let line: u64 = r
+        .stderr
+        .split("long.csv.gz:")
+        .nth(1)
+        .and_then(|s| s.split(':').next())
+        .and_then(|l| l.parse().ok())
+        .unwrap_or_else(|| panic!("no line in {:?}", r.stderr));
+    // 512 MiB of samples are 3355 rows of 20 000.
+    assert!((3000..=3400).contains(&line), "{line}");
+}
+
+#[test]
+fn gzip_of_long_rows_within_the_limit_reads_whole() {
+    let dir = dir_with(&[("long.csv.gz", &gzip_of_long_rows(100_000, 40))]);
+    read_only(&dir, &["info", "long.csv.gz"]).expect(0, &["samples      40 (40 lines)"]);
+}
+
 // ---- absurd numbers on the command line ---------------------------------
 
 #[test]

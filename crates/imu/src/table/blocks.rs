@@ -286,12 +286,18 @@ impl BlockOut {
         spare: &Mutex<Vec<Vec<f64>>>,
     ) -> Result<(), ReadError> {
         let too_big = |kind| ReadError::new(path, kind).at(lines_before + self.lines.max(1), None);
-        for (dst, src) in into.columns.iter_mut().zip(&self.columns) {
-            if dst.is_empty() {
-                into.budget.adopt(src.capacity()).map_err(too_big)?;
-            } else {
-                into.budget.grow(dst, src.len()).map_err(too_big)?;
+        let rows = self.columns.first().map_or(0, Vec::len);
+        if rows == 0 {
+            // Comments or blank lines alone: nothing to hold.
+        } else if into.columns.iter().all(Vec::is_empty) {
+            for (dst, src) in into.columns.iter().zip(&self.columns) {
+                into.budget
+                    .adopt(dst.capacity(), src.capacity())
+                    .map_err(too_big)?;
             }
+        } else {
+            let extra: Vec<usize> = self.columns.iter().map(Vec::len).collect();
+            into.budget.grow(&mut into.columns, &extra).map_err(too_big)?;
         }
         into.problems.extend(
             self.problems
@@ -302,7 +308,7 @@ impl BlockOut {
         let columns = &mut into.columns;
         let mut spare = spare.lock().unwrap_or_else(|p| p.into_inner());
         for (dst, src) in columns.iter_mut().zip(self.columns) {
-            if dst.is_empty() {
+            if dst.is_empty() && rows > 0 {
                 *dst = src;
             } else {
                 dst.extend_from_slice(&src);

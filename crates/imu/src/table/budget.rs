@@ -73,8 +73,11 @@ impl Budget {
         }
     }
 
-    /// Takes a column built elsewhere (a block's first rows), whole.
-    pub fn adopt(&mut self, capacity: usize) -> Result<(), ReadErrorKind> {
+    /// Takes a column built elsewhere (a block's first rows), whole, in
+    /// place of an empty one of capacity `old` (a block of comments only
+    /// leaves one), which is given back.
+    pub fn adopt(&mut self, old: usize, capacity: usize) -> Result<(), ReadErrorKind> {
+        self.held = self.held.saturating_sub((old as u64).saturating_mul(VALUE_BYTES));
         self.take((capacity as u64).saturating_mul(VALUE_BYTES))
     }
 
@@ -83,23 +86,43 @@ impl Budget {
         self.limit.is_none_or(|l| self.held.saturating_add(bytes) <= l)
     }
 
-    /// Grows `column` to hold `extra` more values: to twice its capacity
-    /// (amortised appends, as `Vec` grows), or by a quarter, or to just
-    /// what they need, the first that fits the budget; counted before it
-    /// is asked of the system, and asked fallibly. Stepping down keeps a
-    /// column that fits from being refused for its doubling.
-    pub fn grow(&mut self, column: &mut Vec<f64>, extra: usize) -> Result<(), ReadErrorKind> {
-        let need = column.len().saturating_add(extra);
-        let cap = column.capacity();
-        if need <= cap {
-            return Ok(());
+    /// Grows each column to hold its `extra` more values: to twice its
+    /// capacity (amortised appends, as `Vec` grows), or by a quarter, or by
+    /// an even share of what is left, the first step that fits the budget
+    /// for all the columns together; counted before it is asked of the
+    /// system, and asked fallibly. Stepping down keeps columns that fit
+    /// from being refused for their doubling; the last step takes all that
+    /// is left at once, so the columns are not copied block after block.
+    pub fn grow(&mut self, columns: &mut [Vec<f64>], extra: &[usize]) -> Result<(), ReadErrorKind> {
+        let growing = columns
+            .iter()
+            .zip(extra)
+            .filter(|(c, e)| c.len() + *e > c.capacity())
+            .count();
+        let left = self.limit.map_or(0, |l| l.saturating_sub(self.held));
+        let share = usize::try_from(left / VALUE_BYTES / growing.max(1) as u64).unwrap_or(usize::MAX);
+        let target = |c: &Vec<f64>, extra: usize, step: usize| {
+            let need = c.len().saturating_add(extra);
+            let cap = c.capacity();
+            match step {
+                _ if need <= cap => cap,
+                0 => cap.saturating_mul(2).max(need),
+                1 => cap.saturating_add(cap / 4).max(need),
+                _ => cap.saturating_add(share).max(need),
+            }
+        };
+        let bytes = |step| {
+            columns.iter().zip(extra).fold(0u64, |sum, (c, &e)| {
+                let more = (target(c, e, step) - c.capacity()) as u64;
+                sum.saturating_add(more.saturating_mul(VALUE_BYTES))
+            })
+        };
+        let step = (0..2).find(|&s| self.fits(bytes(s))).unwrap_or(2);
+        for (c, &e) in columns.iter_mut().zip(extra) {
+            let t = target(c, e, step);
+            self.reserve_exact(c, t)?;
         }
-        let target = [cap.saturating_mul(2), cap.saturating_add(cap / 4)]
-            .into_iter()
-            .map(|t| t.max(need))
-            .find(|&t| self.fits(((t - cap) as u64).saturating_mul(VALUE_BYTES)))
-            .unwrap_or(need);
-        self.reserve_exact(column, target)
+        Ok(())
     }
 
     /// Gives `column` a capacity of `capacity` values, counted and asked
@@ -131,25 +154,34 @@ mod tests {
 
     #[test]
     fn the_budget_counts_capacity_and_refuses_the_growth_that_crosses_it() {
-        let mut b = Budget::new(Some(8 * 100));
-        let mut c = Vec::new();
-        b.grow(&mut c, 30).unwrap();
-        c.extend([1.0; 30]);
-        // Doubling while it fits: 60 reserved.
-        b.grow(&mut c, 1).unwrap();
-        assert_eq!((c.capacity(), b.held), (60, 8 * 60));
-        c.extend([1.0; 30]);
-        // 120 would not fit; a quarter more does.
-        b.grow(&mut c, 1).unwrap();
-        assert_eq!((c.capacity(), b.held), (75, 8 * 75));
-        c.extend([1.0; 15]);
-        // Then just what is needed, to the last value that fits.
-        b.grow(&mut c, 25).unwrap();
-        assert_eq!((c.capacity(), b.held), (100, 8 * 100));
-        c.extend([1.0; 25]);
-        let e = b.grow(&mut c, 1).unwrap_err();
+        // Two columns of 8 × 100 bytes each.
+        let mut b = Budget::new(Some(2 * 8 * 100));
+        let mut c = vec![Vec::new(), Vec::new()];
+        let fill = |c: &mut [Vec<f64>], n| c.iter_mut().for_each(|c| c.extend(std::iter::repeat_n(1.0, n)));
+        b.grow(&mut c, &[30, 30]).unwrap();
+        fill(&mut c, 30);
+        // Doubling while it fits: 60 reserved each.
+        b.grow(&mut c, &[1, 1]).unwrap();
+        assert_eq!((c[0].capacity(), c[1].capacity(), b.held), (60, 60, 2 * 8 * 60));
+        fill(&mut c, 30);
+        // 120 would not fit both; a quarter more does, for both alike.
+        b.grow(&mut c, &[1, 1]).unwrap();
+        assert_eq!((c[0].capacity(), c[1].capacity(), b.held), (75, 75, 2 * 8 * 75));
+        fill(&mut c, 15);
+        b.grow(&mut c, &[1, 1]).unwrap();
+        assert_eq!(c[0].capacity(), 93);
+        fill(&mut c, 18);
+        // Then all that is left, at once.
+        b.grow(&mut c, &[1, 1]).unwrap();
+        assert_eq!((c[0].capacity(), b.held), (100, 2 * 8 * 100));
+        fill(&mut c, 7);
+        let e = b.grow(&mut c, &[1, 1]).unwrap_err();
         assert!(matches!(e, ReadErrorKind::TooLarge { .. }), "{e}");
-        assert_eq!(c.capacity(), 100, "a refused growth asks nothing of the system");
+        assert_eq!(
+            c[0].capacity(),
+            100,
+            "a refused growth asks nothing of the system"
+        );
         assert!(Budget::new(None).take(u64::MAX).is_ok());
     }
 
@@ -166,9 +198,9 @@ mod tests {
 
     #[test]
     fn a_growth_the_system_refuses_is_an_error() {
-        let mut c = vec![0.0; 4];
-        let e = Budget::new(None).grow(&mut c, usize::MAX / 16).unwrap_err();
+        let mut c = vec![vec![0.0; 4]];
+        let e = Budget::new(None).grow(&mut c, &[usize::MAX / 16]).unwrap_err();
         assert!(matches!(e, ReadErrorKind::OutOfMemory { .. }), "{e}");
-        assert_eq!(c.len(), 4);
+        assert_eq!(c[0].len(), 4);
     }
 }

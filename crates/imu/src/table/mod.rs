@@ -277,6 +277,16 @@ impl TableReader {
 
     /// [`TableReader::read`] under a policy for bad rows.
     pub fn read_with(self, select: Option<&[usize]>, policy: &ReadPolicy) -> Result<Table, ReadError> {
+        self.read_within(select, policy, budget::column_limit())
+    }
+
+    /// [`TableReader::read_with`], the columns held to `limit` bytes.
+    fn read_within(
+        self,
+        select: Option<&[usize]>,
+        policy: &ReadPolicy,
+        limit: Option<u64>,
+    ) -> Result<Table, ReadError> {
         let ncols = self.names.len();
         let select: Vec<usize> = match select {
             Some(s) => s.to_vec(),
@@ -302,7 +312,7 @@ impl TableReader {
             columns: vec![Vec::new(); select.len()],
             problems: Vec::new(),
             skipped_lines: SkippedLines::default(),
-            budget: budget::Budget::new(budget::column_limit()),
+            budget: budget::Budget::new(limit),
         };
         let body_start_line = match &self.pending {
             Some((line, _)) => *line,

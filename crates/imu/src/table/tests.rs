@@ -362,3 +362,50 @@ fn the_trailer_comes_from_the_stream_tail_of_any_input() {
     assert_eq!(t.rows(), 20_000);
     assert!(t.columns[0].iter().enumerate().all(|(i, &v)| v == i as f64));
 }
+
+#[test]
+fn columns_past_their_memory_limit_stop_at_the_line_that_crosses_it() {
+    let mut content = b"a,b\n".to_vec();
+    for i in 0..200_000 {
+        writeln!(content, "{i},{i}").unwrap();
+    }
+    let limit = 2 * 8 * 100_000;
+    for bytes in [content.clone(), gzip(&content)] {
+        let f = file(&bytes);
+        let r = TableReader::open(f.path()).unwrap();
+        let e = r
+            .read_within(None, &ReadPolicy::default(), Some(limit))
+            .unwrap_err();
+        assert!(
+            matches!(e.kind, ReadErrorKind::TooLarge { limit_mib: 1, .. }),
+            "{e}"
+        );
+        // Within a block of the 100 000th row (line 100 001).
+        let line = e.line.unwrap();
+        assert!(line > 50_000 && line <= 100_001 + 131_072, "{line}");
+        // One column of the two fits.
+        let r = TableReader::open(f.path()).unwrap();
+        let t = r
+            .read_within(Some(&[1]), &ReadPolicy::default(), Some(limit))
+            .unwrap();
+        assert_eq!(t.rows(), 200_000);
+    }
+}
+
+#[test]
+fn blocks_of_comments_alone_hold_no_budget() {
+    let mut content = b"a\n".to_vec();
+    content.extend(
+        "# a long comment line, of which there are many\n"
+            .repeat(3 * BLOCK_BYTES / 40)
+            .bytes(),
+    );
+    content.extend(b"1\n2\n");
+    let f = file(&content);
+    let r = TableReader::open(f.path()).unwrap();
+    // A block's column reserves a megabyte; four blocks would not fit.
+    let t = r
+        .read_within(None, &ReadPolicy::default(), Some(3 << 19))
+        .unwrap();
+    assert_eq!(t.columns[0], vec![1.0, 2.0]);
+}
