@@ -1010,6 +1010,62 @@ fn bag_of_two_files_missing_its_second_is_refused() {
     read_only(&dir, &["info", "bag"]).expect(1, &["the storage file bag_split_1.mcap it lists is missing"]);
 }
 
+/// The split bag without its second file, its metadata.yaml given the
+/// per-file counts rosbag2 writes (`files:`, `rosbag2_storage/yaml.hpp`).
+fn split_bag_missing_its_second() -> tempfile::TempDir {
+    let bag = fixture("ros/bag_split");
+    let mut yaml = std::fs::read(bag.join("metadata.yaml")).unwrap();
+    yaml.extend(b"  files:\n    - path: bag_split_0.mcap\n      message_count: 503\n    - path: bag_split_1.mcap\n      message_count: 503\n");
+    dir_with(&[
+        ("bag/metadata.yaml", &yaml),
+        (
+            "bag/bag_split_0.mcap",
+            &std::fs::read(bag.join("bag_split_0.mcap")).unwrap(),
+        ),
+    ])
+}
+
+#[test]
+fn bag_missing_a_listed_file_reads_the_rest_with_allow_partial_and_counts_the_loss() {
+    let dir = split_bag_missing_its_second();
+    read_only(&dir, &["info", "bag"]).expect(1, &["bag_split_1.mcap it lists is missing"]);
+    read_only(&dir, &["info", "bag", "--allow-partial"]).expect(
+        0,
+        &[
+            "500 messages read",
+            "problems     1",
+            "the storage file bag_split_1.mcap that metadata.yaml lists is missing, read without it as allowed: its 503 messages (by metadata.yaml) are not read",
+        ],
+    );
+    let r = read_only(&dir, &["info", "bag", "--allow-partial", "--json"]);
+    r.expect(0, &[]);
+    let doc: serde_json::Value = serde_json::from_str(&r.stdout).unwrap();
+    let problems = doc["files"][0]["problems"].as_array().unwrap();
+    assert!(
+        problems.iter().any(|p| p["kind"] == "skipped_data"
+            && p["count"] == 503
+            && p["message"].as_str().unwrap().contains("bag_split_1.mcap")),
+        "{problems:?}"
+    );
+    // An analysis reads the same and warns of the same loss.
+    read_only(&dir, &["adev", "bag", "--allow-partial"]).expect(0, &["bag_split_1.mcap"]);
+}
+
+#[test]
+fn bag_missing_every_listed_file_is_refused_even_with_allow_partial() {
+    let dir = dir_with(&[("bag/metadata.yaml", YAML), ("bag/stray.mcap", b"\x89MCAP0\r\n")]);
+    let r = read_only(&dir, &["info", "bag", "--allow-partial"]);
+    r.expect(1, &["every storage file it lists is missing, from part_0.mcap"]);
+    assert!(!r.stderr.contains("stray"), "{}", r.stderr);
+}
+
+#[test]
+fn allow_partial_on_a_text_log_is_refused_by_name() {
+    let dir = dir_with(&[("t.csv", b"gyro_x\n1\n2\n3\n")]);
+    read_only(&dir, &["info", "t.csv", "--allow-partial"])
+        .expect(1, &["--allow-partial applies to robot logs"]);
+}
+
 /// A log of sensor_combined whose timestamp is a double (µs), so that a
 /// stamp can be NaN.
 fn ulog_double_stamps(stamps: &[f64]) -> Vec<u8> {

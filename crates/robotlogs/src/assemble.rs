@@ -28,6 +28,9 @@ pub struct Choice {
     /// Largest time grid as a multiple of the samples; `None`:
     /// [`imu::timing::MAX_GRID_FACTOR`].
     pub max_grid_factor: Option<usize>,
+    /// Read a ROS 2 bag whose `metadata.yaml` lists files that are missing
+    /// from those that are there, reporting the loss, instead of refusing.
+    pub allow_partial: bool,
 }
 
 /// One stream found in a log, for `info`.
