@@ -1307,6 +1307,63 @@ fn adev_of_values_near_the_largest_double_says_overflow() {
     assert!(!r.stderr.contains("no requested tau"), "{}", r.stderr);
 }
 
+/// A still six-axis record with a temperature warming by 10 °C, its
+/// gyro_y at ±1e308: what each static analysis reads.
+fn six_axes_with_gyro_y_at_1e308() -> tempfile::TempDir {
+    let mut t = String::from("gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z,temp\n");
+    for k in 0..2000 {
+        let w = |a: usize| (((k * 7 + a * 3) % 11) as f64 - 5.0) * 1e-4;
+        let big = if k % 2 == 0 { "1e308" } else { "-1e308" };
+        t.push_str(&format!(
+            "{},{big},{},{},{},{},{}\n",
+            w(0),
+            w(2),
+            w(3),
+            w(4),
+            9.81 + w(5),
+            25.0 + k as f64 * 0.005
+        ));
+    }
+    dir_with(&[("big.csv", t.as_bytes())])
+}
+
+const GYRO_Y_OVERFLOWS: &str = "column 2 (gyro_y): a value of 1e308 overflows double precision";
+
+#[test]
+fn noise_of_values_near_the_largest_double_says_overflow() {
+    let dir = six_axes_with_gyro_y_at_1e308();
+    let r = read_only(&dir, &["noise", "big.csv", "--rate", "100"]);
+    r.expect(1, &[GYRO_Y_OVERFLOWS]);
+    assert!(
+        !r.stdout.contains("NaN") && !r.stdout.contains("inf"),
+        "{}",
+        r.stdout
+    );
+}
+
+#[test]
+fn thermal_of_values_near_the_largest_double_says_overflow() {
+    let dir = six_axes_with_gyro_y_at_1e308();
+    read_only(&dir, &["thermal", "big.csv", "--rate", "100"]).expect(1, &[GYRO_Y_OVERFLOWS]);
+}
+
+#[test]
+fn tcal_fit_of_values_near_the_largest_double_says_overflow_and_writes_nothing() {
+    let dir = six_axes_with_gyro_y_at_1e308();
+    read_only(
+        &dir,
+        &["tcal", "fit", "big.csv", "--rate", "100", "-o", "model.json"],
+    )
+    .expect(1, &[GYRO_Y_OVERFLOWS]);
+    assert!(!dir.path().join("model.json").exists());
+}
+
+#[test]
+fn ins_of_values_near_the_largest_double_says_overflow() {
+    let dir = six_axes_with_gyro_y_at_1e308();
+    read_only(&dir, &["ins", "big.csv", "--rate", "100"]).expect(1, &[GYRO_Y_OVERFLOWS]);
+}
+
 #[test]
 fn ulog_data_without_a_format_names_the_missing_format() {
     let mut f = ulog::header();
