@@ -1293,6 +1293,44 @@ fn sqlite_bag_with_a_text_timestamp_names_the_column() {
 }
 
 #[test]
+fn sqlite_bag_with_one_row_that_cannot_decode_skips_it_and_counts_it() {
+    // The fixture's rows, one of them given a text timestamp and another
+    // a cut message: each stands alone in its row, so the rest reads.
+    let dir = tempfile::tempdir().unwrap();
+    let bag = dir.path().join("bag.db3");
+    std::fs::copy(fixture("ros/bag_sqlite3/bag_sqlite3.db3"), &bag).unwrap();
+    let db = rusqlite::Connection::open(&bag).unwrap();
+    let (a, b): (i64, i64) = db
+        .query_row(
+            "SELECT min(id), max(id) FROM messages WHERE topic_id = (SELECT id FROM topics WHERE type = 'sensor_msgs/msg/Imu')",
+            [],
+            |r| Ok((r.get(0)?, r.get(1)?)),
+        )
+        .unwrap();
+    let (text, cut) = (a + 10, (a + b) / 2);
+    db.execute(
+        "UPDATE messages SET timestamp = 'yesterday' WHERE id = ?1",
+        [text],
+    )
+    .unwrap();
+    db.execute("UPDATE messages SET data = x'000100' WHERE id = ?1", [cut])
+        .unwrap();
+    drop(db);
+    let r = read_only(&dir, &["info", "bag.db3"]);
+    r.expect(
+        0,
+        &[
+            "998 messages read",
+            // The two skipped, and the two gaps they leave on the clock.
+            "problems     4",
+            &format!("(row id {text}) skipped: SQLite: the timestamp column of the messages table holds Text, not INTEGER"),
+            &format!("(row id {cut}) on /imu/data skipped: malformed CDR message"),
+        ],
+    );
+    assert!(!r.stdout.contains("problems     none"), "{}", r.stdout);
+}
+
+#[test]
 fn adev_of_values_near_the_largest_double_says_overflow() {
     let mut t = String::from("gyro_x\n");
     for k in 0..600 {
