@@ -1330,6 +1330,63 @@ fn sqlite_bag_with_one_row_that_cannot_decode_skips_it_and_counts_it() {
     assert!(!r.stdout.contains("problems     none"), "{}", r.stdout);
 }
 
+/// The records of an MCAP file after its magic: (opcode, start, length).
+fn mcap_records(f: &[u8]) -> Vec<(u8, usize, usize)> {
+    let mut out = Vec::new();
+    let mut at = 8;
+    while at + 9 <= f.len() {
+        let len = u64::from_le_bytes(f[at + 1..at + 9].try_into().unwrap()) as usize;
+        out.push((f[at], at, len));
+        if f[at] == 0x02 {
+            break;
+        }
+        at += 9 + len;
+    }
+    out
+}
+
+#[test]
+fn mcap_chunk_of_corrupt_bytes_is_skipped_by_its_length_and_counted() {
+    let mut f = std::fs::read(fixture("ros/imu_zstd.mcap")).unwrap();
+    let chunks: Vec<(usize, usize)> = mcap_records(&f)
+        .into_iter()
+        .filter(|r| r.0 == 0x06)
+        .map(|r| (r.1, r.2))
+        .collect();
+    assert_eq!(chunks.len(), 6);
+    let (start, len) = chunks[1];
+    // Its compressed records, in the last part of the record, garbled.
+    for b in &mut f[start + 9 + len / 2..start + 9 + len / 2 + 64] {
+        *b ^= 0x5a;
+    }
+    let dir = dir_with(&[("corrupt.mcap", &f)]);
+    let end = start + 9 + len;
+    read_only(&dir, &["info", "corrupt.mcap"]).expect(
+        0,
+        &[&format!(
+            "bytes {start}..{end} ({} bytes) skipped: a corrupt MCAP chunk",
+            9 + len
+        )],
+    );
+}
+
+#[test]
+fn mcap_first_chunk_corrupt_with_the_channels_in_it_says_so() {
+    let mut f = std::fs::read(fixture("ros/imu_zstd.mcap")).unwrap();
+    let (_, start, len) = mcap_records(&f).into_iter().find(|r| r.0 == 0x06).unwrap();
+    for b in &mut f[start + 9 + len / 2..start + 9 + len / 2 + 64] {
+        *b ^= 0x5a;
+    }
+    let dir = dir_with(&[("corrupt.mcap", &f)]);
+    read_only(&dir, &["info", "corrupt.mcap"]).expect(
+        1,
+        &[&format!(
+            "are on channels defined only in a corrupt chunk that was skipped (bytes {start}..{}): none can be read",
+            start + 9 + len
+        )],
+    );
+}
+
 #[test]
 fn adev_of_values_near_the_largest_double_says_overflow() {
     let mut t = String::from("gyro_x\n");

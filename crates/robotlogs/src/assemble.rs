@@ -265,7 +265,7 @@ fn losses(path: &Path, losses: &[crate::streams::Loss], report: &mut ReadReport)
 /// Each message skipped as undecodable as a problem; the first also gives
 /// the share of the IMU and temperature messages, past [`LOSS_SHARE`].
 fn bad_messages(skipped: &[crate::streams::BadMessage], read: usize, report: &mut ReadReport) {
-    let bad = skipped.len();
+    let bad: usize = skipped.iter().map(|m| m.count).sum();
     let share = bad as f64 / (bad + read).max(1) as f64;
     for (k, m) in skipped.iter().enumerate() {
         if k >= imu::read_report::MAX_LISTED {
@@ -286,7 +286,7 @@ fn bad_messages(skipped: &[crate::streams::BadMessage], read: usize, report: &mu
             line: None,
             column: None,
             channel: None,
-            count: 1,
+            count: m.count,
             message: format!("{} skipped: {}{of_log}", m.at, m.why),
         });
     }

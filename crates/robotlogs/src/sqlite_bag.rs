@@ -73,6 +73,7 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
                 out.bad_messages.push(BadMessage {
                     at: listed,
                     why: format!("SQLite: {why}"),
+                    count: 1,
                 });
             }
             Err(Fault::Cdr(topic, why)) => {
@@ -82,6 +83,7 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
                 out.bad_messages.push(BadMessage {
                     at: format!("{listed} on {topic}"),
                     why: format!("malformed CDR message: {why}"),
+                    count: 1,
                 });
             }
         }

@@ -151,6 +151,8 @@ pub struct BadMessage {
     pub at: String,
     /// Why it was skipped.
     pub why: String,
+    /// The messages it stands for.
+    pub count: usize,
 }
 
 /// A stretch of a log skipped as undecodable: where, and how much.
