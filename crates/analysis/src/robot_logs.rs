@@ -85,6 +85,7 @@ fn choice_of(opts: &RecordingOptions) -> robotlogs::Choice {
         instance: opts.stream.instance,
         temp_topic: opts.stream.temp_topic.clone(),
         first_if_several: opts.stream.first_if_several,
+        allow_partial: opts.stream.allow_partial,
         rate_hz: opts.rate_hz,
         max_grid_factor: opts.max_grid_factor,
     }

@@ -736,6 +736,12 @@ pub struct ReadArgs {
     /// its gaps.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     pub max_grid_factor: Option<u32>,
+
+    /// Read a ROS 2 bag whose metadata.yaml lists storage files that are
+    /// missing from the files that are there; each missing file is reported
+    /// as a problem with the messages the metadata gives it.
+    #[arg(long)]
+    pub allow_partial: bool,
 }
 
 /// For the analyses of a static sensor (`noise`, `ins`, `tcal fit`,

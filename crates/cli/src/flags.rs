@@ -377,6 +377,7 @@ pub fn recording_options(a: &crate::args::ReadArgs) -> anyhow::Result<imu::Recor
                 instance: a.instance,
                 temp_topic: a.temp_topic.clone(),
                 first_if_several: false,
+                allow_partial: a.allow_partial,
             },
             max_grid_factor: a.max_grid_factor.map(|f| f as usize),
         },

@@ -23,6 +23,34 @@ pub fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) ->
     Ok(sel)
 }
 
+/// Refuses a selection holding a value whose differences square past the
+/// largest double (beyond √MAX/2, about ±6.7e153): every deviation, fit
+/// and integral over it would be infinite or NaN, so the column is named
+/// and the cause said, as `adev` says it (`commands::adev::run`).
+pub fn refuse_overflow(sel: &Selection) -> Result<()> {
+    let limit = f64::MAX.sqrt() / 2.0;
+    let beyond = |data: &[f64]| data.iter().copied().find(|v| v.is_finite() && v.abs() > limit);
+    for ch in &sel.channels {
+        if let Some(v) = beyond(&ch.data) {
+            anyhow::bail!(
+                "{}: column {} ({}): a value of {v:e} overflows double precision in the statistics (values must stay within ±{limit:.1e})",
+                ch.file.display(),
+                ch.column,
+                ch.name
+            );
+        }
+    }
+    if let (Some(t), Some(ch)) = (&sel.temperature, sel.channels.first())
+        && let Some(v) = beyond(t)
+    {
+        anyhow::bail!(
+            "{}: the temperature channel: a value of {v:e} °C overflows double precision in the statistics (values must stay within ±{limit:.1e})",
+            ch.file.display()
+        );
+    }
+    Ok(())
+}
+
 /// [`read_channels`] for an analysis of a static sensor (`noise`, `ins`,
 /// `tcal fit`, `tcal eval`): a record that moves is refused unless
 /// `allow_motion` (`--allow-motion`), and then analysed with a warning.
@@ -33,6 +61,7 @@ pub fn read_static_channels(
     allow_motion: bool,
 ) -> Result<Selection> {
     let sel = read_channels(file, wanted, read)?;
+    refuse_overflow(&sel)?;
     // A dead channel is shown (among the notes) and left to the command:
     // `noise` refuses it, navigation shows what it costs.
     if let Err(e) = sel.checks.require_static(&[], allow_motion) {

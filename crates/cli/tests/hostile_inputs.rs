@@ -696,6 +696,44 @@ fn table_of_60000_columns_is_read_in_linear_time() {
     );
 }
 
+/// A gzip table of `rows` rows of `columns` zeros, 4 MB at most: one
+/// member repeated (members read as their concatenation), so that each
+/// kilobyte stands for a megabyte of text and four of samples.
+fn gzip_of_long_rows(columns: usize, rows: usize) -> Vec<u8> {
+    let row = vec!["0"; columns].join(",") + "\n";
+    let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+    e.write_all(row.as_bytes()).unwrap();
+    let member = e.finish().unwrap();
+    let bytes = member.repeat(rows);
+    assert!(bytes.len() <= 4 << 20, "{}", bytes.len());
+    bytes
+}
+
+#[test]
+fn gzip_of_long_rows_unpacking_past_the_memory_limit_is_refused_at_its_line() {
+    // 2 GB of text, 8 GB of samples: the columns read stop at a quarter of
+    // the address space this run may take, at the line that crosses it,
+    // where the allocator used to abort.
+    let dir = dir_with(&[("long.csv.gz", &gzip_of_long_rows(20_000, 50_000))]);
+    let r = read_only(&dir, &["adev", "long.csv.gz", "--rate", "100"]);
+    r.expect(1, &["MiB a read may take", "read fewer columns"]);
+    let line: u64 = r
+        .stderr
+        .split("long.csv.gz:")
+        .nth(1)
+        .and_then(|s| s.split(':').next())
+        .and_then(|l| l.parse().ok())
+        .unwrap_or_else(|| panic!("no line in {:?}", r.stderr));
+    // 512 MiB of samples are 3355 rows of 20 000.
+    assert!((3000..=3400).contains(&line), "{line}");
+}
+
+#[test]
+fn gzip_of_long_rows_within_the_limit_reads_whole() {
+    let dir = dir_with(&[("long.csv.gz", &gzip_of_long_rows(100_000, 40))]);
+    read_only(&dir, &["info", "long.csv.gz"]).expect(0, &["samples      40 (40 lines)"]);
+}
+
 // ---- absurd numbers on the command line ---------------------------------
 
 #[test]
@@ -972,6 +1010,62 @@ fn bag_of_two_files_missing_its_second_is_refused() {
     read_only(&dir, &["info", "bag"]).expect(1, &["the storage file bag_split_1.mcap it lists is missing"]);
 }
 
+/// The split bag without its second file, its metadata.yaml given the
+/// per-file counts rosbag2 writes (`files:`, `rosbag2_storage/yaml.hpp`).
+fn split_bag_missing_its_second() -> tempfile::TempDir {
+    let bag = fixture("ros/bag_split");
+    let mut yaml = std::fs::read(bag.join("metadata.yaml")).unwrap();
+    yaml.extend(b"  files:\n    - path: bag_split_0.mcap\n      message_count: 503\n    - path: bag_split_1.mcap\n      message_count: 503\n");
+    dir_with(&[
+        ("bag/metadata.yaml", &yaml),
+        (
+            "bag/bag_split_0.mcap",
+            &std::fs::read(bag.join("bag_split_0.mcap")).unwrap(),
+        ),
+    ])
+}
+
+#[test]
+fn bag_missing_a_listed_file_reads_the_rest_with_allow_partial_and_counts_the_loss() {
+    let dir = split_bag_missing_its_second();
+    read_only(&dir, &["info", "bag"]).expect(1, &["bag_split_1.mcap it lists is missing"]);
+    read_only(&dir, &["info", "bag", "--allow-partial"]).expect(
+        0,
+        &[
+            "500 messages read",
+            "problems     1",
+            "the storage file bag_split_1.mcap that metadata.yaml lists is missing, read without it as allowed: its 503 messages (by metadata.yaml) are not read",
+        ],
+    );
+    let r = read_only(&dir, &["info", "bag", "--allow-partial", "--json"]);
+    r.expect(0, &[]);
+    let doc: serde_json::Value = serde_json::from_str(&r.stdout).unwrap();
+    let problems = doc["files"][0]["problems"].as_array().unwrap();
+    assert!(
+        problems.iter().any(|p| p["kind"] == "skipped_data"
+            && p["count"] == 503
+            && p["message"].as_str().unwrap().contains("bag_split_1.mcap")),
+        "{problems:?}"
+    );
+    // An analysis reads the same and warns of the same loss.
+    read_only(&dir, &["adev", "bag", "--allow-partial"]).expect(0, &["bag_split_1.mcap"]);
+}
+
+#[test]
+fn bag_missing_every_listed_file_is_refused_even_with_allow_partial() {
+    let dir = dir_with(&[("bag/metadata.yaml", YAML), ("bag/stray.mcap", b"\x89MCAP0\r\n")]);
+    let r = read_only(&dir, &["info", "bag", "--allow-partial"]);
+    r.expect(1, &["every storage file it lists is missing, from part_0.mcap"]);
+    assert!(!r.stderr.contains("stray"), "{}", r.stderr);
+}
+
+#[test]
+fn allow_partial_on_a_text_log_is_refused_by_name() {
+    let dir = dir_with(&[("t.csv", b"gyro_x\n1\n2\n3\n")]);
+    read_only(&dir, &["info", "t.csv", "--allow-partial"])
+        .expect(1, &["--allow-partial applies to robot logs"]);
+}
+
 /// A log of sensor_combined whose timestamp is a double (µs), so that a
 /// stamp can be NaN.
 fn ulog_double_stamps(stamps: &[f64]) -> Vec<u8> {
@@ -1199,6 +1293,167 @@ fn sqlite_bag_with_a_text_timestamp_names_the_column() {
 }
 
 #[test]
+fn sqlite_bag_with_one_row_that_cannot_decode_skips_it_and_counts_it() {
+    // The fixture's rows, one of them given a text timestamp and another
+    // a cut message: each stands alone in its row, so the rest reads.
+    let dir = tempfile::tempdir().unwrap();
+    let bag = dir.path().join("bag.db3");
+    std::fs::copy(fixture("ros/bag_sqlite3/bag_sqlite3.db3"), &bag).unwrap();
+    let db = rusqlite::Connection::open(&bag).unwrap();
+    let (a, b): (i64, i64) = db
+        .query_row(
+            "SELECT min(id), max(id) FROM messages WHERE topic_id = (SELECT id FROM topics WHERE type = 'sensor_msgs/msg/Imu')",
+            [],
+            |r| Ok((r.get(0)?, r.get(1)?)),
+        )
+        .unwrap();
+    let (text, cut) = (a + 10, (a + b) / 2);
+    db.execute(
+        "UPDATE messages SET timestamp = 'yesterday' WHERE id = ?1",
+        [text],
+    )
+    .unwrap();
+    db.execute("UPDATE messages SET data = x'000100' WHERE id = ?1", [cut])
+        .unwrap();
+    drop(db);
+    let r = read_only(&dir, &["info", "bag.db3"]);
+    r.expect(
+        0,
+        &[
+            "998 messages read",
+            // The two skipped, and the two gaps they leave on the clock.
+            "problems     4",
+            &format!("(row id {text}) skipped: SQLite: the timestamp column of the messages table holds Text, not INTEGER"),
+            &format!("(row id {cut}) on /imu/data skipped: malformed CDR message"),
+        ],
+    );
+    assert!(!r.stdout.contains("problems     none"), "{}", r.stdout);
+}
+
+/// The records of an MCAP file after its magic: (opcode, start, length).
+fn mcap_records(f: &[u8]) -> Vec<(u8, usize, usize)> {
+    let mut out = Vec::new();
+    let mut at = 8;
+    while at + 9 <= f.len() {
+        let len = u64::from_le_bytes(f[at + 1..at + 9].try_into().unwrap()) as usize;
+        out.push((f[at], at, len));
+        if f[at] == 0x02 {
+            break;
+        }
+        at += 9 + len;
+    }
+    out
+}
+
+#[test]
+fn mcap_chunk_of_corrupt_bytes_is_skipped_by_its_length_and_counted() {
+    let mut f = std::fs::read(fixture("ros/imu_zstd.mcap")).unwrap();
+    let chunks: Vec<(usize, usize)> = mcap_records(&f)
+        .into_iter()
+        .filter(|r| r.0 == 0x06)
+        .map(|r| (r.1, r.2))
+        .collect();
+    assert_eq!(chunks.len(), 6);
+    let (start, len) = chunks[1];
+    // Its compressed records, in the last part of the record, garbled.
+    for b in &mut f[start + 9 + len / 2..start + 9 + len / 2 + 64] {
+        *b ^= 0x5a;
+    }
+    let dir = dir_with(&[("corrupt.mcap", &f)]);
+    let end = start + 9 + len;
+    read_only(&dir, &["info", "corrupt.mcap"]).expect(
+        0,
+        &[&format!(
+            "bytes {start}..{end} ({} bytes) skipped: a corrupt MCAP chunk",
+            9 + len
+        )],
+    );
+}
+
+#[test]
+fn mcap_first_chunk_corrupt_with_the_channels_in_it_says_so() {
+    let mut f = std::fs::read(fixture("ros/imu_zstd.mcap")).unwrap();
+    let (_, start, len) = mcap_records(&f).into_iter().find(|r| r.0 == 0x06).unwrap();
+    for b in &mut f[start + 9 + len / 2..start + 9 + len / 2 + 64] {
+        *b ^= 0x5a;
+    }
+    let dir = dir_with(&[("corrupt.mcap", &f)]);
+    read_only(&dir, &["info", "corrupt.mcap"]).expect(
+        1,
+        &[&format!(
+            "are on channels defined only in a corrupt chunk that was skipped (bytes {start}..{}): none can be read",
+            start + 9 + len
+        )],
+    );
+}
+
+/// The chunk records of a ROS 1 bag (format 2.0): (start, end, where
+/// the data starts).
+fn ros1_chunks(f: &[u8]) -> Vec<(usize, usize, usize)> {
+    let u32_at = |at: usize| u32::from_le_bytes(f[at..at + 4].try_into().unwrap()) as usize;
+    let mut out = Vec::new();
+    let mut at = 13;
+    while at + 4 <= f.len() {
+        let header = &f[at + 4..at + 4 + u32_at(at)];
+        let data_at = at + 4 + header.len();
+        let end = data_at + 4 + u32_at(data_at);
+        if header.windows(4).any(|w| w == b"op=\x05") {
+            out.push((at, end, data_at + 4));
+        }
+        at = end;
+    }
+    out
+}
+
+#[test]
+fn ros1_chunk_of_corrupt_bytes_is_skipped_by_its_lengths_and_counted() {
+    // The fixture's one chunk, then a copy of it garbled (imutherm reads
+    // a bag from start to end, not by its index).
+    let bag = std::fs::read(fixture("ros/imu_bz2.bag")).unwrap();
+    let (first, first_end, _) = ros1_chunks(&bag)[0];
+    let mut f = bag[..first_end].to_vec();
+    f.extend_from_slice(&bag[first..first_end]);
+    f.extend_from_slice(&bag[first_end..]);
+    let chunks = ros1_chunks(&f);
+    assert_eq!(chunks.len(), 2, "{chunks:?}");
+    // Its bz2 stream's first bytes garbled: not bz2 at all. (Garbled
+    // further in, bz2 unpacks to another size than the chunk declares,
+    // which stays an error like every declaration that does not hold.)
+    let (start, end, data) = chunks[1];
+    for b in &mut f[data..data + 64] {
+        *b ^= 0x5a;
+    }
+    let dir = dir_with(&[("corrupt.bag", &f)]);
+    read_only(&dir, &["info", "corrupt.bag"]).expect(
+        0,
+        &[&format!(
+            "bytes {start}..{end} ({} bytes) skipped: a corrupt ROS 1 bag chunk",
+            end - start
+        )],
+    );
+}
+
+#[test]
+fn ros1_uncompressed_chunk_whose_records_do_not_frame_is_skipped_and_counted() {
+    let bag = std::fs::read(fixture("ros/imu_none.bag")).unwrap();
+    let (first, first_end, _) = ros1_chunks(&bag)[0];
+    let mut f = bag[..first_end].to_vec();
+    f.extend_from_slice(&bag[first..first_end]);
+    f.extend_from_slice(&bag[first_end..]);
+    let (start, end, data) = ros1_chunks(&f)[1];
+    // The first record inside claims a header of 4 GiB.
+    f[data..data + 4].copy_from_slice(&0xFFFF_FF00u32.to_le_bytes());
+    let dir = dir_with(&[("corrupt.bag", &f)]);
+    read_only(&dir, &["info", "corrupt.bag"]).expect(
+        0,
+        &[&format!(
+            "bytes {start}..{end} ({} bytes) skipped: a corrupt ROS 1 bag chunk: its records do not frame",
+            end - start
+        )],
+    );
+}
+
+#[test]
 fn adev_of_values_near_the_largest_double_says_overflow() {
     let mut t = String::from("gyro_x\n");
     for k in 0..600 {
@@ -1211,6 +1466,63 @@ fn adev_of_values_near_the_largest_double_says_overflow() {
         &["column 1 (gyro_x): a value of 1e308 overflows double precision"],
     );
     assert!(!r.stderr.contains("no requested tau"), "{}", r.stderr);
+}
+
+/// A still six-axis record with a temperature warming by 10 °C, its
+/// gyro_y at ±1e308: what each static analysis reads.
+fn six_axes_with_gyro_y_at_1e308() -> tempfile::TempDir {
+    let mut t = String::from("gyro_x,gyro_y,gyro_z,accel_x,accel_y,accel_z,temp\n");
+    for k in 0..2000 {
+        let w = |a: usize| (((k * 7 + a * 3) % 11) as f64 - 5.0) * 1e-4;
+        let big = if k % 2 == 0 { "1e308" } else { "-1e308" };
+        t.push_str(&format!(
+            "{},{big},{},{},{},{},{}\n",
+            w(0),
+            w(2),
+            w(3),
+            w(4),
+            9.81 + w(5),
+            25.0 + k as f64 * 0.005
+        ));
+    }
+    dir_with(&[("big.csv", t.as_bytes())])
+}
+
+const GYRO_Y_OVERFLOWS: &str = "column 2 (gyro_y): a value of 1e308 overflows double precision";
+
+#[test]
+fn noise_of_values_near_the_largest_double_says_overflow() {
+    let dir = six_axes_with_gyro_y_at_1e308();
+    let r = read_only(&dir, &["noise", "big.csv", "--rate", "100"]);
+    r.expect(1, &[GYRO_Y_OVERFLOWS]);
+    assert!(
+        !r.stdout.contains("NaN") && !r.stdout.contains("inf"),
+        "{}",
+        r.stdout
+    );
+}
+
+#[test]
+fn thermal_of_values_near_the_largest_double_says_overflow() {
+    let dir = six_axes_with_gyro_y_at_1e308();
+    read_only(&dir, &["thermal", "big.csv", "--rate", "100"]).expect(1, &[GYRO_Y_OVERFLOWS]);
+}
+
+#[test]
+fn tcal_fit_of_values_near_the_largest_double_says_overflow_and_writes_nothing() {
+    let dir = six_axes_with_gyro_y_at_1e308();
+    read_only(
+        &dir,
+        &["tcal", "fit", "big.csv", "--rate", "100", "-o", "model.json"],
+    )
+    .expect(1, &[GYRO_Y_OVERFLOWS]);
+    assert!(!dir.path().join("model.json").exists());
+}
+
+#[test]
+fn ins_of_values_near_the_largest_double_says_overflow() {
+    let dir = six_axes_with_gyro_y_at_1e308();
+    read_only(&dir, &["ins", "big.csv", "--rate", "100"]).expect(1, &[GYRO_Y_OVERFLOWS]);
 }
 
 #[test]

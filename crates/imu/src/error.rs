@@ -96,6 +96,25 @@ pub enum ReadErrorKind {
     /// A directory given where a file is read.
     #[error("is a directory, not a file")]
     IsDirectory,
+    /// The columns read would take more memory than a read may: half of
+    /// what the process may use.
+    #[error(
+        "the columns read would need {held_mib} MiB by this line, more than the {limit_mib} MiB a read may take (half the machine's memory, a quarter of the process's address-space limit); read fewer columns or a shorter part of the file"
+    )]
+    TooLarge {
+        /// What the columns would hold, MiB.
+        held_mib: u64,
+        /// What they may hold, MiB.
+        limit_mib: u64,
+    },
+    /// The system refused the memory to grow the columns.
+    #[error(
+        "the system refused the memory for the columns read by this line ({needed_mib} MiB a column); read fewer columns or a shorter part of the file"
+    )]
+    OutOfMemory {
+        /// The size a column needed, MiB.
+        needed_mib: u64,
+    },
 }
 
 /// A reading error with its place.

@@ -21,7 +21,8 @@ use crate::stamps::stamp_slots;
 /// chosen, `info` summarises the first; here, as in every analysis, the
 /// reader refuses and lists them).
 #[pyfunction]
-#[pyo3(signature = (path, rate=None, units=Vec::new(), topic=None, instance=None, temp_topic=None))]
+#[pyo3(signature = (path, rate=None, units=Vec::new(), topic=None, instance=None, temp_topic=None, allow_partial=false))]
+#[allow(clippy::too_many_arguments)]
 pub fn read(
     py: Python<'_>,
     path: PathBuf,
@@ -30,6 +31,7 @@ pub fn read(
     topic: Option<String>,
     instance: Option<u32>,
     temp_topic: Option<String>,
+    allow_partial: bool,
 ) -> PyResult<Py<PyDict>> {
     let choices = ReadingChoices {
         rate_hz: rate,
@@ -39,6 +41,7 @@ pub fn read(
             instance,
             temp_topic,
             first_if_several: false,
+            allow_partial,
         },
         ..ReadingChoices::default()
     };

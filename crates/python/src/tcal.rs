@@ -44,6 +44,7 @@ fn options(r: Reading) -> PyResult<RecordingOptions> {
             instance: r.instance,
             temp_topic: r.temp_topic,
             first_if_several: false,
+            allow_partial: false,
         },
         ..ReadingChoices::default()
     })

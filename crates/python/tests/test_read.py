@@ -7,6 +7,7 @@ DFReader), and, when IMUTHERM_BIN names the command line, against its
 import json
 import os
 import pathlib
+import shutil
 import subprocess
 
 import numpy as np
@@ -106,6 +107,27 @@ def test_missing_file_is_an_os_error_with_the_command_line_message(tmp_path):
         imutherm.read(missing)
     with pytest.raises(IsADirectoryError, match=f"{tmp_path}: is a directory, not a file"):
         imutherm.read(tmp_path)
+
+
+def test_allow_partial_reads_a_bag_missing_a_listed_file_and_reports_the_loss(tmp_path):
+    bag = tmp_path / "bag"
+    bag.mkdir()
+    shutil.copy(FIXTURES / "bag_split" / "bag_split_0.mcap", bag)
+    # rosbag2's per-file entries (rosbag2_storage/yaml.hpp: path, message_count).
+    (bag / "metadata.yaml").write_text((FIXTURES / "bag_split" / "metadata.yaml").read_text()
+                                       + "  files:\n    - path: bag_split_1.mcap\n"
+                                       + "      message_count: 503\n")
+    with pytest.raises(imutherm.ImuthermError, match="bag_split_1.mcap it lists is missing"):
+        imutherm.read(bag)
+    rec = imutherm.read(bag, allow_partial=True)
+    assert len(rec) == 500
+    lost = [p for p in rec.problems if p["kind"] == "skipped_data"]
+    assert len(lost) == 1 and lost[0]["count"] == 503 and "bag_split_1.mcap" in lost[0]["message"]
+    text = tmp_path / "t.csv"
+    text.write_text("gyro_x\n1\n2\n3\n")
+    with pytest.raises(ValueError, match=": allow_partial applies to robot logs") as refused:
+        imutherm.read(text, allow_partial=True)
+    assert "--" not in str(refused.value)
 
 
 def test_bad_option_is_a_value_error_naming_the_keyword():

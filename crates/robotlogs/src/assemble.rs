@@ -28,6 +28,9 @@ pub struct Choice {
     /// Largest time grid as a multiple of the samples; `None`:
     /// [`imu::timing::MAX_GRID_FACTOR`].
     pub max_grid_factor: Option<usize>,
+    /// Read a ROS 2 bag whose `metadata.yaml` lists files that are missing
+    /// from those that are there, reporting the loss, instead of refusing.
+    pub allow_partial: bool,
 }
 
 /// One stream found in a log, for `info`.
@@ -259,6 +262,36 @@ fn losses(path: &Path, losses: &[crate::streams::Loss], report: &mut ReadReport)
     }
 }
 
+/// Each message skipped as undecodable as a problem; the first also gives
+/// the share of the IMU and temperature messages, past [`LOSS_SHARE`].
+fn bad_messages(skipped: &[crate::streams::BadMessage], read: usize, report: &mut ReadReport) {
+    let bad: usize = skipped.iter().map(|m| m.count).sum();
+    let share = bad as f64 / (bad + read).max(1) as f64;
+    for (k, m) in skipped.iter().enumerate() {
+        if k >= imu::read_report::MAX_LISTED {
+            report.unlisted += 1;
+            continue;
+        }
+        let of_log = if k == 0 && share > LOSS_SHARE {
+            format!(
+                "; {bad} of {} messages skipped, {:.1} %",
+                bad + read,
+                100.0 * share
+            )
+        } else {
+            String::new()
+        };
+        report.problems.push(Problem {
+            kind: ProblemKind::SkippedData,
+            line: None,
+            column: None,
+            channel: None,
+            count: m.count,
+            message: format!("{} skipped: {}{of_log}", m.at, m.why),
+        });
+    }
+}
+
 /// What a stream's stamps are, for a clock that cannot be fitted: how many
 /// are unusable, repeat the previous one or step back.
 fn describe_stamps(t: &[f64]) -> String {
@@ -345,6 +378,8 @@ pub fn assemble(
         choose_temp(path, &d, c)?.and_then(|t| d.temps.iter().position(|x| x.name == t.name))
     };
     let mut streams = summaries(&d);
+    // Before the chosen stream's samples move out.
+    let read_messages: usize = streams.iter().map(|s| s.messages).sum();
     // The chosen stream's samples move into the recording: memory stays
     // near the decoded data, with no second copy of the stream.
     let mut s = std::mem::take(&mut d.imu[idx]);
@@ -362,6 +397,7 @@ pub fn assemble(
     };
     report.notes.extend(d.notes.iter().cloned());
     losses(path, &d.losses, &mut report);
+    bad_messages(&d.bad_messages, read_messages, &mut report);
     report.notes.push(format!("time source: {why}"));
 
     let (temp, temp_source) = match (temp_topic.map(|k| &d.temps[k]), s.temp.take()) {

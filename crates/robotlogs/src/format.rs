@@ -91,6 +91,33 @@ pub fn detect(path: &Path) -> Option<Format> {
 /// silently lose its part of the data), a file it does not list is never
 /// read, and a listed path leaving the directory is refused.
 pub fn bag_files(dir: &Path) -> Result<Vec<PathBuf>, LogError> {
+    Ok(bag_storage(dir, false)?.present)
+}
+
+/// The storage files of a bag: those there, and those listed but missing.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct BagStorage {
+    /// The listed files that are there, in order.
+    pub present: Vec<PathBuf>,
+    /// The listed files that are not.
+    pub missing: Vec<MissingFile>,
+}
+
+/// A storage file `metadata.yaml` lists that is not in the directory.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MissingFile {
+    /// Its name, as listed.
+    pub name: String,
+    /// The messages it held, by the `message_count` of its entry under
+    /// `files` (rosbag2's `FileInformation`, written since metadata
+    /// version 5); `None` when the metadata does not say.
+    pub messages: Option<u64>,
+}
+
+/// [`bag_files`], or with `allow_partial` the files that are there and
+/// those missing, for the caller to report. A bag with none of its files
+/// is an error either way.
+pub fn bag_storage(dir: &Path, allow_partial: bool) -> Result<BagStorage, LogError> {
     let yaml = dir.join("metadata.yaml");
     let meta = std::fs::read_to_string(&yaml).map_err(|e| LogError::new(&yaml, e.into()))?;
     let mut listed = Vec::new();
@@ -131,20 +158,75 @@ pub fn bag_files(dir: &Path) -> Result<Vec<PathBuf>, LogError> {
             "relative_file_paths lists no storage file",
         ));
     }
-    if let Some(missing) = listed.iter().find(|p| !p.is_file()) {
+    let name_of = |p: &Path| {
+        p.file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    };
+    let (present, missing): (Vec<PathBuf>, Vec<PathBuf>) = listed.into_iter().partition(|p| p.is_file());
+    if let Some(first) = missing.first()
+        && (!allow_partial || present.is_empty())
+    {
+        let why = if present.is_empty() && allow_partial {
+            "every storage file it lists is missing, from".to_string()
+        } else {
+            "the storage file".to_string()
+        };
         return Err(malformed(
             &yaml,
             "ROS 2 bag",
             format!(
-                "the storage file {} it lists is missing: the bag is incomplete",
-                missing
-                    .file_name()
-                    .map(|n| n.to_string_lossy())
-                    .unwrap_or_default()
+                "{why} {} it lists is missing: the bag is incomplete",
+                name_of(first)
             ),
         ));
     }
-    Ok(listed)
+    let counts = file_message_counts(&meta);
+    let missing = missing
+        .iter()
+        .map(|p| {
+            let name = name_of(p);
+            let messages = counts.iter().find(|(n, _)| *n == name).map(|&(_, c)| c);
+            MissingFile { name, messages }
+        })
+        .collect();
+    Ok(BagStorage { present, missing })
+}
+
+/// Each `path` under `files` with its `message_count`, as rosbag2 writes
+/// them (`rosbag2_storage/yaml.hpp`, `convert<FileInformation>::encode`:
+/// `path`, `starting_time`, `duration`, `message_count`). The bag's own
+/// `message_count` and the topics' lie outside the `files` block.
+fn file_message_counts(meta: &str) -> Vec<(String, u64)> {
+    let indent = |l: &str| l.len() - l.trim_start().len();
+    let mut out = Vec::new();
+    let mut block: Option<usize> = None;
+    let mut path: Option<String> = None;
+    for line in meta.lines() {
+        let t = line.trim();
+        if t.is_empty() {
+            continue;
+        }
+        if t == "files:" {
+            block = Some(indent(line));
+            continue;
+        }
+        let Some(at) = block else { continue };
+        if indent(line) <= at && !t.starts_with('-') {
+            block = None;
+            continue;
+        }
+        let entry = t.strip_prefix("- ").unwrap_or(t);
+        if let Some(p) = entry.strip_prefix("path:") {
+            path = Some(p.trim().trim_matches(['"', '\'']).to_string());
+        } else if let (Some(c), Some(p)) = (entry.strip_prefix("message_count:"), &path)
+            && let Ok(c) = c.trim().parse()
+        {
+            out.push((p.clone(), c));
+            path = None;
+        }
+    }
+    out
 }
 
 #[cfg(test)]
@@ -210,5 +292,60 @@ mod tests {
         let dir = bag("storage_identifier: mcap\n", &["stray.mcap"]);
         let e = bag_files(dir.path()).unwrap_err().to_string();
         assert!(e.contains("lists no storage file"), "{e}");
+    }
+
+    /// rosbag2's layout (`rosbag2_storage/yaml.hpp`): the bag's count,
+    /// the topics' counts, then one entry per file.
+    const SPLIT: &str = "rosbag2_bagfile_information:
+  version: 5
+  storage_identifier: mcap
+  relative_file_paths:
+    - a_0.mcap
+    - a_1.mcap
+    - a_2.mcap
+  message_count: 900
+  topics_with_message_count:
+    - topic_metadata:
+        name: /imu
+      message_count: 900
+  files:
+    - path: a_0.mcap
+      starting_time:
+        nanoseconds_since_epoch: 1
+      duration:
+        nanoseconds: 2
+      message_count: 300
+    - path: a_1.mcap
+      starting_time:
+        nanoseconds_since_epoch: 3
+      duration:
+        nanoseconds: 4
+      message_count: 250
+  compression_format: zstd
+";
+
+    #[test]
+    fn a_partial_bag_reads_the_files_there_and_names_those_missing_with_their_counts() {
+        let dir = bag(SPLIT, &["a_0.mcap"]);
+        let e = bag_storage(dir.path(), false).unwrap_err().to_string();
+        assert!(e.contains("a_1.mcap it lists is missing"), "{e}");
+        let s = bag_storage(dir.path(), true).unwrap();
+        assert_eq!(s.present, vec![dir.path().join("a_0.mcap")]);
+        assert_eq!(
+            s.missing,
+            vec![
+                MissingFile {
+                    name: "a_1.mcap".into(),
+                    messages: Some(250)
+                },
+                MissingFile {
+                    name: "a_2.mcap".into(),
+                    messages: None
+                },
+            ]
+        );
+        let dir = bag(SPLIT, &[]);
+        let e = bag_storage(dir.path(), true).unwrap_err().to_string();
+        assert!(e.contains("every storage file it lists is missing"), "{e}");
     }
 }

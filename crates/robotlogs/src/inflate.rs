@@ -41,6 +41,13 @@ pub fn bounded(stream: impl Read, declared: u64, codec: &str) -> Result<Vec<u8>,
     Ok(plain)
 }
 
+/// Whether a [`bounded`] error says the bytes are not the codec's (a
+/// corrupt stream), rather than a declaration refused (a size past the
+/// limit, or other than unpacked).
+pub fn is_undecodable(error: &str) -> bool {
+    error.contains(" chunk does not decompress")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -59,11 +59,23 @@ pub enum Error {
 
 /// Decodes every IMU and temperature stream of a robot log.
 pub fn decode(path: &Path, format: Format) -> Result<streams::Decoded, LogError> {
+    Ok(decode_partial(path, format, false)?.0)
+}
+
+/// [`decode`]; with `allow_partial`, a bag missing some of its listed
+/// files is read from the others, and the missing ones are returned.
+pub fn decode_partial(
+    path: &Path,
+    format: Format,
+    allow_partial: bool,
+) -> Result<(streams::Decoded, Vec<format::MissingFile>), LogError> {
     let mut d = streams::Decoded::default();
+    let mut missing = Vec::new();
     match format {
         Format::Ros2BagDir => {
-            let files = format::bag_files(path)?;
-            for f in files {
+            let storage = format::bag_storage(path, allow_partial)?;
+            missing = storage.missing;
+            for f in storage.present {
                 match format::detect(&f) {
                     Some(Format::Mcap) => mcap_file::read(&f, &mut d)?,
                     Some(Format::Sqlite) => sqlite_bag::read(&f, &mut d)?,
@@ -84,7 +96,32 @@ pub fn decode(path: &Path, format: Format) -> Result<streams::Decoded, LogError>
         Format::ULog => ulog::read(path, &mut d)?,
         Format::DataFlash => dataflash::read(path, &mut d)?,
     }
-    Ok(d)
+    Ok((d, missing))
+}
+
+/// Each storage file of a partial bag as a problem: which, and how many
+/// messages the metadata says it held.
+fn report_missing(missing: &[format::MissingFile], report: &mut ReadReport) {
+    for m in missing {
+        let held = match m.messages {
+            Some(n) => format!(
+                "its {n} message{} (by metadata.yaml) are not read",
+                if n == 1 { "" } else { "s" }
+            ),
+            None => "metadata.yaml gives no message count for it".to_string(),
+        };
+        report.problems.push(imu::Problem {
+            kind: imu::ProblemKind::SkippedData,
+            line: None,
+            column: None,
+            channel: None,
+            count: m.messages.map_or(1, |n| usize::try_from(n).unwrap_or(usize::MAX)),
+            message: format!(
+                "the storage file {} that metadata.yaml lists is missing, read without it as allowed: {held}",
+                m.name
+            ),
+        });
+    }
 }
 
 /// An input opened once: a robot log by the format its first bytes show,
@@ -108,6 +145,7 @@ pub fn open(path: &Path, choice: &Choice) -> Result<Opened, Error> {
             (choice.topic.is_some(), "--topic"),
             (choice.instance.is_some(), "--instance"),
             (choice.temp_topic.is_some(), "--temp-topic"),
+            (choice.allow_partial, "--allow-partial"),
         ] {
             if given {
                 return Err(LogError::new(path, LogErrorKind::NotARobotLog(flag)).into());
@@ -161,13 +199,14 @@ pub fn read_opened(
 ) -> Result<Read, Error> {
     match opened {
         Opened::Log(format) => {
-            let d = decode(path, format)?;
+            let (d, missing) = decode_partial(path, format, choice.allow_partial)?;
             let choice = Choice {
                 rate_hz: choice.rate_hz.or(opts.rate_hz),
                 max_grid_factor: choice.max_grid_factor.or(opts.max_grid_factor),
                 ..choice.clone()
             };
-            let (recording, report, streams) = assemble::assemble(path, format.name(), d, &choice)?;
+            let (recording, mut report, streams) = assemble::assemble(path, format.name(), d, &choice)?;
+            report_missing(&missing, &mut report);
             Ok(Read {
                 recording,
                 report,

@@ -14,7 +14,7 @@ use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOp
 
 use crate::error::{LogError, LogErrorKind, malformed};
 use crate::ros_msgs::{self, Kind};
-use crate::streams::Decoded;
+use crate::streams::{BadMessage, Decoded, Loss};
 
 /// The MCAP chunk record's opcode (spec: "Chunk (op=0x06)").
 const OP_CHUNK: u8 = 0x06;
@@ -26,6 +26,10 @@ struct State<'p> {
     /// channel id → (topic, type, kind)
     channels: HashMap<u16, (String, String, Option<Kind>)>,
     messages: u64,
+    /// Chunks skipped as corrupt: a channel they defined is unknown after.
+    chunks_lost: bool,
+    /// Messages on a channel no record defined, after a chunk was lost.
+    orphans: usize,
 }
 
 /// Reads the IMU and temperature messages of one MCAP file into `out`.
@@ -46,7 +50,12 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
         schemas: HashMap::new(),
         channels: HashMap::new(),
         messages: 0,
+        chunks_lost: false,
+        orphans: 0,
     };
+    // Where the next record starts: after the magic, each record's opcode,
+    // length and body (mcap.dev/spec, "Records").
+    let mut at: u64 = crate::format::MCAP_MAGIC.len() as u64;
     let mut offset: u64 = 0;
     let mcap_err = |e: mcap::McapError, offset: u64| {
         LogError::new(path, LogErrorKind::Mcap(e.to_string())).at(format!("near byte {offset}"))
@@ -60,10 +69,46 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
                 offset += got as u64;
             }
             LinearReadEvent::Record { data, opcode } => {
+                let start = at;
+                let bytes = 9 + data.len() as u64;
+                at += bytes;
                 let record = mcap::parse_record(opcode, data).map_err(|e| mcap_err(e, offset))?;
                 if let Record::Chunk { header, data } = record {
-                    let plain = unpack(&header.compression, &data, header.uncompressed_size)
-                        .map_err(|w| malformed(path, "MCAP", w).at(format!("chunk near byte {offset}")))?;
+                    // A chunk whose bytes are not its codec's, or unpack to
+                    // other bytes than its CRC says, is skipped whole and
+                    // counted: its record's length is intact (the reader went
+                    // past it by that length), so the next record reads, and
+                    // nothing of it was decoded. A declaration refused (a
+                    // size past the limit, or other than unpacked, an
+                    // unknown codec) stays an error, as does a length that
+                    // lies, which stops the reader.
+                    let skip = |why: String, out: &mut Decoded, state: &mut State<'_>| {
+                        out.losses.push(Loss {
+                            offset: start,
+                            bytes,
+                            why: format!("a corrupt MCAP chunk: {why}"),
+                        });
+                        state.chunks_lost = true;
+                    };
+                    let plain = match unpack(&header.compression, &data, header.uncompressed_size) {
+                        Ok(p) => p,
+                        Err(why) if crate::inflate::is_undecodable(&why) => {
+                            skip(why, out, &mut state);
+                            continue;
+                        }
+                        Err(why) => {
+                            return Err(malformed(path, "MCAP", why).at(format!("chunk near byte {offset}")));
+                        }
+                    };
+                    let crc = crc32fast::hash(&plain);
+                    if header.uncompressed_crc != 0 && header.uncompressed_crc != crc {
+                        let why = format!(
+                            "its records' CRC is {crc:#010x}, its header says {:#010x}",
+                            header.uncompressed_crc
+                        );
+                        skip(why, out, &mut state);
+                        continue;
+                    }
                     chunk_records(&mut state, out, &plain)
                         .map_err(|e| e.at(format!("chunk near byte {offset}")))?;
                 } else {
@@ -71,6 +116,29 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
                 }
             }
         }
+    }
+    if state.orphans > 0 && out.imu.is_empty() {
+        // Not "no IMU stream": there were messages, their channels lost.
+        return Err(malformed(
+            path,
+            "MCAP",
+            format!(
+                "{} messages are on channels defined only in a corrupt chunk that was skipped ({}): none can be read",
+                state.orphans,
+                out.losses
+                    .iter()
+                    .map(|l| format!("bytes {}..{}", l.offset, l.offset + l.bytes))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ));
+    }
+    if state.orphans > 0 {
+        out.bad_messages.push(BadMessage {
+            at: format!("{} messages", state.orphans),
+            why: "their channel was defined in a corrupt chunk that was skipped".into(),
+            count: state.orphans,
+        });
     }
     Ok(())
 }
@@ -141,6 +209,9 @@ fn handle(state: &mut State<'_>, out: &mut Decoded, record: Record<'_>) -> Resul
         }
         Record::Message { header, data } => {
             state.messages += 1;
+            if state.chunks_lost && !state.channels.contains_key(&header.channel_id) {
+                state.orphans += 1;
+            }
             if let Some((topic, ty, Some(kind))) = state.channels.get(&header.channel_id) {
                 ros_msgs::add(out, *kind, topic, ty, &data, header.log_time as f64 * 1e-9, false).map_err(
                     |what| {

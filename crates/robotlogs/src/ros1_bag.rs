@@ -10,7 +10,7 @@ use std::path::Path;
 
 use crate::error::{LogError, LogErrorKind, malformed};
 use crate::ros_msgs::{self, Kind};
-use crate::streams::Decoded;
+use crate::streams::{Decoded, Loss};
 
 /// The first line of a bag.
 pub const MAGIC: &[u8] = b"#ROSBAG V2.0\n";
@@ -56,13 +56,45 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
         if op == Some(OP_CHUNK) {
             let compression = field(&fields, "compression").unwrap_or(b"none");
             let size = field(&fields, "size").and_then(le_u32);
-            let plain = decompress(path, compression, &data, size)
-                .map_err(|e| e.at(format!("chunk at byte {at}")))?;
+            // A chunk whose bytes are not its codec's, or whose records do
+            // not frame, is skipped whole and counted: its record's lengths
+            // are intact (the next record starts where they say), and
+            // nothing of it was used. A declaration refused (no size, too
+            // large, another size than unpacked, an unknown codec) stays an
+            // error, as does an outer length that lies.
+            let lost = |why: String, out: &mut Decoded| {
+                out.losses.push(Loss {
+                    offset: at,
+                    bytes: offset - at,
+                    why: format!("a corrupt ROS 1 bag chunk: {why}"),
+                });
+            };
+            let plain = match decompress(path, compression, &data, size) {
+                Ok(p) => p,
+                Err(LogError {
+                    kind: LogErrorKind::Malformed { what, .. },
+                    ..
+                }) if crate::inflate::is_undecodable(&what) => {
+                    lost(what, out);
+                    continue;
+                }
+                Err(e) => return Err(e.at(format!("chunk at byte {at}"))),
+            };
             let mut inner = plain.as_slice();
             let mut inner_off = 0u64;
-            while let Some((h, d)) = next_record(&mut inner, &mut inner_off).map_err(|w| {
-                malformed(path, "ROS 1 bag", w).at(format!("chunk at byte {at}, offset {inner_off}"))
-            })? {
+            let mut records = Vec::new();
+            let framed = loop {
+                match next_record(&mut inner, &mut inner_off) {
+                    Ok(Some(r)) => records.push(r),
+                    Ok(None) => break Ok(()),
+                    Err(w) => break Err(format!("its records do not frame at offset {inner_off}: {w}")),
+                }
+            };
+            if let Err(why) = framed {
+                lost(why, out);
+                continue;
+            }
+            for (h, d) in records {
                 handle(path, out, &mut state, &h, &d).map_err(|e| e.at(format!("chunk at byte {at}")))?;
             }
         } else {

@@ -8,7 +8,7 @@ use rusqlite::{Connection, OpenFlags};
 
 use crate::error::{LogError, LogErrorKind};
 use crate::ros_msgs::{self, Kind};
-use crate::streams::Decoded;
+use crate::streams::{BadMessage, Decoded};
 
 /// Reads the IMU and temperature messages of one `.db3` file into `out`.
 pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
@@ -46,43 +46,91 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
         .join(",");
     let mut st = db
         .prepare(&format!(
-            "SELECT topic_id, timestamp, data FROM messages WHERE topic_id IN ({ids}) ORDER BY timestamp, id"
+            "SELECT topic_id, timestamp, data, id FROM messages WHERE topic_id IN ({ids}) ORDER BY timestamp, id"
         ))
         .map_err(sql)?;
     let mut rows = st.query([]).map_err(sql)?;
     let mut n = 0u64;
+    let mut decoded = 0u64;
+    let mut first_bad: Option<LogError> = None;
+    // A row that cannot be read stands alone: it is skipped and counted,
+    // and the next row reads. A database whose pages cannot be read stops
+    // the reading (`rows.next()`): SQLite gives no resync past them.
     while let Some(row) = rows.next().map_err(sql)? {
         n += 1;
-        // Each value's column and type named: "Invalid type" alone says
-        // nothing of where.
-        let column =
-            |k: usize, name: &str, wanted: &str| -> Result<rusqlite::types::ValueRef<'_>, LogError> {
-                let v = row.get_ref(k).map_err(sql)?;
-                let ok = match wanted {
-                    "INTEGER" => matches!(v, rusqlite::types::ValueRef::Integer(_)),
-                    _ => matches!(v, rusqlite::types::ValueRef::Blob(_)),
-                };
-                if ok {
-                    Ok(v)
-                } else {
-                    Err(LogError::new(
-                        path,
-                        LogErrorKind::Sqlite(format!(
-                            "the {name} column of the messages table holds {:?}, not {wanted}",
-                            v.data_type()
-                        )),
-                    )
-                    .at(format!("message {n}")))
-                }
-            };
-        let id = column(0, "topic_id", "INTEGER")?.as_i64().unwrap_or_default();
-        let t = column(1, "timestamp", "INTEGER")?.as_i64().unwrap_or_default();
-        let data = column(2, "data", "BLOB")?.as_blob().unwrap_or_default();
-        if let Some((_, name, ty, kind)) = topics.iter().find(|t| t.0 == id) {
-            ros_msgs::add(out, *kind, name, ty, data, t as f64 * 1e-9, false).map_err(|what| {
-                crate::error::malformed(path, "CDR message", what).at(format!("message {n} on {name}"))
-            })?;
+        let row_id = row.get_ref(3).ok().and_then(|v| v.as_i64().ok());
+        let at = format!("message {n}");
+        let listed = match row_id {
+            Some(id) => format!("{at} (row id {id})"),
+            None => at.clone(),
+        };
+        match decode_row(row, &topics, out) {
+            Ok(()) => decoded += 1,
+            Err(Fault::Sql(why)) => {
+                first_bad.get_or_insert_with(|| {
+                    LogError::new(path, LogErrorKind::Sqlite(why.clone())).at(at.clone())
+                });
+                out.bad_messages.push(BadMessage {
+                    at: listed,
+                    why: format!("SQLite: {why}"),
+                    count: 1,
+                });
+            }
+            Err(Fault::Cdr(topic, why)) => {
+                first_bad.get_or_insert_with(|| {
+                    crate::error::malformed(path, "CDR message", why.clone()).at(format!("{at} on {topic}"))
+                });
+                out.bad_messages.push(BadMessage {
+                    at: format!("{listed} on {topic}"),
+                    why: format!("malformed CDR message: {why}"),
+                    count: 1,
+                });
+            }
         }
+    }
+    // Nothing read: the first fault is the answer, not an empty log.
+    match first_bad {
+        Some(e) if decoded == 0 => Err(e),
+        _ => Ok(()),
+    }
+}
+
+/// Why a row was not read.
+enum Fault {
+    /// A value of the wrong type, or one SQLite could not give.
+    Sql(String),
+    /// The message's bytes, on its topic.
+    Cdr(String, String),
+}
+
+/// Decodes one row of the messages table into `out`, each value's column
+/// and type named: "Invalid type" alone says nothing of where.
+fn decode_row(
+    row: &rusqlite::Row<'_>,
+    topics: &[(i64, String, String, Kind)],
+    out: &mut Decoded,
+) -> Result<(), Fault> {
+    let column = |k: usize, name: &str, wanted: &str| -> Result<rusqlite::types::ValueRef<'_>, Fault> {
+        let v = row.get_ref(k).map_err(|e| Fault::Sql(e.to_string()))?;
+        let ok = match wanted {
+            "INTEGER" => matches!(v, rusqlite::types::ValueRef::Integer(_)),
+            _ => matches!(v, rusqlite::types::ValueRef::Blob(_)),
+        };
+        if ok {
+            Ok(v)
+        } else {
+            Err(Fault::Sql(format!(
+                "the {name} column of the messages table holds {:?}, not {wanted}",
+                v.data_type()
+            )))
+        }
+    };
+    let id = column(0, "topic_id", "INTEGER")?.as_i64().unwrap_or_default();
+    let t = column(1, "timestamp", "INTEGER")?.as_i64().unwrap_or_default();
+    let data = column(2, "data", "BLOB")?.as_blob().unwrap_or_default();
+    if let Some((_, name, ty, kind)) = topics.iter().find(|t| t.0 == id) {
+        ros_msgs::add(out, *kind, name, ty, data, t as f64 * 1e-9, false)
+            .map_err(|what| Fault::Cdr(name.clone(), what))?;
     }
     Ok(())
 }

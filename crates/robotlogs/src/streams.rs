@@ -138,6 +138,21 @@ pub struct Decoded {
     pub notes: Vec<String>,
     /// Stretches of the log skipped because they could not be decoded.
     pub losses: Vec<Loss>,
+    /// Messages skipped because they could not be decoded, where the
+    /// format keeps each in a record of its own (a SQLite row), so that the
+    /// next one reads.
+    pub bad_messages: Vec<BadMessage>,
+}
+
+/// A message skipped as undecodable: which, and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BadMessage {
+    /// Where it is (`message 12 (row id 40)`).
+    pub at: String,
+    /// Why it was skipped.
+    pub why: String,
+    /// The messages it stands for.
+    pub count: usize,
 }
 
 /// A stretch of a log skipped as undecodable: where, and how much.

@@ -28,6 +28,7 @@ pub fn run(a: &ThermalArgs) -> Result<()> {
     };
     let read = recording_options(&a.read)?;
     let sel = read_channels(&a.file, &a.channels, &read)?;
+    crate::print::refuse_overflow(&sel)?;
     let Some(temp) = &sel.temperature else {
         bail!(
             "{}: no temperature channel (a column named temp…, or with a °C/K unit)",

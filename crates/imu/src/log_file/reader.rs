@@ -60,12 +60,15 @@ pub struct StreamChoice {
     /// With several IMU streams and none chosen, read the first instead of
     /// refusing (for a listing of every stream).
     pub first_if_several: bool,
+    /// Read a ROS 2 bag missing some of its listed files from the others,
+    /// reporting the loss, instead of refusing it.
+    pub allow_partial: bool,
 }
 
 impl StreamChoice {
-    /// Whether anything was chosen.
+    /// Whether anything was chosen (a text log refuses it).
     pub fn is_given(&self) -> bool {
-        self.topic.is_some() || self.instance.is_some() || self.temp_topic.is_some()
+        self.topic.is_some() || self.instance.is_some() || self.temp_topic.is_some() || self.allow_partial
     }
 }
 

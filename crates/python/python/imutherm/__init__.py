@@ -156,7 +156,8 @@ def noise_terms(y, rate=1.0, confidence=0.95, quantity=None):
 
 
 @in_python_words(path_arg=(0, "path"))
-def read(path, rate=None, units=None, topic=None, instance=None, temp_topic=None):
+def read(path, rate=None, units=None, topic=None, instance=None, temp_topic=None,
+         allow_partial=False):
     """Reads a recording as every ``imutherm`` command does: imutherm's log,
     CSV or whitespace text logs, ROS 2 (MCAP, SQLite) and ROS 1 bags, PX4
     ULog and ArduPilot DataFlash. Returns a :class:`Recording`.
@@ -165,7 +166,10 @@ def read(path, rate=None, units=None, topic=None, instance=None, temp_topic=None
     ``"COLUMN=UNIT"`` strings), ``topic``, ``instance`` and ``temp_topic``
     are the command line's ``--rate``, ``--unit``, ``--topic``,
     ``--instance`` and ``--temp-topic``. A robot log with several IMU
-    streams and none chosen is refused, naming them.
+    streams and none chosen is refused, naming them. ``allow_partial`` is
+    ``--allow-partial``: a ROS 2 bag missing some of the storage files its
+    ``metadata.yaml`` lists is read from the others, each missing file a
+    ``skipped_data`` problem with the messages the metadata gives it.
 
     Raises ``OSError`` (``FileNotFoundError``, ``PermissionError``, ...)
     when the file cannot be read and :class:`ImuthermError` (a
@@ -183,7 +187,8 @@ def read(path, rate=None, units=None, topic=None, instance=None, temp_topic=None
         units = [units]
     rec = Recording(_imutherm.read(os.fspath(path), None if rate is None else float(rate),
                                    list(units or []), topic,
-                                   None if instance is None else int(instance), temp_topic))
+                                   None if instance is None else int(instance), temp_topic,
+                                   bool(allow_partial)))
     rec.read_options = dict(rate=rate, units=units, topic=topic, instance=instance,
                             temp_topic=temp_topic)
     return rec

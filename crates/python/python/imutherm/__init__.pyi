@@ -197,6 +197,7 @@ def read(
     topic: str | None = None,
     instance: int | None = None,
     temp_topic: str | None = None,
+    allow_partial: bool = False,
 ) -> Recording: ...
 def simulate(
     preset: Literal["mpu9250-thesis", "white"] | str = "mpu9250-thesis",

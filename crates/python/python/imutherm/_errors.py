@@ -31,7 +31,7 @@ _FLAG_VALUE = [
     (re.compile(r"--export (\w+)"), r"export='\1'"),
     (re.compile(r"without --rate-term"), r"with rate_term=False"),
 ]
-_FLAG = [("--temp-topic", "temp_topic"), ("--topic", "topic"), ("--instance", "instance"),
+_FLAG = [("--allow-partial", "allow_partial"), ("--temp-topic", "temp_topic"), ("--topic", "topic"), ("--instance", "instance"),
          ("--rate-term", "rate_term"), ("--rate", "rate"), ("--unit", "units"),
          ("--device-id", "device_id"), ("--order", "order"), ("--for", "firmware")]
 

@@ -1,0 +1,206 @@
+//! How much memory the columns of one table may take.
+//!
+//! The columns are the only part of a read that grows with the file (a
+//! line, a block and a batch are bounded), so they alone are counted, by
+//! what they reserve, not what they fill. They may take half of the
+//! machine's memory (the other half is for the analysis that follows,
+//! which copies a channel or two), and a quarter of the process's
+//! address-space limit (`ulimit -v`), which also counts thread stacks and
+//! the allocator's reserved arenas. A gzip file of long rows, kilobytes
+//! that unpack to gigabytes, is refused at the line that crosses the
+//! limit, not by the allocator's abort; and the growth itself is fallible,
+//! so a refusal by the system short of the limit is an error too.
+
+use crate::error::ReadErrorKind;
+
+/// The bytes the columns may take, or `None` when nothing bounds them.
+pub(super) fn column_limit() -> Option<u64> {
+    let memory = physical_memory().map(|m| m / 2);
+    let address_space = address_space_limit().map(|a| a / 4);
+    [memory, address_space].into_iter().flatten().min()
+}
+
+/// The machine's memory, from `sysconf`.
+fn physical_memory() -> Option<u64> {
+    // SAFETY: sysconf reads a system constant; no memory is passed.
+    let (pages, size) = unsafe {
+        (
+            libc::sysconf(libc::_SC_PHYS_PAGES),
+            libc::sysconf(libc::_SC_PAGESIZE),
+        )
+    };
+    (pages > 0 && size > 0).then(|| pages as u64 * size as u64)
+}
+
+/// The process's address-space limit, when one is set.
+fn address_space_limit() -> Option<u64> {
+    let mut limit = libc::rlimit {
+        rlim_cur: 0,
+        rlim_max: 0,
+    };
+    // SAFETY: getrlimit writes the struct it is given, which lives here.
+    let ok = unsafe { libc::getrlimit(libc::RLIMIT_AS, &mut limit) } == 0;
+    (ok && limit.rlim_cur != libc::RLIM_INFINITY).then_some(limit.rlim_cur)
+}
+
+const VALUE_BYTES: u64 = size_of::<f64>() as u64;
+
+/// The bytes the columns reserve, against their limit.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Budget {
+    held: u64,
+    limit: Option<u64>,
+}
+
+impl Budget {
+    /// A budget of `limit` bytes (`None`: unbounded).
+    pub fn new(limit: Option<u64>) -> Self {
+        Budget { held: 0, limit }
+    }
+
+    /// Takes `bytes` more, or says why they do not fit.
+    fn take(&mut self, bytes: u64) -> Result<(), ReadErrorKind> {
+        let held = self.held.saturating_add(bytes);
+        match self.limit {
+            Some(limit) if held > limit => Err(ReadErrorKind::TooLarge {
+                held_mib: held.div_ceil(1 << 20),
+                limit_mib: limit >> 20,
+            }),
+            _ => {
+                self.held = held;
+                Ok(())
+            }
+        }
+    }
+
+    /// Takes a column built elsewhere (a block's first rows), whole, in
+    /// place of an empty one of capacity `old` (a block of comments only
+    /// leaves one), which is given back.
+    pub fn adopt(&mut self, old: usize, capacity: usize) -> Result<(), ReadErrorKind> {
+        self.held = self.held.saturating_sub((old as u64).saturating_mul(VALUE_BYTES));
+        self.take((capacity as u64).saturating_mul(VALUE_BYTES))
+    }
+
+    /// Whether `bytes` more would fit.
+    pub fn fits(&self, bytes: u64) -> bool {
+        self.limit.is_none_or(|l| self.held.saturating_add(bytes) <= l)
+    }
+
+    /// Grows each column to hold its `extra` more values: to twice its
+    /// capacity (amortised appends, as `Vec` grows), or by a quarter, or by
+    /// an even share of what is left, the first step that fits the budget
+    /// for all the columns together; counted before it is asked of the
+    /// system, and asked fallibly. Stepping down keeps columns that fit
+    /// from being refused for their doubling; the last step takes all that
+    /// is left at once, so the columns are not copied block after block.
+    pub fn grow(&mut self, columns: &mut [Vec<f64>], extra: &[usize]) -> Result<(), ReadErrorKind> {
+        let growing = columns
+            .iter()
+            .zip(extra)
+            .filter(|(c, e)| c.len() + *e > c.capacity())
+            .count();
+        let left = self.limit.map_or(0, |l| l.saturating_sub(self.held));
+        let share = usize::try_from(left / VALUE_BYTES / growing.max(1) as u64).unwrap_or(usize::MAX);
+        let target = |c: &Vec<f64>, extra: usize, step: usize| {
+            let need = c.len().saturating_add(extra);
+            let cap = c.capacity();
+            match step {
+                _ if need <= cap => cap,
+                0 => cap.saturating_mul(2).max(need),
+                1 => cap.saturating_add(cap / 4).max(need),
+                _ => cap.saturating_add(share).max(need),
+            }
+        };
+        let bytes = |step| {
+            columns.iter().zip(extra).fold(0u64, |sum, (c, &e)| {
+                let more = (target(c, e, step) - c.capacity()) as u64;
+                sum.saturating_add(more.saturating_mul(VALUE_BYTES))
+            })
+        };
+        let step = (0..2).find(|&s| self.fits(bytes(s))).unwrap_or(2);
+        for (c, &e) in columns.iter_mut().zip(extra) {
+            let t = target(c, e, step);
+            self.reserve_exact(c, t)?;
+        }
+        Ok(())
+    }
+
+    /// Gives `column` a capacity of `capacity` values, counted and asked
+    /// fallibly.
+    pub fn reserve_exact(&mut self, column: &mut Vec<f64>, capacity: usize) -> Result<(), ReadErrorKind> {
+        let more = capacity.saturating_sub(column.capacity());
+        if more == 0 {
+            return Ok(());
+        }
+        self.take((more as u64).saturating_mul(VALUE_BYTES))?;
+        let before = column.capacity();
+        column
+            .try_reserve_exact(capacity - column.len())
+            .map_err(|_| ReadErrorKind::OutOfMemory {
+                needed_mib: (capacity as u64 * VALUE_BYTES) >> 20,
+            })?;
+        // The allocator may give more: what it gave is what is held.
+        let given = column.capacity() - before;
+        self.held = self
+            .held
+            .saturating_add(given.saturating_sub(more) as u64 * VALUE_BYTES);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_budget_counts_capacity_and_refuses_the_growth_that_crosses_it() {
+        // Two columns of 8 × 100 bytes each.
+        let mut b = Budget::new(Some(2 * 8 * 100));
+        let mut c = vec![Vec::new(), Vec::new()];
+        let fill = |c: &mut [Vec<f64>], n| c.iter_mut().for_each(|c| c.extend(std::iter::repeat_n(1.0, n)));
+        b.grow(&mut c, &[30, 30]).unwrap();
+        fill(&mut c, 30);
+        // Doubling while it fits: 60 reserved each.
+        b.grow(&mut c, &[1, 1]).unwrap();
+        assert_eq!((c[0].capacity(), c[1].capacity(), b.held), (60, 60, 2 * 8 * 60));
+        fill(&mut c, 30);
+        // 120 would not fit both; a quarter more does, for both alike.
+        b.grow(&mut c, &[1, 1]).unwrap();
+        assert_eq!((c[0].capacity(), c[1].capacity(), b.held), (75, 75, 2 * 8 * 75));
+        fill(&mut c, 15);
+        b.grow(&mut c, &[1, 1]).unwrap();
+        assert_eq!(c[0].capacity(), 93);
+        fill(&mut c, 18);
+        // Then all that is left, at once.
+        b.grow(&mut c, &[1, 1]).unwrap();
+        assert_eq!((c[0].capacity(), b.held), (100, 2 * 8 * 100));
+        fill(&mut c, 7);
+        let e = b.grow(&mut c, &[1, 1]).unwrap_err();
+        assert!(matches!(e, ReadErrorKind::TooLarge { .. }), "{e}");
+        assert_eq!(
+            c[0].capacity(),
+            100,
+            "a refused growth asks nothing of the system"
+        );
+        assert!(Budget::new(None).take(u64::MAX).is_ok());
+    }
+
+    #[test]
+    fn the_limit_is_within_the_memory_and_address_space_given() {
+        let limit = column_limit();
+        if let Some(a) = address_space_limit() {
+            assert!(limit.is_some_and(|l| l <= a / 4));
+        }
+        if let Some(p) = physical_memory() {
+            assert!(limit.is_some_and(|l| l <= p / 2 && l > 0));
+        }
+    }
+
+    #[test]
+    fn a_growth_the_system_refuses_is_an_error() {
+        let mut c = vec![vec![0.0; 4]];
+        let e = Budget::new(None).grow(&mut c, &[usize::MAX / 16]).unwrap_err();
+        assert!(matches!(e, ReadErrorKind::OutOfMemory { .. }), "{e}");
+        assert_eq!(c[0].len(), 4);
+    }
+}
