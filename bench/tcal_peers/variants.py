@@ -15,7 +15,12 @@ least-squares floor:
            fit (errors in variables: noise in T attenuates the slope);
   f64      ols with the offset in double instead of float32;
   tref35, tref_lo  TREF at 35 °C and at TMIN instead of the middle;
-  q2       a quadratic (what a lower order costs where the truth is cubic).
+  q2       a quadratic (what a lower order costs where the truth is cubic);
+  truth    the true bias itself, a file no fit can better: its error is 0,
+           and its residual spread on the held-out run is the floor of that
+           figure (the held-out run's own noise).
+The second table is the same for the residual spread (standard deviation
+of the corrected 1 °C bin means of the held-out run, as compare.py).
 """
 
 import json
@@ -37,6 +42,20 @@ def smooth(t, seconds):
     # A centred moving average; the ends keep their raw values.
     out[h:len(t) - h] = (c[w:] - c[:-w])[: len(t) - 2 * h] / w if len(t) > w else t[h:len(t) - h]
     return out
+
+
+def offset(coef, tref, lo, hi, temp, f32=True):
+    """calc_thermal_offsets_3D's offset for one axis."""
+    dt = np.float32 if f32 else np.float64
+    t = np.clip(temp.astype(dt), dt(lo), dt(hi))
+    d = (t - dt(tref)).astype(dt)
+    c = [dt(v) for v in coef]
+    return (c[0] + c[1] * d + c[2] * d * d + c[3] * d * d * d).astype(np.float64)
+
+
+def bin_std(temp, values):
+    keys = np.floor(temp).astype(int)
+    return float(np.std([values[keys == k].mean() for k in np.unique(keys)]))
 
 
 def error(coef, tref, lo, hi, temp, truth_c, t_mid, f32=True):
@@ -61,7 +80,7 @@ def fit(temp_fit, y, tref, order):
 def main():
     work = Path(sys.argv[1])
     seeds = [int(s) for s in sys.argv[2:]]
-    ratios = {}
+    ratios, spreads = {}, {}
     for seed in seeds:
         d = work / f"seed{seed}"
         truth = json.loads((d / "truth.json").read_text())
@@ -93,10 +112,21 @@ def main():
                 key = f"{x.multi_id} {sensor}_{axis}"
                 for name, e in errs.items():
                     ratios.setdefault(name, {}).setdefault(key, []).append((e, peer[key][1]))
+                raw = h[axis].astype(np.float32).astype(np.float64)
+                dh = htemp - truth["t_mid_c"]
+                true = tc[0] + tc[1] * dh + tc[2] * dh**2 + tc[3] * dh**3
+                for name, corr in (("ols", raw - offset(fit(temp, y, mid, 3), mid, lo, hi, htemp)),
+                                   ("truth", raw - true)):
+                    spreads.setdefault(name, {}).setdefault(key, []).append((bin_std(htemp, corr), peer[key][0]))
     keys = sorted(next(iter(ratios.values())))
-    print(f"seeds {seeds}: median over seeds of the variant's error / median of PX4's")
+    for title, table in (("error", ratios), ("residual spread", spreads)):
+        print(f"seeds {seeds}: median over seeds of the variant's {title} / median of PX4's")
+        print_table(keys, table)
+
+
+def print_table(keys, table):
     print(f"{'variant':<9} " + " ".join(f"{k:>13}" for k in keys) + "  pairs below  geo mean")
-    for name, per in ratios.items():
+    for name, per in table.items():
         cells = []
         below, logs = 0, []
         for k in keys:
