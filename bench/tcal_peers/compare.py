@@ -17,7 +17,7 @@ left in WORK/seedN/rows.json).
 
 Per seed: make_logs.py writes a 45 min heating ULog (fitted) and a cooling
 one (held out) with two IMUs of known cubic bias; PX4's script and
-`imutherm tcal fit --instance N --for px4` + `tcal export --instance N`
+`imutherm tcal fit --for px4` (every instance in one model) + `tcal export`
 each give a parameter file; each is applied to the held-out run here, by
 this script's own transcription of PX4's
 src/modules/temperature_compensation/TemperatureCompensation.cpp
@@ -29,7 +29,7 @@ and the sets are applied as if it were 1 (PX4's script does not write it).
 
 The ArduPilot half does the same on the DataFlash logs (IMU at 25 Hz) with
 `tempcal_IMU.py` and `imutherm tcal fit --for ardupilot` + `tcal export
---firmware ardupilot --instance N+1`, each file applied by this script's
+--firmware ardupilot` (set N+1 for IMU N), each file applied by this script's
 transcription of libraries/AP_InertialSensor/AP_InertialSensor_tempcal.cpp
 (`correct_sensor`: nothing unless INS_TCALn_ENABLE is 1; T held within
 [TMIN, TMAX]; v −= poly(T − 35) and v += poly(CALTEMP − 35), with
@@ -244,14 +244,12 @@ def main():
         truth = json.loads((d / "truth.json").read_text())
         if not (d / "heating.ulg.params").is_file():
             subprocess.run([python, peer, str(d / "heating.ulg")], check=True, stdout=subprocess.DEVNULL)
-        ours = d / "imutherm.params"
-        with open(ours, "w") as out:
-            for n in range(len(truth["ids"])):
-                model = d / f"imu{n}.json"
-                subprocess.run([imutherm, "tcal", "fit", str(d / "heating.ulg"), "--instance", str(n), "--for",
-                                "px4", "--overwrite", "-o", str(model)], check=True, stderr=subprocess.DEVNULL)
-                subprocess.run([imutherm, "tcal", "export", str(model), "--firmware", "px4", "--instance", str(n)],
-                               check=True, stdout=out, stderr=subprocess.DEVNULL)
+        # Every IMU of the log in one model and one file, as a user runs it.
+        ours, model = d / "imutherm.params", d / "imutherm_px4.json"
+        subprocess.run([imutherm, "tcal", "fit", str(d / "heating.ulg"), "--for", "px4", "--overwrite", "-o",
+                        str(model)], check=True, stderr=subprocess.DEVNULL)
+        subprocess.run([imutherm, "tcal", "export", str(model), "--firmware", "px4", "--overwrite", "-o", str(ours)],
+                       check=True, stderr=subprocess.DEVNULL)
         lsq_px4(d / "heating.ulg", d / "lsq.params")
         for name, pfile in (("px4", d / "heating.ulg.params"), ("imutherm", ours), ("lsq", d / "lsq.params")):
             rows, enabled = judge(pfile, d / "cooling.ulg", truth)
@@ -267,14 +265,11 @@ def main():
         if not theirs.is_file():
             subprocess.run([python, ap_peer, "--no-graph", "--outfile", str(theirs), str(d / "heating.bin")],
                            check=True, stdout=subprocess.DEVNULL)
-        ours = d / "imutherm.parm"
-        with open(ours, "w") as out:
-            for n in range(len(truth["ids"])):
-                model = d / f"ap{n}.json"
-                subprocess.run([imutherm, "tcal", "fit", str(d / "heating.bin"), "--instance", str(n), "--for",
-                                "ardupilot", "--overwrite", "-o", str(model)], check=True, stderr=subprocess.DEVNULL)
-                subprocess.run([imutherm, "tcal", "export", str(model), "--firmware", "ardupilot", "--instance",
-                                str(n + 1)], check=True, stdout=out, stderr=subprocess.DEVNULL)
+        ours, model = d / "imutherm.parm", d / "imutherm_ardupilot.json"
+        subprocess.run([imutherm, "tcal", "fit", str(d / "heating.bin"), "--for", "ardupilot", "--overwrite", "-o",
+                        str(model)], check=True, stderr=subprocess.DEVNULL)
+        subprocess.run([imutherm, "tcal", "export", str(model), "--firmware", "ardupilot", "--overwrite", "-o",
+                        str(ours)], check=True, stderr=subprocess.DEVNULL)
         lsq_ap(d / "heating.bin", d / "lsq.parm")
         for name, pfile in (("ArduPilot", theirs), ("imutherm", ours), ("lsq", d / "lsq.parm")):
             rows, enabled = judge_ap(pfile, d / "cooling.bin", truth)

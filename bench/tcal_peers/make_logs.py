@@ -11,7 +11,8 @@ from SEED, MPU-9250 white noise and quantization (gyro ±500 °/s, accel
 Tools/process_sensor_caldata.py requires.
 
 The same runs go to OUT_DIR/heating.bin and cooling.bin as ArduPilot
-DataFlash logs, IMU messages at 25 Hz of both instances: each the mean of
+DataFlash logs (with the IMUs' INS_GYRn_ID/INS_ACCn_ID in PARM messages),
+IMU messages at 25 Hz of both instances: each the mean of
 eight 200 Hz samples, as ArduPilot logs the filtered sensor at the log
 rate (the samples, the truth and the random draws are those of the ULogs).
 
@@ -95,6 +96,10 @@ DF_IMU_TYPE = 4
 DF_IMU_FMT = "QBffffffIIfBBHH"
 DF_IMU_LABELS = "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,T,GH,AH,GHz,AHz"
 DF_DECIMATE = 8
+# PARM (LOG_PARAMETER_MSG, "QNf", "TimeUS,Name,Value"): ArduPilot logs its
+# parameters at start, the IMUs' INS_GYR_ID/INS_GYR2_ID and INS_ACC_ID/
+# INS_ACC2_ID among them (AP_InertialSensor.cpp, var_info).
+DF_PARM_TYPE = 64
 
 
 def df_fmt(msg_type, name, fmt, labels):
@@ -107,6 +112,11 @@ def write_dataflash(path, stamps, sims):
     means of DF_DECIMATE samples."""
     out = bytearray(df_fmt(128, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns"))
     out += df_fmt(DF_IMU_TYPE, "IMU", DF_IMU_FMT, DF_IMU_LABELS)
+    out += df_fmt(DF_PARM_TYPE, "PARM", "QNf", "TimeUS,Name,Value")
+    for inst, (gid, aid) in enumerate(IDS):
+        suffix = "" if inst == 0 else str(inst + 1)
+        for name, value in ((f"INS_GYR{suffix}_ID", gid), (f"INS_ACC{suffix}_ID", aid)):
+            out += DF_HEAD + struct.pack("<BQ16sf", DF_PARM_TYPE, int(stamps[0]), name.encode(), float(value))
     m = len(stamps) // DF_DECIMATE
     mean = lambda x: np.asarray(x[: m * DF_DECIMATE]).reshape(m, DF_DECIMATE).mean(axis=1)
     us = stamps[DF_DECIMATE - 1 :: DF_DECIMATE][:m]

@@ -248,6 +248,8 @@ pub struct AsLoaded {
     pub calibration: Calibration,
     /// ArduPilot's INS_ACCn_CALTEMP / INS_GYRn_CALTEMP for the evaluation.
     pub cal_temp_c: f64,
+    /// The slot `calibration` holds; the firmware's first when `None`.
+    pub slot: Option<u8>,
 }
 
 /// The parameter file at `params`, or the model exported for `firmware`,
@@ -293,6 +295,7 @@ pub fn as_loaded(
         warnings,
         calibration,
         cal_temp_c: model.t_ref_c,
+        slot: None,
     })
 }
 
@@ -303,6 +306,9 @@ pub struct FileVerdict {
     pub applies: bool,
     /// The run, as named.
     pub file: String,
+    /// The log's IMU instance judged, for a model of several.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub instance: Option<u32>,
     /// One sentence per sensor type, and notes.
     pub says: Vec<String>,
 }
@@ -331,7 +337,7 @@ pub fn judge(loaded: &AsLoaded, file: &Path, run: &RunData) -> Result<FileVerdic
         has_accel: sensors.contains(&Sensor::Accel),
         t_range_c: [lo, hi],
     };
-    let v = verdict::judge(loaded.firmware, &loaded.text, None, &facts).map_err(|cause| {
+    let v = verdict::judge(loaded.firmware, &loaded.text, loaded.slot, &facts).map_err(|cause| {
         AnalysisError::Firmware {
             context: format!("judging the {} parameter file", loaded.firmware.name()),
             cause,
@@ -340,6 +346,7 @@ pub fn judge(loaded: &AsLoaded, file: &Path, run: &RunData) -> Result<FileVerdic
     Ok(FileVerdict {
         applies: v.applies,
         file: file.display().to_string(),
+        instance: None,
         says: v.says,
     })
 }
@@ -367,7 +374,35 @@ impl AsLoaded {
             warnings: self.warnings.clone(),
             calibration,
             cal_temp_c: self.cal_temp_c,
+            slot: Some(slot),
         }))
+    }
+
+    /// The same file for the log's IMU instance `instance` of a model of
+    /// several: the slot the export gives it (PX4 `TC_x{n}`, ArduPilot
+    /// `INS_TCAL{n+1}`, the firmware's IMU order), with the instance's own
+    /// calibration temperature.
+    pub fn for_instance(&self, model: &Model) -> Result<AsLoaded, AnalysisError> {
+        let number = model.instance.unwrap_or(0);
+        let slot = match self.firmware {
+            Firmware::Px4 => number,
+            Firmware::ArduPilot => number.saturating_add(1),
+        };
+        let slot = u8::try_from(slot).unwrap_or(u8::MAX);
+        let calibration = firmware::load(self.firmware, &self.text, Some(slot)).map_err(|cause| {
+            AnalysisError::Firmware {
+                context: format!("instance {number}: its {} set", self.firmware.name()),
+                cause,
+            }
+        })?;
+        Ok(AsLoaded {
+            firmware: self.firmware,
+            text: self.text.clone(),
+            warnings: Vec::new(),
+            calibration,
+            cal_temp_c: model.t_ref_c,
+            slot: Some(slot),
+        })
     }
 }
 
@@ -445,6 +480,9 @@ pub struct EvalRow {
     pub file: String,
     /// Whether the model was fitted on other runs than this.
     pub held_out: bool,
+    /// The log's IMU instance, for a model of several.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub instance: Option<u32>,
     /// Mean of the bin means as the firmware applies the parameter file.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub level_as_loaded: Option<f64>,
@@ -558,6 +596,7 @@ pub fn eval_rows(
             channel: ch.name,
             file: file.display().to_string(),
             held_out,
+            instance: model.instance,
             level_as_loaded: as_loaded.as_deref().map(level),
             level_before: as_loaded.is_some().then(|| level(&before)),
             samples_out_of_range: report.out_of_range,

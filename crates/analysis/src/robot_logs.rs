@@ -53,6 +53,33 @@ pub fn format_of(path: &Path) -> Option<&'static str> {
     }
 }
 
+/// The IMU instances of a PX4 ULog or ArduPilot DataFlash log that hold
+/// samples, in increasing order; empty for a log without instances (a
+/// text log, a ROS bag).
+pub fn imu_instances(path: &Path) -> Result<Vec<u32>, AnalysisError> {
+    #[cfg(feature = "robotlogs")]
+    {
+        let Some(format) = robotlogs::detect(path) else {
+            return Ok(Vec::new());
+        };
+        let d = robotlogs::decode(path, format).map_err(|e| AnalysisError::RobotLog(e.to_string()))?;
+        let mut out: Vec<u32> = d
+            .imu
+            .iter()
+            .filter(|s| !s.is_empty())
+            .filter_map(|s| s.instance)
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        Ok(out)
+    }
+    #[cfg(not(feature = "robotlogs"))]
+    {
+        let _ = path;
+        Ok(Vec::new())
+    }
+}
+
 /// Reads any recording, robot log or text log, with its report and (for a
 /// robot log) every stream in it; [`crate::source::read_source`] keeps the
 /// format found too.

@@ -358,7 +358,8 @@ pub struct DeviceIds {
 
 impl DeviceIds {
     /// From the metadata: a PX4 stream's per-topic ids for its instance,
-    /// else the one `device_id` for both.
+    /// an ArduPilot IMU's `INS_GYRn_ID`/`INS_ACCn_ID` from the log's PARM
+    /// messages, else the one `device_id` for both.
     pub fn of(meta: &imu::Metadata) -> DeviceIds {
         let parse = |v: &str| {
             let v = v.trim();
@@ -373,9 +374,20 @@ impl DeviceIds {
             meta.get(&format!("px4.{name}/{instance}.device_id"))
                 .and_then(parse)
         };
+        // ArduPilot's IMU n (0-based) is INS_GYR_ID, INS_GYR2_ID, INS_GYR3_ID.
+        let parameter = |sensor: &str| {
+            let instance: u32 = meta.get("instance")?.trim().parse().ok()?;
+            let suffix = if instance == 0 {
+                String::new()
+            } else {
+                (instance + 1).to_string()
+            };
+            meta.get(&format!("ardupilot.INS_{sensor}{suffix}_ID"))
+                .and_then(parse)
+        };
         DeviceIds {
-            gyro: topic("sensor_gyro").or(common),
-            accel: topic("sensor_accel").or(common),
+            gyro: topic("sensor_gyro").or_else(|| parameter("GYR")).or(common),
+            accel: topic("sensor_accel").or_else(|| parameter("ACC")).or(common),
         }
     }
 }
@@ -412,5 +424,21 @@ mod tests {
             }
         );
         assert_eq!(DeviceIds::of(&imu::Metadata::default()), DeviceIds::default());
+        // A DataFlash log's PARM ids, as its reader leaves them: IMU 1 is
+        // INS_GYR2_ID / INS_ACC2_ID.
+        let mut df = imu::Metadata::default();
+        df.set("ardupilot.INS_GYR_ID", "2490378");
+        df.set("ardupilot.INS_ACC_ID", "2490634");
+        df.set("ardupilot.INS_GYR2_ID", "3407882");
+        df.set("ardupilot.INS_ACC2_ID", "3408138");
+        df.set("instance", "1");
+        df.set("device_id", "3407882");
+        assert_eq!(
+            DeviceIds::of(&df),
+            DeviceIds {
+                gyro: Some(3_407_882),
+                accel: Some(3_408_138)
+            }
+        );
     }
 }

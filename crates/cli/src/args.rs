@@ -721,9 +721,10 @@ pub struct ReadArgs {
     #[arg(long, value_name = "NAME")]
     pub topic: Option<String>,
 
-    /// The IMU instance of a PX4 ULog or ArduPilot DataFlash log.
-    #[arg(long, value_name = "N")]
-    pub instance: Option<u32>,
+    /// The IMU instance of a PX4 ULog or ArduPilot DataFlash log; `all`
+    /// (tcal fit and tcal eval) takes every instance at once.
+    #[arg(long, value_name = "N|all", value_parser = flags::instance)]
+    pub instance: Option<flags::Instance>,
 
     /// The sensor_msgs/Temperature topic of a ROS bag, matched by time to
     /// the IMU (default: the only one).

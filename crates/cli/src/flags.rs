@@ -153,6 +153,26 @@ pub fn order(text: &str) -> Result<Order, String> {
         .ok_or_else(|| "expected auto or an order from 0 to 9".to_string())
 }
 
+/// `--instance`: one IMU instance of a log, or all of them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Instance {
+    /// Instance N.
+    One(u32),
+    /// Every instance the log has.
+    All,
+}
+
+/// `--instance N|all`.
+pub fn instance(text: &str) -> Result<Instance, String> {
+    let t = text.trim();
+    if t.eq_ignore_ascii_case("all") {
+        return Ok(Instance::All);
+    }
+    t.parse::<u32>()
+        .map(Instance::One)
+        .map_err(|_| "expected an instance number (0, 1, …) or all".to_string())
+}
+
 /// A duration: plain seconds or a number with s, m, h or d (3600, 90m, 2h,
 /// 1.5h), in seconds.
 pub fn duration(text: &str) -> Result<f64, String> {
@@ -365,6 +385,18 @@ pub fn usage_error(message: impl std::fmt::Display) -> ! {
 /// The shared read flags as the reader's options, checked.
 #[cfg(feature = "analysis")]
 pub fn recording_options(a: &crate::args::ReadArgs) -> anyhow::Result<imu::RecordingOptions> {
+    options(a, false)
+}
+
+/// The read flags of a command that takes `--instance all` (tcal fit and
+/// eval): with it, no instance is chosen here; the caller sets each.
+#[cfg(feature = "analysis")]
+pub fn recording_options_any_instance(a: &crate::args::ReadArgs) -> anyhow::Result<imu::RecordingOptions> {
+    options(a, true)
+}
+
+#[cfg(feature = "analysis")]
+fn options(a: &crate::args::ReadArgs, all_allowed: bool) -> anyhow::Result<imu::RecordingOptions> {
     Ok(analysis::reading::recording_options(
         &analysis::reading::ReadingChoices {
             rate_hz: a.rate,
@@ -374,7 +406,17 @@ pub fn recording_options(a: &crate::args::ReadArgs) -> anyhow::Result<imu::Recor
             skip_bad_lines: a.skip_bad_lines,
             stream: imu::StreamChoice {
                 topic: a.topic.clone(),
-                instance: a.instance,
+                instance: match a.instance {
+                    None => None,
+                    Some(Instance::One(n)) => Some(n),
+                    Some(Instance::All) if all_allowed => None,
+                    Some(Instance::All) => {
+                        return Err(anyhow::Error::new(UsageError(
+                            "--instance all: only tcal fit and tcal eval take every instance at once; give one number"
+                                .to_string(),
+                        )));
+                    }
+                },
                 temp_topic: a.temp_topic.clone(),
                 first_if_several: false,
                 allow_partial: a.allow_partial,

@@ -94,6 +94,7 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
     let file = File::open(path).map_err(|e| LogError::new(path, e.into()))?;
     let mut bytes = BufReader::with_capacity(1 << 20, file).bytes();
     let mut formats: HashMap<u8, Format> = HashMap::new();
+    let mut ids: HashMap<String, f64> = HashMap::new();
     let mut pos: u64 = 0;
     let mut skipped: u64 = 0;
     // The stretch of bytes being skipped: its offset and length.
@@ -201,6 +202,12 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
             continue;
         }
         let Some(f) = formats.get(&ty) else { continue };
+        if f.name == "PARM" {
+            if let Some((name, v)) = parameter(f, &body).filter(|(n, _)| is_imu_id(n)) {
+                ids.insert(name, v);
+            }
+            continue;
+        }
         let instance_from_name = match f.name.as_str() {
             "IMU" => Some(0),
             "IMU2" => Some(1),
@@ -262,5 +269,56 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
         out.notes
             .push(format!("{skipped} bytes outside any message skipped"));
     }
+    for s in &mut out.imu {
+        let Some(i) = s.instance else { continue };
+        let suffix = if i == 0 {
+            String::new()
+        } else {
+            (i + 1).to_string()
+        };
+        for (sensor, is_gyro) in [("GYR", true), ("ACC", false)] {
+            let name = format!("INS_{sensor}{suffix}_ID");
+            // An id of 0 is ArduPilot's "no sensor there".
+            let Some(&v) = ids.get(&name).filter(|&&v| v > 0.0 && v <= u32::MAX as f64) else {
+                continue;
+            };
+            let id = v as u32;
+            out.entries.push((format!("ardupilot.{name}"), id.to_string()));
+            if is_gyro {
+                s.device_id = Some(u64::from(id));
+            }
+        }
+    }
     Ok(())
+}
+
+/// The device-id parameters of the IMUs, `INS_GYR_ID`, `INS_GYR2_ID`,
+/// `INS_GYR3_ID`, `INS_ACC_ID`, `INS_ACC2_ID`, `INS_ACC3_ID`
+/// (`AP_InertialSensor.cpp`, `var_info`: `_gyro_id[0..2]`,
+/// `_accel_id[0..2]`), which ArduPilot logs in its PARM messages.
+fn is_imu_id(name: &str) -> bool {
+    ["GYR", "ACC"]
+        .iter()
+        .any(|s| ["", "2", "3"].iter().any(|n| name == format!("INS_{s}{n}_ID")))
+}
+
+/// A PARM message's name and value (`LogStructure.h`, `log_Parameter`:
+/// `QNf` `TimeUS,Name,Value`, later `QNff` with `Default`). The ids are
+/// int32 parameters logged as float, exact below 2^24, which holds every
+/// ArduPilot device id (`AP_HAL/Device.h`, `DeviceStructure`: bus type 3
+/// bits, bus 5, address 8, device type 8).
+fn parameter(f: &Format, body: &[u8]) -> Option<(String, f64)> {
+    let field = |label: &str| {
+        f.fields
+            .iter()
+            .find(|(l, _, _)| l == label)
+            .map(|&(_, at, c)| (at, c))
+    };
+    let (at, c) = field("Name")?;
+    if c != b'N' {
+        return None;
+    }
+    let name = text(body.get(at..at + 16)?);
+    let (at, c) = field("Value")?;
+    Some((name, value(c, body.get(at..)?)?))
 }

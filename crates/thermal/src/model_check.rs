@@ -136,6 +136,24 @@ pub enum ModelError {
         /// `channels[i].coefficients` or `channels[i].rate_coefficient`.
         field: String,
     },
+    /// An instance of a multi-instance model without its number, or with
+    /// instances of its own.
+    #[error("instances[{index}] {what}")]
+    Instance {
+        /// Its index in `instances`.
+        index: usize,
+        /// What is wrong with it.
+        what: &'static str,
+    },
+    /// Two instances of one number: which set goes to which sensor would
+    /// be a guess.
+    #[error("instances[{index}] repeats instance {instance}")]
+    DuplicateInstance {
+        /// Its index in `instances`.
+        index: usize,
+        /// The repeated instance number.
+        instance: u32,
+    },
     /// A rate term without the dT/dt range to clamp it to.
     #[error("{field} is set but dtdt_range_c_per_s is missing: refit the model to store the dT/dt range")]
     MissingRateRange {
@@ -178,6 +196,37 @@ impl Model {
     /// inertial channels (never the temperature), coefficients matching
     /// each order, and a dT/dt range wherever a rate term is.
     pub fn validate(&self) -> Result<(), ModelError> {
+        for (index, m) in self.instances.iter().enumerate() {
+            let Some(instance) = m.instance else {
+                return Err(ModelError::Instance {
+                    index,
+                    what: "has no instance number",
+                });
+            };
+            if !m.instances.is_empty() {
+                return Err(ModelError::Instance {
+                    index,
+                    what: "holds instances of its own",
+                });
+            }
+            if self.instances[..index]
+                .iter()
+                .any(|o| o.instance == Some(instance))
+            {
+                return Err(ModelError::DuplicateInstance { index, instance });
+            }
+            m.validate().map_err(|e| match e {
+                ModelError::NotFinite { field } => ModelError::NotFinite {
+                    field: format!("instances[{index}].{field}"),
+                },
+                e => e,
+            })?;
+        }
+        self.validate_one()
+    }
+
+    /// The checks of one sensor's model.
+    fn validate_one(&self) -> Result<(), ModelError> {
         if self.schema != SCHEMA {
             return Err(ModelError::Schema {
                 found: self.schema.clone(),
@@ -338,7 +387,9 @@ mod tests {
             dtdt_range_c_per_s: None,
             device_id: None,
             accel_device_id: None,
+            instance: None,
             channels: vec![ch("gyro_x", "rad/s"), ch("accel_z", "m/s^2")],
+            instances: Vec::new(),
         }
     }
 
@@ -348,6 +399,58 @@ mod tests {
         m.validate().unwrap();
         let text = serde_json::to_string(&m).unwrap();
         assert_eq!(Model::from_json(&text).unwrap(), m);
+    }
+
+    #[test]
+    fn a_multi_instance_model_round_trips_and_its_instances_are_checked() {
+        let one = |n: u32| Model {
+            instance: Some(n),
+            device_id: Some(2_490_378 + n),
+            ..model()
+        };
+        let m = Model::of_instances(vec![one(0), one(1)]).unwrap();
+        m.validate().unwrap();
+        let text = serde_json::to_string(&m).unwrap();
+        let back = Model::from_json(&text).unwrap();
+        assert_eq!(back, m);
+        // The top level is instance 0's, so a reader of one-instance models
+        // finds a whole model.
+        assert_eq!(back.instance, Some(0));
+        assert_eq!(back.sensors().len(), 2);
+        // A one-instance model is its own single sensor.
+        assert_eq!(model().sensors(), vec![&model()]);
+        let mut bad = m.clone();
+        bad.instances[1].instance = None;
+        assert!(
+            bad.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("instances[1] has no instance")
+        );
+        let mut bad = m.clone();
+        bad.instances[1].instance = Some(0);
+        assert!(
+            bad.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("instances[1] repeats instance 0")
+        );
+        let mut bad = m.clone();
+        bad.instances[0].t_ref_c = f64::NAN;
+        assert!(
+            bad.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("instances[0].t_ref_c is not finite")
+        );
+        let mut bad = m;
+        bad.instances[1].instances = vec![one(2)];
+        assert!(
+            bad.validate()
+                .unwrap_err()
+                .to_string()
+                .contains("instances[1] holds instances")
+        );
     }
 
     #[test]

@@ -182,8 +182,39 @@ pub struct Model {
     /// `device_id` stands for both.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub accel_device_id: Option<u32>,
+    /// The log's IMU instance (PX4 multi-instance, ArduPilot `IMU.I`) the
+    /// model was fitted on, where the log has instances.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub instance: Option<u32>,
     /// Per channel.
     pub channels: Vec<ChannelModel>,
+    /// Every IMU instance of a log fitted at once (`tcal fit --instance
+    /// all`), each a whole model with its `instance`. The fields above are
+    /// the first instance's, so a reader of one-instance models still finds
+    /// a whole model; empty for a model of one sensor.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub instances: Vec<Model>,
+}
+
+impl Model {
+    /// A model holding every instance in `each` (at least one, in the log's
+    /// order): the first's fields at the top, all of them in `instances`.
+    pub fn of_instances(each: Vec<Model>) -> Option<Model> {
+        let first = each.first()?.clone();
+        Some(Model {
+            instances: each,
+            ..first
+        })
+    }
+
+    /// The model of each sensor: its instances, or the model itself.
+    pub fn sensors(&self) -> Vec<&Model> {
+        if self.instances.is_empty() {
+            vec![self]
+        } else {
+            self.instances.iter().collect()
+        }
+    }
 }
 
 /// The samples of one bin (1 °C by default) and one direction of one run.
@@ -549,7 +580,9 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
         dtdt_range_c_per_s,
         device_id: None,
         accel_device_id: None,
+        instance: None,
         channels,
+        instances: Vec::new(),
     };
     // A fit never hands out a model its own loader would refuse (a channel
     // that is not an inertial axis, a coefficient that overflowed, a

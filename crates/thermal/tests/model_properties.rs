@@ -74,7 +74,9 @@ fn model() -> impl Strategy<Value = Model> {
                 dtdt_range_c_per_s: rates.map(|(a, b)| [a, b]),
                 device_id: None,
                 accel_device_id: None,
+                instance: None,
                 channels,
+                instances: Vec::new(),
             };
             if let Some((field, v)) = spoil.filter(|_| !channels_only) {
                 match field {

@@ -14,7 +14,7 @@ use thermal::firmware::Firmware;
 use thermal::tcal::Model;
 
 use crate::args::{TcalApplyArgs, TcalEvalArgs, TcalFitArgs};
-use crate::flags::{recording_options, usage_error};
+use crate::flags::{Instance, recording_options, recording_options_any_instance, usage_error};
 use crate::print::read_static_channels;
 
 /// Reads channels and the temperature of one run of a static sensor,
@@ -49,38 +49,103 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
         firmware: a.for_firmware.map(Firmware::from),
     };
     req.check().map_err(exit_status)?;
-    let read = recording_options(&a.read)?;
+    let instances = fit_instances(a)?;
+    let read = recording_options_any_instance(&a.read)?;
     let policy = OutputPolicy {
         overwrite: a.overwrite,
         inputs: &a.files,
     };
     check_output(&a.output, &policy)?;
-    let runs: Vec<RunData> = a
-        .files
-        .iter()
-        .map(|f| run_data(f, &a.channels, &read, a.motion.allow_motion))
-        .collect::<Result<_>>()?;
-    let fitted = compensation::fit(&a.files, &runs, &req).map_err(exit_status)?;
-    let model = fitted.model;
+    let fit_one = |read: &RecordingOptions| -> Result<compensation::Fitted> {
+        let runs: Vec<RunData> = a
+            .files
+            .iter()
+            .map(|f| run_data(f, &a.channels, read, a.motion.allow_motion))
+            .collect::<Result<_>>()?;
+        compensation::fit(&a.files, &runs, &req).map_err(exit_status)
+    };
+    let (model, warnings) = match &instances {
+        None => {
+            let fitted = fit_one(&read)?;
+            (fitted.model, fitted.export_warnings)
+        }
+        Some(numbers) => {
+            let mut each = Vec::with_capacity(numbers.len());
+            let mut warnings = Vec::new();
+            for &n in numbers {
+                let mut one = read.clone();
+                one.stream.instance = Some(n);
+                let mut fitted = fit_one(&one)?;
+                fitted.model.instance = Some(n);
+                warnings.extend(
+                    fitted
+                        .export_warnings
+                        .into_iter()
+                        .map(|w| format!("instance {n}: {w}")),
+                );
+                each.push(fitted.model);
+            }
+            let model = Model::of_instances(each).context("the log has no IMU instance")?;
+            // Each instance fitted; the file they make together is checked
+            // now, so that its faults show at the fit, not at the vehicle.
+            if let Some(fw) = req.firmware {
+                thermal::firmware::export(&model, fw, thermal::firmware::Target::default())
+                    .with_context(|| format!("the instances together cannot be written for {}", fw.name()))?;
+            }
+            (model, warnings)
+        }
+    };
     let text = serde_json::to_string_pretty(&model)?;
     write_file(&a.output, (text + "\n").as_bytes(), &policy)?;
-    eprintln!(
-        "wrote {}: {:.1}…{:.1} °C, T_ref {:.2} °C",
-        a.output.display(),
-        model.t_min_c,
-        model.t_max_c,
-        model.t_ref_c
-    );
-    for c in &model.channels {
+    eprintln!("wrote {}", a.output.display());
+    for m in model.sensors() {
         eprintln!(
-            "  {:<8} order {}  residual RMS {:.3e} {}  max {:.3e}",
-            c.name, c.order, c.residual_rms, c.unit, c.residual_max
+            "{}{:.1}…{:.1} °C, T_ref {:.2} °C{}",
+            m.instance.map(|n| format!("instance {n}: ")).unwrap_or_default(),
+            m.t_min_c,
+            m.t_max_c,
+            m.t_ref_c,
+            match (m.device_id, m.accel_device_id) {
+                (Some(g), Some(a)) => format!(", gyro id {g}, accelerometer id {a}"),
+                (Some(g), None) => format!(", device id {g}"),
+                _ => String::new(),
+            }
         );
+        for c in &m.channels {
+            eprintln!(
+                "  {:<8} order {}  residual RMS {:.3e} {}  max {:.3e}",
+                c.name, c.order, c.residual_rms, c.unit, c.residual_max
+            );
+        }
     }
-    for w in &fitted.export_warnings {
+    for w in &warnings {
         eprintln!("warning: {w}");
     }
     Ok(())
+}
+
+/// The instances `tcal fit` fits at once: every one of the first log's
+/// with `--instance all`, and by default for `--for` when it has several;
+/// `None` for one sensor.
+fn fit_instances(a: &TcalFitArgs) -> Result<Option<Vec<u32>>> {
+    let all = match a.read.instance {
+        Some(Instance::One(_)) => return Ok(None),
+        Some(Instance::All) => true,
+        None if a.for_firmware.is_some() && a.read.topic.is_none() => false,
+        None => return Ok(None),
+    };
+    let Some(first) = a.files.first() else {
+        return Ok(None);
+    };
+    let found = analysis::robot_logs::imu_instances(first).map_err(exit_status)?;
+    match found.len() {
+        0 if all => usage_error(format!(
+            "--instance all: {} has no IMU instances (it is not a PX4 ULog or ArduPilot DataFlash log with several IMUs)",
+            first.display()
+        )),
+        0 | 1 if !all => Ok(None),
+        _ => Ok(Some(found)),
+    }
 }
 
 pub fn apply(a: &TcalApplyArgs) -> Result<()> {
@@ -94,6 +159,26 @@ pub fn apply(a: &TcalApplyArgs) -> Result<()> {
     check_output(&a.output, &policy)?;
     let model = Model::read(&a.model)?;
     let read = recording_options(&a.read)?;
+    // A model of several IMUs compensates the one instance asked for, with
+    // that instance's own model.
+    let model = if model.instances.is_empty() {
+        model
+    } else {
+        let numbers: Vec<u32> = model.instances.iter().filter_map(|m| m.instance).collect();
+        match a.read.instance {
+            Some(Instance::One(n)) => match model.instances.iter().find(|m| m.instance == Some(n)) {
+                Some(m) => m.clone(),
+                None => usage_error(format!(
+                    "--instance {n}: {} holds instances {numbers:?}",
+                    a.model.display()
+                )),
+            },
+            _ => usage_error(format!(
+                "{} holds instances {numbers:?}: give --instance N to compensate one",
+                a.model.display()
+            )),
+        }
+    };
     let (mut rec, _, _) = analysis::robot_logs::read_recording_with_report(&a.file, &read)?;
     let rate = rec.rate_hz.unwrap_or(1.0);
     let temp = rec
@@ -135,29 +220,70 @@ pub fn apply(a: &TcalApplyArgs) -> Result<()> {
 
 pub fn eval(a: &TcalEvalArgs) -> Result<()> {
     let model = Model::read(&a.model)?;
-    let read = recording_options(&a.read)?;
+    let read = recording_options_any_instance(&a.read)?;
+    let many = !model.instances.is_empty();
+    if !many && a.read.instance == Some(Instance::All) {
+        usage_error(format!(
+            "--instance all: {} is the model of one sensor; give its instance number",
+            a.model.display()
+        ));
+    }
     let loaded: Option<AsLoaded> = a
         .export
         .map(|f| compensation::as_loaded(&model, f.into(), a.params.as_deref()))
         .transpose()?;
-    let names: Vec<String> = model.channels.iter().map(|c| c.name.clone()).collect();
+    // A model of several instances is judged per instance: each read from
+    // the log as its own IMU, against its own set of the file.
+    let sensors: Vec<&Model> = model
+        .sensors()
+        .into_iter()
+        .filter(|m| match (many, a.read.instance) {
+            (true, Some(Instance::One(n))) => m.instance == Some(n),
+            _ => true,
+        })
+        .collect();
+    if sensors.is_empty() {
+        usage_error(format!(
+            "--instance: {} holds instances {:?}",
+            a.model.display(),
+            model
+                .instances
+                .iter()
+                .filter_map(|m| m.instance)
+                .collect::<Vec<_>>()
+        ));
+    }
     let mut rows = Vec::new();
     let mut verdicts = Vec::new();
     for file in &a.files {
-        let run = run_data(file, &names, &read, a.motion.allow_motion)?;
-        if let Some(l) = &loaded {
-            verdicts.push(compensation::judge(l, file, &run)?);
+        for m in &sensors {
+            let mut read = read.clone();
+            let for_instance = match (many, &loaded) {
+                (true, Some(l)) => Some(l.for_instance(m)?),
+                _ => None,
+            };
+            if many {
+                read.stream.instance = m.instance;
+            }
+            let names: Vec<String> = m.channels.iter().map(|c| c.name.clone()).collect();
+            let run = run_data(file, &names, &read, a.motion.allow_motion)?;
+            let loaded = for_instance.as_ref().or(loaded.as_ref());
+            if let Some(l) = loaded {
+                let mut v = compensation::judge(l, file, &run)?;
+                v.instance = m.instance.filter(|_| many);
+                verdicts.push(v);
+            }
+            let for_run = match loaded {
+                Some(l) => l.for_run(file, &run)?,
+                None => None,
+            };
+            rows.extend(compensation::eval_rows(
+                m,
+                file,
+                run,
+                for_run.as_ref().or(loaded),
+            )?);
         }
-        let for_run = match &loaded {
-            Some(l) => l.for_run(file, &run)?,
-            None => None,
-        };
-        rows.extend(compensation::eval_rows(
-            &model,
-            file,
-            run,
-            for_run.as_ref().or(loaded.as_ref()),
-        )?);
     }
     if let Some(l) = &loaded {
         for w in &l.warnings {
@@ -206,12 +332,16 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
         }
     }
     for r in &doc.rows {
+        let file = match r.instance {
+            Some(n) => format!("{} [IMU {n}]", r.file),
+            None => r.file.clone(),
+        };
         let (rb, mb) = (r.bias_rms_before, r.bias_max_before);
         let (ra, ma) = (r.bias_rms_after, r.bias_max_after);
         let reduction = if rb > 0.0 { 100.0 * (1.0 - ra / rb) } else { 0.0 };
         table.push(format!(
             "{:<24} {:<8} {} RMS {:.3e} → {:.3e} {} ({reduction:.1} % less), max {:.3e} → {:.3e}{}",
-            r.file,
+            file,
             r.channel,
             if r.held_out { "held out" } else { "fitted  " },
             rb,
@@ -250,7 +380,10 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
     }
     for v in doc.firmware.iter().flat_map(|f| &f.verdicts) {
         for said in &v.says {
-            table.push(format!("{}: {said}", v.file));
+            match v.instance {
+                Some(n) => table.push(format!("{} [IMU {n}]: {said}", v.file)),
+                None => table.push(format!("{}: {said}", v.file)),
+            }
         }
     }
     match &loaded {

@@ -25,6 +25,17 @@ pub fn run(a: &TcalExportArgs) -> Result<()> {
         usage_error(format!("-o {}: that is the model being exported", out.display()));
     }
     let model = Model::read(&a.model)?;
+    if !model.instances.is_empty() && (a.instance.is_some() || a.device_id.is_some()) {
+        usage_error(format!(
+            "{} holds instances {:?}, each written to its own slot with the ids its log gave: export it without --instance and --device-id",
+            a.model.display(),
+            model
+                .instances
+                .iter()
+                .filter_map(|m| m.instance)
+                .collect::<Vec<_>>()
+        ));
+    }
     let target = Target {
         instance: a.instance,
         device_id: a.device_id,

@@ -45,42 +45,61 @@ fn key(sensor: Sensor) -> &'static str {
 const AXES: [&str; 3] = ["X", "Y", "Z"];
 
 /// Writes the `NAME VALUE` file for `INS_TCAL{n}`.
-pub(super) fn write(model: &Model, n: u8, device_id: Option<u32>) -> Result<Export, FirmwareError> {
+/// `header`: the file's opening comments, written once per file.
+pub(super) fn write(
+    model: &Model,
+    n: u8,
+    ids: super::px4::Ids,
+    header: bool,
+) -> Result<Export, FirmwareError> {
     let cubics = cubics(model, Firmware::ArduPilot, TEMP_REFERENCE_C)?;
     let mut warnings = Vec::new();
     let (lo, hi) = DOCUMENTED_RANGE_C;
     let (t_min, t_max) = (model.t_min_c, model.t_max_c);
     let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "# ArduPilot IMU temperature calibration from imutherm (INS_TCAL{n}_*)"
-    );
-    let _ = writeln!(
-        s,
-        "# ArduPilot applies v -= poly(T - 35) and v += poly(CALTEMP - 35), poly(d) = (C1 + (C2 + C3*d)*d)*d / 1e6,"
-    );
-    let _ = writeln!(
-        s,
-        "# with T and CALTEMP held within [TMIN, TMAX]; CALTEMP is INS_ACC{n}_CALTEMP / INS_GYR{n}_CALTEMP, set by the"
-    );
-    let _ = writeln!(
-        s,
-        "# accelerometer and gyro calibrations: leave them, the correction is zero at that temperature."
-    );
-    let _ = writeln!(
-        s,
-        "# Axes: the correction comes after the IMU's rotation onto the board and before AHRS_ORIENTATION, so"
-    );
-    let _ = writeln!(
-        s,
-        "# x, y, z here must be the flight controller board's axes. Reboot after loading."
-    );
-    if let Some(id) = device_id {
-        let suffix = if n == 1 { String::new() } else { n.to_string() };
+    if header {
         let _ = writeln!(
             s,
-            "# For the IMU with device id {id}: check that INS_GYR{suffix}_ID / INS_ACC{suffix}_ID is {id}."
+            "# ArduPilot IMU temperature calibration from imutherm (INS_TCAL{n}_*)"
         );
+        let _ = writeln!(
+            s,
+            "# ArduPilot applies v -= poly(T - 35) and v += poly(CALTEMP - 35), poly(d) = (C1 + (C2 + C3*d)*d)*d / 1e6,"
+        );
+        let _ = writeln!(
+            s,
+            "# with T and CALTEMP held within [TMIN, TMAX]; CALTEMP is INS_ACC{n}_CALTEMP / INS_GYR{n}_CALTEMP, set by the"
+        );
+        let _ = writeln!(
+            s,
+            "# accelerometer and gyro calibrations: leave them, the correction is zero at that temperature."
+        );
+        let _ = writeln!(
+            s,
+            "# Axes: the correction comes after the IMU's rotation onto the board and before AHRS_ORIENTATION, so"
+        );
+        let _ = writeln!(
+            s,
+            "# x, y, z here must be the flight controller board's axes. Reboot after loading."
+        );
+    }
+    // `correct_sensor` applies set n to the IMU of index n − 1, whatever
+    // sensor that is: the ids the log carried only let the user check
+    // that the vehicle's IMU order is the log's.
+    let suffix = if n == 1 { String::new() } else { n.to_string() };
+    match (ids.gyro, ids.accel.or(ids.gyro)) {
+        (Some(g), Some(a)) => {
+            let _ = writeln!(
+                s,
+                "# INS_TCAL{n} is applied to IMU {n}; it was fitted on the IMU whose INS_GYR{suffix}_ID is {g} and INS_ACC{suffix}_ID is {a}: check that the vehicle's are these."
+            );
+        }
+        _ => {
+            let _ = writeln!(
+                s,
+                "# INS_TCAL{n} is applied to IMU {n} (INS_GYR{suffix}_ID / INS_ACC{suffix}_ID); the recording gave no device id to check it against."
+            );
+        }
     }
     // @Range is documentation for ground stations: `AP_Param` stores any
     // float and `correct_sensor` constrains T to whatever TMIN/TMAX hold.

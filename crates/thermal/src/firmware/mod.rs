@@ -153,6 +153,15 @@ pub enum FirmwareError {
         /// Its value.
         value: f64,
     },
+    /// A slot or id given for a model of several instances, whose
+    /// instances each go to their own slot with their own ids.
+    #[error(
+        "the model holds instances {instances:?}, each written to its own slot with its own ids: export it without --instance and --device-id"
+    )]
+    TargetOfMany {
+        /// The model's instance numbers.
+        instances: Vec<u32>,
+    },
     /// No gyro or accelerometer axis in the model.
     #[error("the model has no gyro or accelerometer axis to calibrate")]
     Nothing,
@@ -172,20 +181,76 @@ pub enum FirmwareError {
     Missing(String),
 }
 
-/// Writes the model as the firmware's parameter file.
+/// Writes the model as the firmware's parameter file. A model of several
+/// instances (`tcal fit --instance all`) is written whole, each instance to
+/// the slot of its number (PX4 `TC_x{n}`, ArduPilot `INS_TCAL{n+1}`, the
+/// firmware's IMU order), and takes no target.
 pub fn export(model: &Model, firmware: Firmware, target: Target) -> Result<Export, FirmwareError> {
     model.validate()?;
-    let instance = instance(firmware, target.instance)?;
+    if !model.instances.is_empty() {
+        if target != Target::default() {
+            return Err(FirmwareError::TargetOfMany {
+                instances: model.instances.iter().filter_map(|m| m.instance).collect(),
+            });
+        }
+        let slots: Vec<(&Model, u8)> = model
+            .instances
+            .iter()
+            .map(|m| {
+                let number = m.instance.unwrap_or(0);
+                let slot = match firmware {
+                    Firmware::Px4 => number,
+                    Firmware::ArduPilot => number.saturating_add(1),
+                };
+                let slot = u8::try_from(slot).unwrap_or(u8::MAX);
+                instance(firmware, Some(slot)).map(|n| (m, n))
+            })
+            .collect::<Result<_, _>>()?;
+        return write(firmware, &slots, None);
+    }
+    let n = instance(firmware, target.instance)?;
+    write(firmware, &[(model, n)], target.device_id)
+}
+
+/// The file for each (model, slot), ids from the models unless `device_id`
+/// overrides them.
+fn write(
+    firmware: Firmware,
+    slots: &[(&Model, u8)],
+    device_id: Option<u32>,
+) -> Result<Export, FirmwareError> {
     match firmware {
-        Firmware::Px4 => px4::write(
-            model,
-            instance,
-            px4::Ids {
-                gyro: target.device_id.or(model.device_id),
-                accel: target.device_id.or(model.accel_device_id).or(model.device_id),
-            },
-        ),
-        Firmware::ArduPilot => ardupilot::write(model, instance, target.device_id.or(model.device_id)),
+        Firmware::Px4 => {
+            let slots: Vec<px4::Slot> = slots
+                .iter()
+                .map(|&(model, n)| px4::Slot {
+                    model,
+                    n,
+                    ids: px4::Ids {
+                        gyro: device_id.or(model.device_id),
+                        accel: device_id.or(model.accel_device_id).or(model.device_id),
+                    },
+                })
+                .collect();
+            px4::write(&slots)
+        }
+        Firmware::ArduPilot => {
+            let mut out = Export {
+                text: String::new(),
+                warnings: Vec::new(),
+            };
+            for (k, &(model, n)) in slots.iter().enumerate() {
+                let gyro = device_id.or(model.device_id);
+                let ids = px4::Ids {
+                    gyro,
+                    accel: device_id.or(model.accel_device_id).or(gyro),
+                };
+                let one = ardupilot::write(model, n, ids, k == 0)?;
+                out.text += &one.text;
+                out.warnings.extend(one.warnings);
+            }
+            Ok(out)
+        }
     }
 }
 

@@ -54,9 +54,24 @@ pub struct Ids {
     pub accel: Option<u32>,
 }
 
-/// Writes QGroundControl's parameter file for slot `n`.
-pub(super) fn write(model: &Model, n: u8, ids: Ids) -> Result<Export, FirmwareError> {
-    let cubics = cubics(model, Firmware::Px4, model.t_ref_c)?;
+/// One sensor's model, the slot it goes to and the ids it is for.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Slot<'a> {
+    /// The model.
+    pub model: &'a Model,
+    /// `n` of `TC_G{n}`/`TC_A{n}`.
+    pub n: u8,
+    /// The ids the sets are matched to.
+    pub ids: Ids,
+}
+
+/// Writes QGroundControl's parameter file holding each slot: one
+/// `TC_x_ENABLE` per sensor type, then each slot's set.
+pub(super) fn write(slots: &[Slot]) -> Result<Export, FirmwareError> {
+    let all: Vec<_> = slots
+        .iter()
+        .map(|slot| cubics(slot.model, Firmware::Px4, slot.model.t_ref_c))
+        .collect::<Result<_, _>>()?;
     let mut warnings = Vec::new();
     let mut s = String::new();
     let _ = writeln!(
@@ -85,63 +100,70 @@ pub(super) fn write(model: &Model, n: u8, ids: Ids) -> Result<Export, FirmwareEr
     };
     let _ = writeln!(s, "# Vehicle-Id\tComponent-Id\tName\tValue\tType");
     for sensor in [Sensor::Accel, Sensor::Gyro] {
-        let axes = &cubics[sensor as usize];
-        if axes.iter().all(Option::is_none) {
+        let has = |c: &super::Cubics| c[sensor as usize].iter().any(Option::is_some);
+        if !all.iter().any(has) {
             continue;
         }
-        let p = prefix(sensor, n);
         lines(&mut s, enable_name(sensor), "1", TYPE_INT32);
-        let (what, listener, cal) = match sensor {
-            Sensor::Gyro => ("gyro", "sensor_gyro", "CAL_GYRO"),
-            Sensor::Accel => ("accelerometer", "sensor_accel", "CAL_ACC"),
-        };
-        let device_id = match sensor {
-            Sensor::Gyro => ids.gyro,
-            Sensor::Accel => ids.accel,
-        };
-        match device_id {
-            Some(id) => lines(&mut s, &format!("{p}_ID"), &(id as i32).to_string(), TYPE_INT32),
-            None => {
-                let _ = writeln!(
-                    s,
-                    "# {p}_ID below is a placeholder (0 matches no sensor): set it to the {what}'s device id, read with"
-                );
-                let _ = writeln!(
-                    s,
-                    "# `listener {listener}` (device_id) or from the parameter {cal}{n}_ID, or export with --device-id."
-                );
-                lines(&mut s, &format!("{p}_ID"), "0", TYPE_INT32);
-                warnings.push(format!(
+        for (slot, cubics) in slots.iter().zip(&all) {
+            if !has(cubics) {
+                continue;
+            }
+            let (model, n, ids) = (slot.model, slot.n, slot.ids);
+            let axes = &cubics[sensor as usize];
+            let p = prefix(sensor, n);
+            let (what, listener, cal) = match sensor {
+                Sensor::Gyro => ("gyro", "sensor_gyro", "CAL_GYRO"),
+                Sensor::Accel => ("accelerometer", "sensor_accel", "CAL_ACC"),
+            };
+            let device_id = match sensor {
+                Sensor::Gyro => ids.gyro,
+                Sensor::Accel => ids.accel,
+            };
+            match device_id {
+                Some(id) => lines(&mut s, &format!("{p}_ID"), &(id as i32).to_string(), TYPE_INT32),
+                None => {
+                    let _ = writeln!(
+                        s,
+                        "# {p}_ID below is a placeholder (0 matches no sensor): set it to the {what}'s device id, read with"
+                    );
+                    let _ = writeln!(
+                        s,
+                        "# `listener {listener}` (device_id) or from the parameter {cal}{n}_ID, or export with --device-id."
+                    );
+                    lines(&mut s, &format!("{p}_ID"), "0", TYPE_INT32);
+                    warnings.push(format!(
                     "{p}_ID is a placeholder (0): PX4 applies nothing until it is the {what}'s device id (`listener {listener}`, or {cal}{n}_ID); export with --device-id"
                 ));
+                }
             }
-        }
-        for (field, v) in [
-            ("TMAX", model.t_max_c),
-            ("TMIN", model.t_min_c),
-            ("TREF", model.t_ref_c),
-        ] {
-            let name = format!("{p}_{field}");
-            lines(&mut s, &name, &float32_text(&name, v)?, TYPE_REAL32);
-        }
-        for (axis, cubic) in axes.iter().enumerate() {
-            let Some(mut c) = *cubic else {
-                warnings.push(format!(
+            for (field, v) in [
+                ("TMAX", model.t_max_c),
+                ("TMIN", model.t_min_c),
+                ("TREF", model.t_ref_c),
+            ] {
+                let name = format!("{p}_{field}");
+                lines(&mut s, &name, &float32_text(&name, v)?, TYPE_REAL32);
+            }
+            for (axis, cubic) in axes.iter().enumerate() {
+                let Some(mut c) = *cubic else {
+                    warnings.push(format!(
                     "{p}: axis {axis} is not in the model; its coefficients are written as 0 (no correction)"
                 ));
-                let zero = [0.0; 4];
-                for (k, v) in zero.iter().enumerate() {
+                    let zero = [0.0; 4];
+                    for (k, v) in zero.iter().enumerate() {
+                        let name = format!("{p}_X{k}_{axis}");
+                        lines(&mut s, &name, &float32_text(&name, *v)?, TYPE_REAL32);
+                    }
+                    continue;
+                };
+                if sensor == Sensor::Accel {
+                    c[0] = 0.0;
+                }
+                for (k, v) in c.iter().enumerate() {
                     let name = format!("{p}_X{k}_{axis}");
                     lines(&mut s, &name, &float32_text(&name, *v)?, TYPE_REAL32);
                 }
-                continue;
-            };
-            if sensor == Sensor::Accel {
-                c[0] = 0.0;
-            }
-            for (k, v) in c.iter().enumerate() {
-                let name = format!("{p}_X{k}_{axis}");
-                lines(&mut s, &name, &float32_text(&name, *v)?, TYPE_REAL32);
             }
         }
     }
