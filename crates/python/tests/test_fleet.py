@@ -174,27 +174,6 @@ def test_a_killed_workers_unit_is_retried(line, tmp_path):
     assert result.counts["analysed"] == 6 and len(done) == 6
 
 
-def test_bad_manifests_and_limits_name_file_and_line(tmp_path):
-    m = tmp_path / "m.csv"
-    for text, says in [("unit,static\nA,a.txt\n", "line 1: the manifest has no column thermal"),
-                       ("unit,static,thermal,colour\n", "unknown column colour"),
-                       ("unit,static,thermal\nA,a,b\nA,c,d\n", "line 3: unit A already on line 2"),
-                       ("unit,static,thermal\n../x,a,b\n", "line 2: unit id '../x'"),
-                       ("unit,static,thermal,firmware\nA,a,b,betaflight\n", "firmware 'betaflight'"),
-                       ("unit,static,thermal\nA,a;b,c\n", "one static run")]:
-        m.write_text(text)
-        with pytest.raises(fleet.FleetInputError, match=says.replace("(", r"\(")):
-            manifest.load(m)
-    lim = tmp_path / "l.toml"
-    for text, says in [("[gyro]\nwhite_nose_max = 1\n", r"\[gyro\] white_nose_max"),
-                       ("[gyro]\nwhite_noise_max = 'a'\n", "expected a number"),
-                       ("[mag]\n", r"\[mag\]"), ("[outliers]\nz_max = 0\n", "above 0"),
-                       ("[gyro\n", "l.toml")]:
-        lim.write_text(text)
-        with pytest.raises(fleet.FleetInputError, match=says):
-            limits_mod.load(lim)
-
-
 def test_the_command_line_exit_codes(tmp_path):
     cmd = [sys.executable, "-m", "imutherm.fleet.cli"]
     usage = subprocess.run(cmd + ["units.csv"], capture_output=True, text=True)

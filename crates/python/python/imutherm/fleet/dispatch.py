@@ -28,7 +28,10 @@ def connect(client=None, scheduler=None, workers=None):
     if client is not None:
         yield client
         return
-    from dask.distributed import Client, LocalCluster
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError:
+        raise FleetError("dask.distributed is not installed: pip install 'imutherm[fleet]'") from None
 
     if scheduler is not None:
         try:
