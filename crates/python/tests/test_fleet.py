@@ -174,6 +174,17 @@ def test_a_killed_workers_unit_is_retried(line, tmp_path):
     assert result.counts["analysed"] == 6 and len(done) == 6
 
 
+def test_a_foreign_table_in_the_output_folder_is_left_alone(tmp_path, line):
+    import pyarrow as pa
+
+    pq.write_table(pa.table({"x": [1, 2]}), tmp_path / "fleet.parquet")
+    before = (tmp_path / "fleet.parquet").read_bytes()
+    with pytest.raises(fleet.FleetError, match="not written by imutherm-fleet"):
+        fleet.run(line, line.parent / "limits.toml", tmp_path, client=object())
+    (tmp_path / "other.parquet").write_bytes(b"not parquet")
+    assert (tmp_path / "fleet.parquet").read_bytes() == before
+
+
 def test_the_command_line_exit_codes(tmp_path):
     cmd = [sys.executable, "-m", "imutherm.fleet.cli"]
     usage = subprocess.run(cmd + ["units.csv"], capture_output=True, text=True)

@@ -50,10 +50,10 @@ def connect(client=None, scheduler=None, workers=None):
 def analyse(units, settings, out_dir, client, progress=None):
     """Analyses the units that need it; returns ``(rows, counts)`` where
     ``rows`` are every unit's measurement rows (reused or new)."""
+    before = table.previous_rows(out_dir)
     units_dir = os.path.join(out_dir, UNITS_DIR)
     os.makedirs(units_dir, exist_ok=True)
     remove_scratch(units_dir)
-    before = table.previous_rows(out_dir)
     rows_by_unit, todo, digests = {}, [], {}
     for u in units:
         d = table.unit_digest(u, settings)

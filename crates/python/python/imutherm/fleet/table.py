@@ -7,6 +7,7 @@ import os
 
 import imutherm
 
+from .errors import FleetError
 from .files import write_atomic
 
 TABLE = "fleet.parquet"
@@ -46,8 +47,16 @@ def previous_rows(out_dir):
         return {}
     import pyarrow.parquet as pq
 
+    try:
+        previous = pq.read_table(path)
+    except (OSError, ValueError) as e:
+        raise FleetError(f"{path}: not a table imutherm-fleet can read ({e}): move it, or "
+                         f"choose another output folder") from None
+    if not {"unit", "digest"} <= set(previous.column_names):
+        raise FleetError(f"{path} exists and was not written by imutherm-fleet: move it, or "
+                         f"choose another output folder")
     by_unit = {}
-    for row in pq.read_table(path).to_pylist():
+    for row in previous.to_pylist():
         by_unit.setdefault(row["unit"], []).append(row)
     return by_unit
 
