@@ -1,8 +1,11 @@
 """The fleet on Dask distributed: one task per unit, the table assembled
 on the client as units finish.
 
-A worker killed mid-unit loses nothing: the scheduler hands its task to
-another worker (``distributed.scheduler.allowed-failures`` times), the
+A worker killed mid-unit loses nothing: the scheduler releases the tasks
+it was processing and runs them again elsewhere, until a task has seen
+more than ``distributed.scheduler.allowed-failures`` workers die under it
+(distributed's ``Scheduler.remove_worker``, which then errs it with
+``KilledWorker``: that unit becomes a row with the error), the
 unit's files are written by rename so a killed write leaves only a scratch
 file (removed at the next run), and the table holds each unit once,
 keyed by its id, whichever attempt finished it.
