@@ -74,6 +74,7 @@ def _fleet_page(rows, units, limits):
     parts.append("<h2 id=\"spread\">The fleet's spread</h2>\n<p>Each term per channel over the "
                  "units; red bars hold flagged units.</p>\n")
     channels = sorted({r["channel"] for r in rows if r.get("channel")})
+    parts.append(_spread_table(rows, channels))
     for term in HIST_TERMS:
         for ch in channels:
             sel = [r for r in rows if r.get("channel") == ch and r.get(term) is not None]
@@ -95,6 +96,27 @@ def _worst(rows, units, status):
         out.append(f"<tr{cls}><td>{units[u][0]['rank']}</td><td class=\"text\"><a href=\"units/"
                    f"{_e(u)}.html\">{_e(u)}</a></td><td class=\"text\">{_e(status[u])}</td>"
                    f"<td class=\"text\">{'<br>'.join(_e(x) for x in reasons) or '—'}</td></tr>\n")
+    out.append("</table>\n")
+    return "".join(out)
+
+
+def _spread_table(rows, channels):
+    out = ["<table>\n<caption>Per channel: median, robust spread (1.4826 MAD, a standard "
+           "deviation for normal data), range, units flagged</caption>\n<tr><th>term</th>"
+           "<th>channel</th><th>median</th><th>robust spread</th><th>min</th><th>max</th>"
+           "<th>units</th><th>flagged</th></tr>\n"]
+    for term in HIST_TERMS:
+        for ch in channels:
+            sel = [r for r in rows if r.get("channel") == ch and r.get(term) is not None]
+            if not sel:
+                continue
+            x = np.array([r[term] for r in sel], dtype=float)
+            med = float(np.median(x))
+            mad = 1.4826 * float(np.median(np.abs(x - med)))
+            cells = [_num(med), _num(mad), _num(float(x.min())), _num(float(x.max())),
+                     str(len(sel)), str(sum(1 for r in sel if r["flagged"]))]
+            out.append(f"<tr><td class=\"text\">{_e(term)}</td><td class=\"text\">{_e(ch)}</td>"
+                       + "".join(f"<td>{_e(c)}</td>" for c in cells) + "</tr>\n")
     out.append("</table>\n")
     return "".join(out)
 
