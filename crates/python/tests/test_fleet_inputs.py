@@ -77,3 +77,37 @@ def test_the_screen_ranks_out_of_limits_before_outliers():
     assert "dead axis" in out[0]["reasons"] and "white_noise 0.0025 > 0.002" in out[0]["reasons"]
     assert out[2]["reasons"].startswith("outlier: white_noise")
     assert all(r["status"] == "pass" for r in out[3:])
+
+
+def test_a_unit_runs_with_the_gil_released(tmp_path):
+    """A fleet worker's threads share one interpreter: every imutherm call
+    of a unit (read, noise terms, fit, export, evaluation) releases the GIL,
+    so the interpreter's other threads keep running throughout."""
+    import threading
+    import time
+
+    from fleet_support import write_unit
+    from imutherm.fleet import unit as unit_mod
+
+    p = write_unit(tmp_path, "G1", held_out=True)
+    u = manifest.Unit("G1", str(p["static"]), [str(p["thermal"])], str(p["held_out"]),
+                      firmware="px4")
+    settings = {"rate": None, "order": "auto", "confidence": 0.95}
+    ticks, rows, done = [], [], threading.Event()
+
+    def work():
+        rows.extend(unit_mod.analyse(u, settings, str(tmp_path / "out")))
+        done.set()
+
+    worker = threading.Thread(target=work)
+    start = time.perf_counter()
+    worker.start()
+    while not done.is_set():
+        ticks.append(time.perf_counter())
+        time.sleep(0.001)
+    worker.join()
+    took = time.perf_counter() - start
+    assert len(rows) == 6 and not rows[0]["error"] and rows[0]["held_out_bias_rms"] is not None
+    assert took > 0.05 and len(ticks) >= 5
+    # Held through a call, the GIL would stop this loop for all of it.
+    assert max(np.diff(ticks)) < took / 4
