@@ -44,9 +44,16 @@ def connect(client=None, scheduler=None, workers=None):
         with c:
             yield c
         return
-    n = workers or os.cpu_count() or 1
-    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                      dashboard_address=None) as cluster, Client(cluster) as c:
+    cores = os.cpu_count() or 1
+    n = workers or cores
+    # imutherm's statistics spread over a rayon pool as large as the
+    # machine: N workers each taking every core would fight for them, so
+    # each worker's pool gets its share (RAYON_NUM_THREADS, read by rayon
+    # when its global pool starts, in the worker's own process). A value
+    # the user set is kept.
+    env = {} if "RAYON_NUM_THREADS" in os.environ else {"RAYON_NUM_THREADS": str(max(1, cores // n))}
+    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                      env=env) as cluster, Client(cluster) as c:
         yield c
 
 
