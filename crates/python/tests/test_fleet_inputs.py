@@ -111,3 +111,19 @@ def test_a_unit_runs_with_the_gil_released(tmp_path):
     assert took > 0.05 and len(ticks) >= 5
     # Held through a call, the GIL would stop this loop for all of it.
     assert max(np.diff(ticks)) < took / 4
+
+
+def test_outputs_are_readable_as_open_would_make_them(tmp_path):
+    import os
+
+    from imutherm.fleet.files import remove_scratch, write_atomic
+
+    old = os.umask(0o022)
+    try:
+        write_atomic(tmp_path / "a.json", "{}")
+    finally:
+        os.umask(old)
+    assert (tmp_path / "a.json").read_text() == "{}"
+    assert oct((tmp_path / "a.json").stat().st_mode & 0o777) == oct(0o644)
+    (tmp_path / "b.json.1.ab.partial").write_text("half")
+    assert remove_scratch(tmp_path) == 1 and sorted(os.listdir(tmp_path)) == ["a.json"]

@@ -3,7 +3,7 @@ beside the target, renamed over it when complete (a rename within one
 folder is atomic on POSIX and Windows)."""
 
 import os
-import tempfile
+import secrets
 
 SCRATCH = ".partial"
 
@@ -12,8 +12,11 @@ def write_atomic(path, data):
     """Writes ``data`` (str or bytes) to ``path`` through a scratch file."""
     folder = os.path.dirname(os.path.abspath(path))
     os.makedirs(folder, exist_ok=True)
-    fd, scratch = tempfile.mkstemp(dir=folder, prefix=os.path.basename(path) + ".",
-                                   suffix=SCRATCH)
+    # Created as open() would create the file (0666 less the umask), which
+    # mkstemp's 0600 is not: the outputs are for the whole line to read.
+    scratch = os.path.join(folder, f"{os.path.basename(path)}.{os.getpid()}."
+                                   f"{secrets.token_hex(4)}{SCRATCH}")
+    fd = os.open(scratch, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
     try:
         with os.fdopen(fd, "wb") as f:
             f.write(data.encode("utf-8") if isinstance(data, str) else data)

@@ -72,12 +72,15 @@ def _fleet_page(rows, units, limits):
              "<a href=\"#spread\">The fleet's spread</a></nav>\n"]
     parts.append(_worst(rows, units, status))
     parts.append("<h2 id=\"spread\">The fleet's spread</h2>\n<p>Each term per channel over the "
-                 "units; red bars hold flagged units.</p>\n")
+                 "units; red bars hold flagged units; dead axes are listed above, not drawn.</p>\n")
     channels = sorted({r["channel"] for r in rows if r.get("channel")})
     parts.append(_spread_table(rows, channels))
     for term in HIST_TERMS:
         for ch in channels:
-            sel = [r for r in rows if r.get("channel") == ch and r.get(term) is not None]
+            # A dead axis has no noise to draw: on a log axis its
+            # round-off values would squeeze the fleet into one bar.
+            sel = [r for r in rows if r.get("channel") == ch and r.get(term) is not None
+                   and r.get("static_spread") != 0.0]
             if sel:
                 parts.append(_histogram(term, ch, sel))
     return _doc("imutherm fleet", "".join(parts))
