@@ -136,8 +136,9 @@ def test_a_failing_unit_is_a_row_with_its_error(line, client, tmp_path):
     text = line.read_text().splitlines()[:3]
     text.append("BAD,broken.txt,U01_thermal.txt,,,px4")
     (folder / "with_bad.csv").write_text("\n".join(text) + "\n")
-    result = fleet.run(folder / "with_bad.csv", folder / "limits.toml", tmp_path, client=client,
-                       progress=fleet.Progress(0, QUIET))
+    # Through the scheduler's address, as --scheduler tcp://... connects.
+    result = fleet.run(folder / "with_bad.csv", folder / "limits.toml", tmp_path,
+                       scheduler=client.scheduler.address, progress=fleet.Progress(0, QUIET))
     bad = [r for r in result.rows if r["unit"] == "BAD"]
     assert len(bad) == 1 and bad[0]["status"] == "error" and "broken.txt" in bad[0]["error"]
     assert result.rows[0]["unit"] != "BAD" or result.rows[0]["status"] == "error"
