@@ -150,9 +150,16 @@ def compare(a, line, rows, limits):
         # Timed once the cluster is up: throughput, not the workers' start.
         with fleet.connect(workers=w) as c:
             c.run(lambda: __import__("imutherm").__version__)
+            cpu = lambda: sum(c.run(time.process_time).values())
+            before = cpu()
             t = time.time()
             fleet.run(sub, limits, o, client=c)
             times[w] = time.time() - t
+            used = cpu() - before
+        # CPU seconds the workers spent: what the units cost whatever the
+        # machine's other load, against the wall time it took.
+        print(f"    workers' CPU {used:.1f} s ({used / a.compare:.2f} s a unit), "
+              f"{used / times[w]:.2f} cores busy on average")
         print(f"{a.compare} units on {w} worker(s): {times[w]:.1f} s")
     ratio = times[1] / times[2]
     print(f"throughput 2 workers / 1 worker: {ratio:.2f}x "
