@@ -555,7 +555,12 @@ Examples:
 Profiles (°C and seconds; the die follows the chamber with the configuration's sensor_lag_s):
   constant:T[:FLUCTUATION]   cooling:START:AMBIENT:TAU_S   ramp:FROM:TO:DURATION_S
   steps:T1,T2,…:HOLD_S (heater time constant 120 s)   file:PATH (rows of time_s, temp_c)
-Durations: 3600, 3600s, 90m, 2h, 1.5h. Presets: mpu9250-thesis, white.";
+Durations: 3600, 3600s, 90m, 2h, 1.5h. Presets: mpu9250-thesis, white.
+
+A production line (--unit ID: the same board on every run; --seed varies the realisation):
+  imutherm simulate --unit SN-0042 --duration 20m --profile constant:34 -o SN-0042_static.txt
+  imutherm simulate --unit SN-0042 --seed 2 --profile ramp:20:80:3600 -o SN-0042_ramp.txt
+  imutherm simulate --unit SN-0007 --defect noise-3x -o bad.txt     also slope-5x, dead-axis:gyro_z";
 
 #[derive(Debug, Args)]
 pub struct SimulateArgs {
@@ -582,6 +587,23 @@ pub struct SimulateArgs {
     /// Seed of the random streams, overriding the configuration's.
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
+
+    /// Draw unit ID of a production population around the configuration:
+    /// its noise terms and bias polynomials scatter (see --scatter), fixed
+    /// by the id; the seed still picks the run's noise realisation.
+    #[arg(long, value_name = "ID")]
+    pub unit: Option<String>,
+
+    /// The population's relative spread NOISE,BIAS (one standard deviation:
+    /// log-normal on every noise term, normal on every bias coefficient).
+    #[arg(long, value_name = "NOISE,BIAS", default_value = "0.1,0.2", requires = "unit")]
+    pub scatter: String,
+
+    /// Plant a fault in the unit: noise-3x (every noise term ×3), slope-5x
+    /// (bias slope 5× the population's) or dead-axis[:CHANNEL] (gyro_z by
+    /// default: a constant output).
+    #[arg(long, value_name = "DEFECT", requires = "unit")]
+    pub defect: Option<String>,
 
     /// Output file (imutherm log format).
     #[arg(

@@ -176,3 +176,67 @@ fn a_log_of_no_samples_is_a_usage_error_and_no_file() {
         .stderr(predicate::str::contains("less than one sample"));
     assert!(!out.exists());
 }
+
+/// The `# true.gyro_x.n` line of a log.
+fn true_n(text: &str, channel: &str) -> f64 {
+    let key = format!("# true.{channel}.n: ");
+    let line = text.lines().find(|l| l.starts_with(&key)).unwrap();
+    line[key.len()..].trim().parse().unwrap()
+}
+
+#[test]
+fn a_unit_of_a_population_is_the_same_board_on_every_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let p = dir.path().join(name);
+        imutherm()
+            .args(["simulate", "--preset", "white", "--duration", "10", "--unit"])
+            .args(extra)
+            .arg("-o")
+            .arg(&p)
+            .assert()
+            .success();
+        std::fs::read_to_string(p).unwrap()
+    };
+    let a1 = run("a1.txt", &["SN-1"]);
+    let a2 = run("a2.txt", &["SN-1", "--seed", "5"]);
+    let b = run("b.txt", &["SN-2"]);
+    let bad = run("bad.txt", &["SN-1", "--defect", "noise-3x"]);
+    // The white preset's gyro N is 1.5e-4 rad/√s: a unit scatters around it.
+    assert_eq!(true_n(&a1, "gyro_x"), true_n(&a2, "gyro_x"));
+    assert_ne!(true_n(&a1, "gyro_x"), true_n(&b, "gyro_x"));
+    assert_ne!(true_n(&a1, "gyro_x"), 1.5e-4);
+    assert!((true_n(&bad, "gyro_x") / true_n(&a1, "gyro_x") - 3.0).abs() < 1e-12);
+    assert!(a1.contains("# population.unit: SN-1\n") && a1.contains("# population.defect: none\n"));
+    assert!(bad.contains("# population.defect: noise-3x\n"));
+    // Another seed, another realisation of the same board.
+    let rows = |t: &str| {
+        t.lines()
+            .filter(|l| !l.starts_with('#'))
+            .nth(5)
+            .map(str::to_owned)
+    };
+    assert_ne!(rows(&a1), rows(&a2));
+}
+
+#[test]
+fn population_flags_are_checked_as_flags() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.txt");
+    for (args, says) in [
+        (vec!["--defect", "noise-3x"], "--unit"),
+        (vec!["--unit", "U", "--defect", "dead-axis:mag_x"], "gyro_z"),
+        (vec!["--unit", "U", "--scatter", "0.1"], "NOISE,BIAS"),
+        (vec!["--unit", "", "--preset", "white"], "empty"),
+    ] {
+        imutherm()
+            .arg("simulate")
+            .args(&args)
+            .arg("-o")
+            .arg(&out)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(says));
+    }
+    assert!(!out.exists());
+}

@@ -21,6 +21,9 @@ pub enum SimError {
     /// A temperature profile that cannot be used.
     #[error("temperature profile: {0}")]
     Profile(String),
+    /// A unit of a population that cannot be drawn as asked.
+    #[error("population: {0}")]
+    Population(String),
     /// A configuration file that does not parse.
     #[error("configuration: {0}")]
     Config(String),

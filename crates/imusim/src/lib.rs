@@ -13,6 +13,10 @@
 //! named preset ([`presets`]: `mpu9250-thesis`, calibrated to the thesis
 //! *Temperature Dependency of a Low-cost IMU*, and `white`).
 //!
+//! A production line's units scatter around one configuration
+//! ([`population`]): noise terms and bias polynomials drawn per unit id,
+//! with planted defects for testing a fleet's screening.
+//!
 //! Bias instability is a bank of Gauss–Markov processes ([`flicker`]) whose
 //! Allan deviation is flat within ±5 % over the configured τ range.
 //!
@@ -59,6 +63,7 @@ mod error;
 pub mod config;
 pub use earth;
 pub mod flicker;
+pub mod population;
 pub mod presets;
 pub mod sensor;
 pub mod simulate;

@@ -175,6 +175,7 @@ pub fn tcal_eval(
 #[pyfunction]
 #[pyo3(signature = (model, model_name, firmware, instance, device_id))]
 pub fn tcal_export(
+    py: Python<'_>,
     model: &str,
     model_name: &str,
     firmware: &str,
@@ -184,11 +185,15 @@ pub fn tcal_export(
     let firmware = firmware_of(firmware)?;
     compensation::check_instance(firmware, instance).map_err(analysis_err)?;
     let model = model_of(model)?;
-    let exported = firmware::export(&model, firmware, Target { instance, device_id }).map_err(|e| {
-        in_context(
-            &format!("{model_name}: cannot be written for {}", firmware.name()),
-            &e,
-        )
-    })?;
+    // Released like every other call, so that a fleet's threads export
+    // while others fit.
+    let exported = py
+        .detach(|| firmware::export(&model, firmware, Target { instance, device_id }))
+        .map_err(|e| {
+            in_context(
+                &format!("{model_name}: cannot be written for {}", firmware.name()),
+                &e,
+            )
+        })?;
     Ok((exported.text, exported.warnings))
 }

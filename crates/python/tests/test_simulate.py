@@ -34,6 +34,21 @@ def test_white_noise_as_its_metadata_states():
                                                               rel=4 * np.sqrt(1 / (2 * 12_000)))
 
 
+def test_a_unit_is_one_board_whatever_the_seed():
+    one = imutherm.simulate(**ARGS, unit="SN-1")
+    again = imutherm.simulate(**{**ARGS, "seed": 12}, unit="SN-1")
+    other = imutherm.simulate(**ARGS, unit="SN-2")
+    truth = [dict(r.metadata["entries"])["true.gyro_x.n"] for r in (one, again, other)]
+    assert truth[0] == truth[1] != truth[2]
+    assert not np.array_equal(one.channels["gyro_x"], again.channels["gyro_x"])
+    dead = imutherm.simulate(**ARGS, unit="SN-1", defect="dead-axis:gyro_y")
+    assert np.ptp(dead.channels["gyro_y"]) == 0.0 and np.ptp(dead.channels["gyro_x"]) > 0.0
+    with pytest.raises(imutherm.ImuthermError, match="give its id"):
+        imutherm.simulate(**ARGS, defect="noise-3x")
+    with pytest.raises(imutherm.ImuthermError, match="noise-3x, slope-5x"):
+        imutherm.simulate(**ARGS, unit="SN-1", defect="broken")
+
+
 def test_bad_arguments_carry_the_command_line_message():
     with pytest.raises(imutherm.ImuthermError, match="unknown preset 'nope'"):
         imutherm.simulate(preset="nope")
@@ -43,7 +58,9 @@ def test_bad_arguments_carry_the_command_line_message():
 
 @pytest.mark.skipif("IMUTHERM_BIN" not in os.environ, reason="IMUTHERM_BIN names no command line")
 @pytest.mark.parametrize("args", [ARGS, dict(preset="mpu9250-thesis", duration=300, rate=20, seed=3,
-                                             profile="ramp:20:60:300")])
+                                             profile="ramp:20:60:300"),
+                                  dict(preset="mpu9250-thesis", duration=120, unit="SN-7", seed=2,
+                                       scatter="0.2,0.3", defect="dead-axis:accel_y")])
 def test_same_samples_as_the_command_line(tmp_path, args):
     out = tmp_path / "sim.txt"
     cmd = [os.environ["IMUTHERM_BIN"], "simulate", "-o", str(out)]

@@ -7,6 +7,7 @@ use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use imu::output::{AtomicFile, OutputPolicy};
+use imusim::population::{self, Defect, Scatter};
 use imusim::thermal::Profile;
 use imusim::{SimConfig, Simulator, presets};
 
@@ -55,7 +56,24 @@ fn configuration(a: &SimulateArgs) -> Result<(SimConfig, String)> {
         cfg.seed = s;
     }
     cfg.validate()?;
+    if let Some(id) = &a.unit {
+        let (scatter, defect) = population_flags(a)?;
+        cfg = population::draw(&cfg, id, scatter, defect.as_ref())
+            .map_err(|e| UsageError(format!("--unit: {e}")))?;
+    }
     Ok((cfg, source))
+}
+
+/// --scatter and --defect, read as flags: a bad one is a usage error.
+fn population_flags(a: &SimulateArgs) -> Result<(Scatter, Option<Defect>)> {
+    let scatter = Scatter::parse(&a.scatter).map_err(|e| UsageError(format!("--scatter: {e}")))?;
+    let defect = a
+        .defect
+        .as_deref()
+        .map(Defect::parse)
+        .transpose()
+        .map_err(|e| UsageError(format!("--defect: {e}")))?;
+    Ok((scatter, defect))
 }
 
 pub fn run(a: &SimulateArgs) -> Result<()> {
@@ -114,7 +132,13 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
             inputs: &inputs,
         },
     )?;
-    let meta = sim.metadata(Some(&source));
+    let mut meta = sim.metadata(Some(&source));
+    if let Some(id) = &a.unit {
+        let (scatter, defect) = population_flags(a)?;
+        for (k, v) in population::describe(id, scatter, defect.as_ref()) {
+            meta.set(k, v);
+        }
+    }
     let written = sim
         .write_log(&mut file, &meta, |done, _| bar.set_position(done))
         .with_context(|| format!("writing {}", out.display()));

@@ -195,13 +195,24 @@ def read(path, rate=None, units=None, topic=None, instance=None, temp_topic=None
 
 
 @in_python_words()
-def simulate(preset="mpu9250-thesis", duration=None, rate=None, profile=None, seed=None):
+def simulate(preset="mpu9250-thesis", duration=None, rate=None, profile=None, seed=None,
+             unit=None, scatter=None, defect=None):
     """The recording ``imutherm simulate`` writes with the same arguments,
     sample for sample, in memory: ``preset`` (``"mpu9250-thesis"`` or
     ``"white"``), ``duration`` in seconds, ``rate`` in Hz, ``profile`` (the
     chamber temperature profile, in ``--profile``'s spelling, e.g.
     ``"ramp:20:60:7200"``) and ``seed`` override the preset's. Returns a
     :class:`Recording` whose ``metadata`` holds the true parameters.
+
+    ``unit`` draws that unit (an id) of a production population around the
+    preset, as ``--unit``: its noise terms and bias polynomials scatter by
+    ``scatter`` (``"NOISE,BIAS"``, relative, ``"0.1,0.2"`` by default), the
+    same board for every ``seed``; ``defect`` plants ``"noise-3x"``,
+    ``"slope-5x"`` or ``"dead-axis[:CHANNEL]"``.
+
+    >>> a = imutherm.simulate(preset="white", duration=10, unit="SN-0042", defect="noise-3x")
+    >>> dict(a.metadata["entries"])["population.defect"]
+    'noise-3x'
 
     >>> rec = imutherm.simulate(preset="white", duration=60, rate=100, seed=7)
     >>> rec.channels["gyro_x"].shape
@@ -210,4 +221,7 @@ def simulate(preset="mpu9250-thesis", duration=None, rate=None, profile=None, se
     return Recording(_imutherm.simulate(str(preset),
                                         None if duration is None else float(duration),
                                         None if rate is None else float(rate),
-                                        profile, None if seed is None else int(seed)))
+                                        profile, None if seed is None else int(seed),
+                                        None if unit is None else str(unit),
+                                        None if scatter is None else str(scatter),
+                                        None if defect is None else str(defect)))

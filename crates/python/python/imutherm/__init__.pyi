@@ -205,6 +205,9 @@ def simulate(
     rate: float | None = None,
     profile: str | None = None,
     seed: int | None = None,
+    unit: str | None = None,
+    scatter: str | None = None,
+    defect: str | None = None,
 ) -> Recording: ...
 
 _Firmware = Literal["px4", "ardupilot"]
