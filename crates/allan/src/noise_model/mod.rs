@@ -26,6 +26,7 @@
 //!   value; so is every term when no candidate fits (p below
 //!   [`FIT_P_VALUE`]).
 
+pub mod covariance;
 pub mod lm;
 pub mod process;
 mod select;
