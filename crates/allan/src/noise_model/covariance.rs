@@ -21,7 +21,10 @@
 //! - flicker rate B: B²s²·ln|s|/(2π) (gives the plateau 2 ln 2·B²/π);
 //! - random-walk rate K: K²|s|³/12;
 //! - Gauss–Markov (σ, T): −σ²T·(|s| − T(1 − e^{−|s|/T}));
-//! - a rate ramp is a trend, not a random process: it adds no variance.
+//! - a rate ramp R is a trend, not a random process: its second difference
+//!   is Rτ² at every k, which adds 2Rτ²·ē to σ̂²·2τ², ē the mean of the
+//!   noise's second differences; so Cov gains R²·Cov(ē_i, ē_j), the same
+//!   lag sum over C_ij(h) instead of its square.
 //!
 //! Each reproduces its AVAR of [`super::process`] at h = 0, i = j (tested).
 
@@ -116,6 +119,18 @@ impl Model<'_> {
         total
     }
 
+    /// R² of the model's rate ramp, 0 without one.
+    fn ramp_size2(&self) -> f64 {
+        let mut at = 0;
+        for &c in self.comps {
+            if c == Component::Power(Term::RateRamp) {
+                return self.theta[at].exp();
+            }
+            at += c.arity();
+        }
+        0.0
+    }
+
     /// The width, in lags, of the first panel at either end of a piece
     /// between breakpoints: a sample where flicker's s²·ln|s| bends there,
     /// half the shortest correlation time for the exponentials of a
@@ -157,7 +172,7 @@ const GL_W: [f64; 4] = [
     0.101_228_536_290_376_3,
 ];
 
-fn gauss_legendre(a: f64, b: f64, f: &impl Fn(f64) -> f64) -> f64 {
+fn gauss_legendre(a: f64, b: f64, f: &dyn Fn(f64) -> f64) -> f64 {
     let (mid, half) = ((a + b) / 2.0, (b - a) / 2.0);
     half * GL_X
         .iter()
@@ -169,7 +184,7 @@ fn gauss_legendre(a: f64, b: f64, f: &impl Fn(f64) -> f64) -> f64 {
 /// ∫ f over [a, b] in panels that start `w0` wide at each end and double
 /// towards the middle: the processes bend near the breakpoints and are
 /// smooth in between.
-fn graded(a: f64, b: f64, w0: f64, f: &impl Fn(f64) -> f64) -> f64 {
+fn graded(a: f64, b: f64, w0: f64, f: &dyn Fn(f64) -> f64) -> f64 {
     let mut cuts = vec![a, b, (a + b) / 2.0];
     let mut w = w0;
     while w < (b - a) / 2.0 {
@@ -183,7 +198,7 @@ fn graded(a: f64, b: f64, w0: f64, f: &impl Fn(f64) -> f64) -> f64 {
 }
 
 /// Σ over integer h in [lo, hi) of f(h).
-fn sum_range(lo: i64, hi: i64, w0: f64, f: &impl Fn(f64) -> f64) -> f64 {
+fn sum_range(lo: i64, hi: i64, w0: f64, f: &dyn Fn(f64) -> f64) -> f64 {
     if hi <= lo {
         0.0
     } else if hi - lo <= DIRECT {
@@ -221,9 +236,18 @@ fn covariance(model: &Model, ei: &Estimate, ej: &Estimate) -> f64 {
     cuts.iter_mut().for_each(|c| *c = (*c).clamp(first, last));
     cuts.sort_unstable();
     cuts.dedup();
-    let total: f64 = cuts.windows(2).map(|p| sum_range(p[0], p[1], w0, &f)).sum();
+    let lag_sum =
+        |g: &dyn Fn(f64) -> f64| -> f64 { cuts.windows(2).map(|p| sum_range(p[0], p[1], w0, &g)).sum() };
     let (ti, tj) = (mi * ei.tau0, mj * ej.tau0);
-    total / (2.0 * ti * ti * tj * tj * ni as f64 * nj as f64)
+    let mut cov = lag_sum(&f) / (2.0 * ti * ti * tj * tj * ni as f64 * nj as f64);
+    let ramp2 = model.ramp_size2();
+    if ramp2 > 0.0 {
+        // The ramp's second difference Rτ² is the same at every k: it
+        // multiplies the mean of the noise's, σ̂² = (R²τ⁴ + 2Rτ²ē + mean e²)/2τ².
+        let mean_cov = lag_sum(&|h: f64| count(h) * model.cross(mi, mj, h)) / (ni as f64 * nj as f64);
+        cov += ramp2 * mean_cov;
+    }
+    cov
 }
 
 /// The covariance matrix of the estimates σ̂² at `points` under the model
@@ -348,7 +372,8 @@ mod tests {
     /// The covariance of d_i(k) and d_j(k + h) for white rate noise of
     /// unit sample variance, from the samples themselves: d_m(k)/τ0 is the
     /// sum of y over [k+m, k+2m) minus that over [k, k+m).
-    fn brute_white(mi: usize, mj: usize, n_phase: usize, tau0: f64) -> f64 {
+    /// Returns Cov(σ̂²_i, σ̂²_j) and Cov(ē_i, ē_j).
+    fn brute_white(mi: usize, mj: usize, n_phase: usize, tau0: f64) -> (f64, f64) {
         let weights = |m: usize, k: usize| -> Vec<f64> {
             let mut w = vec![0.0; n_phase];
             w[k..k + m].iter_mut().for_each(|v| *v = -tau0);
@@ -358,15 +383,42 @@ mod tests {
         let (ni, nj) = (n_phase - 2 * mi, n_phase - 2 * mj);
         let wi: Vec<Vec<f64>> = (0..ni).map(|k| weights(mi, k)).collect();
         let wj: Vec<Vec<f64>> = (0..nj).map(|k| weights(mj, k)).collect();
-        let mut sum = 0.0;
+        let (mut sum, mut means) = (0.0, 0.0);
         for a in &wi {
             for b in &wj {
                 let c: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
                 sum += 2.0 * c * c;
+                means += c;
             }
         }
         let (ti, tj) = (mi as f64 * tau0, mj as f64 * tau0);
-        sum / (4.0 * ti * ti * tj * tj * ni as f64 * nj as f64)
+        let nn = ni as f64 * nj as f64;
+        (sum / (4.0 * ti * ti * tj * tj * nn), means / nn)
+    }
+
+    #[test]
+    fn a_ramp_adds_its_cross_term() {
+        // R²·Cov(ē_i, ē_j) with ē's covariance written out from the sample
+        // weights: white noise of unit sample variance under a ramp.
+        let tau0: f64 = 0.5;
+        let comps = [
+            Component::Power(Term::WhiteNoise),
+            Component::Power(Term::RateRamp),
+        ];
+        let r2 = 3e-3f64;
+        let theta = [tau0.ln(), r2.ln()];
+        let n_phase = 120;
+        for (mi, mj) in [(1, 1), (2, 4), (5, 20)] {
+            let e = |m: usize| Estimate {
+                m,
+                tau0,
+                n: n_phase - 2 * m,
+            };
+            let got = matrix(&comps, &theta, &[e(mi), e(mj)])[(0, 1)];
+            let (noise, means) = brute_white(mi, mj, n_phase, tau0);
+            let want = noise + r2 * means;
+            assert!((got / want - 1.0).abs() < 1e-9, "({mi}, {mj}): {got} vs {want}");
+        }
     }
 
     #[test]
@@ -384,7 +436,7 @@ mod tests {
                 n: n_phase - 2 * m,
             };
             let got = matrix(&comps, &theta, &[e(mi), e(mj)])[(0, 1)];
-            let want = brute_white(mi, mj, n_phase, tau0);
+            let want = brute_white(mi, mj, n_phase, tau0).0;
             assert!((got / want - 1.0).abs() < 1e-9, "({mi}, {mj}): {got} vs {want}");
         }
     }
