@@ -126,6 +126,8 @@ pub struct Outcome {
     pub within: bool,
     /// Its 95 % interval holds the truth.
     pub covered: bool,
+    /// (value − truth)/truth where held and the truth is not zero.
+    pub error: Option<f64>,
 }
 
 /// The true values in [`Case::tolerance`]'s order; 0 where absent.
@@ -133,6 +135,30 @@ pub fn truth(case: &Case) -> [f64; 6] {
     let t = case.terms;
     let (s, tc) = case.gauss_markov.unwrap_or((0.0, 0.0));
     [t.q, t.n, t.b, t.k, s, tc]
+}
+
+/// Each term's value, interval and all, in one seed's model, in
+/// [`Case::tolerance`]'s order; `None` where the model does not hold it.
+fn estimates(m: &NoiseModel) -> [Option<(f64, f64, f64)>; 6] {
+    let term = |t: Term| match m.get(t) {
+        TermEstimate::Value(v) => Some((v.value, v.lo, v.hi)),
+        TermEstimate::NotIdentifiable(_) => None,
+    };
+    let gm = m.gauss_markov.first();
+    [
+        term(Term::Quantization),
+        term(Term::WhiteNoise),
+        term(Term::BiasInstability),
+        term(Term::RateRandomWalk),
+        gm.map(|g| (g.sigma.value, g.sigma.lo, g.sigma.hi)),
+        gm.map(|g| (g.tau_c.value, g.tau_c.lo, g.tau_c.hi)),
+    ]
+}
+
+/// Each term's value in one seed's model, as [`estimates`].
+#[allow(dead_code)] // read by the study's --dump, not by the fast test
+pub fn values(m: &NoiseModel) -> [Option<f64>; 6] {
+    estimates(m).map(|e| e.map(|(v, _, _)| v))
 }
 
 /// Each term's outcome in one seed's model.
@@ -143,21 +169,18 @@ pub fn outcomes(case: &Case, m: &NoiseModel) -> [Outcome; 6] {
             shown: true,
             within: truth[k] > 0.0 && ((value - truth[k]) / truth[k]).abs() <= case.tolerance[k],
             covered: lo <= truth[k] && truth[k] <= hi,
+            error: (truth[k] > 0.0).then(|| (value - truth[k]) / truth[k]),
         },
         None => Outcome::default(),
     };
-    let term = |t: Term| match m.get(t) {
-        TermEstimate::Value(v) => Some((v.value, v.lo, v.hi)),
-        TermEstimate::NotIdentifiable(_) => None,
-    };
-    let gm = m.gauss_markov.first();
+    let [q, n, b, k, sigma, tc] = estimates(m);
     [
-        judge(term(Term::Quantization), 0),
-        judge(term(Term::WhiteNoise), 1),
-        judge(term(Term::BiasInstability), 2),
-        judge(term(Term::RateRandomWalk), 3),
-        judge(gm.map(|g| (g.sigma.value, g.sigma.lo, g.sigma.hi)), 4),
-        judge(gm.map(|g| (g.tau_c.value, g.tau_c.lo, g.tau_c.hi)), 5),
+        judge(q, 0),
+        judge(n, 1),
+        judge(b, 2),
+        judge(k, 3),
+        judge(sigma, 4),
+        judge(tc, 5),
     ]
 }
 

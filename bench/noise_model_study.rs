@@ -6,6 +6,11 @@
 //! ```sh
 //! cargo run --release -p imusim --example noise_model_study -- 200
 //! ```
+//!
+//! With `--dump DIR` after the seed count, each seed's samples are written
+//! to `DIR/<case>_<seed>.f64` (little-endian) and the terms of its selected
+//! model to `DIR/imutherm.tsv`, for `noise_model_peer.py` to fit the same
+//! records with a peer.
 
 use rayon::prelude::*;
 
@@ -14,21 +19,34 @@ mod cases;
 use cases::{CASES, NAMES, outcomes, truth};
 
 fn main() {
-    let seeds: u64 = std::env::args()
-        .nth(1)
-        .map_or(200, |s| s.parse().expect("a seed count"));
-    for case in &CASES {
+    let args: Vec<String> = std::env::args().collect();
+    let seeds: u64 = args.get(1).map_or(200, |s| s.parse().expect("a seed count"));
+    let dump = match args.get(2).map(String::as_str) {
+        Some("--dump") => Some(std::path::PathBuf::from(args.get(3).expect("--dump DIR"))),
+        Some(other) => panic!("unknown argument {other}"),
+        None => None,
+    };
+    if let Some(dir) = &dump {
+        std::fs::create_dir_all(dir).expect("the dump directory");
+        let header = format!("case\tseed\trate_hz\t{}\n", NAMES.join("\t"));
+        std::fs::write(dir.join("imutherm.tsv"), header).expect("imutherm.tsv");
+    }
+    for (index, case) in CASES.iter().enumerate() {
         let start = std::time::Instant::now();
-        let results: Vec<(String, [cases::Outcome; 6])> = (0..seeds)
+        let results: Vec<(String, [cases::Outcome; 6], bool)> = (0..seeds)
             .into_par_iter()
             .map(|seed| {
                 let m = cases::model_of(case, 10_000 + seed);
                 let o = outcomes(case, &m);
-                (m.label, o)
+                (m.label, o, m.fits)
             })
             .collect();
+        if let Some(dir) = &dump {
+            write_dump(dir, index, case, seeds);
+        }
+        let fitting = results.iter().filter(|r| r.2).count();
         let mut labels: Vec<(String, usize)> = Vec::new();
-        for (l, _) in &results {
+        for (l, _, _) in &results {
             match labels.iter_mut().find(|(x, _)| x == l) {
                 Some((_, c)) => *c += 1,
                 None => labels.push((l.clone(), 1)),
@@ -36,7 +54,7 @@ fn main() {
         }
         labels.sort_by_key(|x| std::cmp::Reverse(x.1));
         println!(
-            "## {} ({seeds} seeds, {:.0} s)\nmodels: {}",
+            "## {} ({seeds} seeds, {:.0} s)\nthe selected model fits in {fitting}\nmodels: {}",
             case.name,
             start.elapsed().as_secs_f64(),
             labels
@@ -46,9 +64,9 @@ fn main() {
                 .join(", ")
         );
         println!(
-            "| term | truth | in the model | within tolerance | 95 % interval covers (of those in the model) |"
+            "| term | truth | in the model | within tolerance | median error | 95 % interval covers (of those in the model) |"
         );
-        println!("| --- | --- | --- | --- | --- |");
+        println!("| --- | --- | --- | --- | --- | --- |");
         let t = truth(case);
         for k in 0..6 {
             let shown = results.iter().filter(|r| r.1[k].shown).count();
@@ -57,8 +75,13 @@ fn main() {
             }
             let within = results.iter().filter(|r| r.1[k].within).count();
             let covered = results.iter().filter(|r| r.1[k].covered).count();
+            let mut errors: Vec<f64> = results.iter().filter_map(|r| r.1[k].error).collect();
+            errors.sort_by(f64::total_cmp);
+            let median = errors
+                .get(errors.len() / 2)
+                .map_or("—".to_string(), |e| format!("{:+.1} %", 100.0 * e));
             println!(
-                "| {} | {:.3e} | {shown} | {} | {} |",
+                "| {} | {:.3e} | {shown} | {} | {median} | {} |",
                 NAMES[k],
                 t[k],
                 if t[k] > 0.0 {
@@ -74,5 +97,28 @@ fn main() {
             );
         }
         println!();
+    }
+}
+
+/// Each seed's samples of `case` and the values of its selected model
+/// ("-" for a term it does not hold), in the order of [`NAMES`].
+fn write_dump(dir: &std::path::Path, index: usize, case: &cases::Case, seeds: u64) {
+    use std::io::Write;
+    let mut table = std::fs::OpenOptions::new()
+        .append(true)
+        .open(dir.join("imutherm.tsv"))
+        .expect("imutherm.tsv");
+    for seed in 0..seeds {
+        let seed = 10_000 + seed;
+        let y = cases::simulate(case, seed);
+        let bytes: Vec<u8> = y.iter().flat_map(|v| v.to_le_bytes()).collect();
+        std::fs::write(dir.join(format!("{index}_{seed}.f64")), bytes).expect("samples");
+        let m = cases::model_of(case, seed);
+        let values = cases::values(&m)
+            .iter()
+            .map(|v| v.map_or("-".to_string(), |x| format!("{x:e}")))
+            .collect::<Vec<_>>()
+            .join("\t");
+        writeln!(table, "{index}\t{seed}\t{}\t{values}", case.rate_hz).expect("a row");
     }
 }

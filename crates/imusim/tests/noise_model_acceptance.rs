@@ -29,9 +29,10 @@ fn white_noise_and_random_walk_give_no_bias_instability() {
     assert_eq!(count(&r, 2, |o| o.shown), 0, "B reported on N+K");
     assert_eq!(count(&r, 1, |o| o.within), SEEDS as usize, "N");
     let k_held = count(&r, 3, |o| o.shown);
-    // K is held in most seeds; where the last octave points of the walk
-    // bend down, a Gauss–Markov term takes its place (bench/README.md).
-    assert!(k_held >= 5, "K held in {k_held} of {SEEDS}");
+    // Weighed with the correlations of the points, the last octave points
+    // of the walk count as the one piece of evidence they are, and a
+    // Gauss–Markov term no longer takes K's place (bench/README.md).
+    assert!(k_held >= 7, "K held in {k_held} of {SEEDS}");
     assert!(count(&r, 3, |o| o.within) + 1 >= k_held, "K within 25 %");
     assert!(count(&r, 3, |o| o.covered) + 1 >= k_held, "K covered");
 }
@@ -44,8 +45,15 @@ fn white_noise_flicker_and_random_walk_are_all_found() {
         assert!(count(&r, k, |o| o.within) >= 7, "{} within tolerance", NAMES[k]);
     }
     let k_held = count(&r, 3, |o| o.shown);
-    assert!(k_held >= 4, "K held in {k_held} of {SEEDS}");
+    assert!(k_held >= 7, "K held in {k_held} of {SEEDS}");
     assert!(count(&r, 3, |o| o.within) + 1 >= k_held, "K within 40 %");
+    // The flicker holds its plateau down to τ0, so N is not read low
+    // (it was, by 2 %, with an interval of ±1 %).
+    assert!(count(&r, 1, |o| o.covered) >= 7, "N covered");
+    let mut errors: Vec<f64> = r.iter().filter_map(|o| o[1].error).collect();
+    errors.sort_by(f64::total_cmp);
+    let median = errors[errors.len() / 2];
+    assert!(median.abs() < 5e-3, "N's median error {median}");
 }
 
 #[test]
@@ -54,6 +62,7 @@ fn a_gauss_markov_term_is_found_with_its_correlation_time() {
     for k in [4, 5] {
         assert!(count(&r, k, |o| o.shown) >= 7, "{} held", NAMES[k]);
         assert!(count(&r, k, |o| o.within) >= 7, "{} within 20 %", NAMES[k]);
+        assert!(count(&r, k, |o| o.covered) >= 7, "{} covered", NAMES[k]);
     }
     assert_eq!(count(&r, 3, |o| o.shown), 0, "K beside the Gauss–Markov term");
 }

@@ -8,8 +8,9 @@
 //! digamma and trigamma functions). The weights are thus the points' own
 //! degrees of freedom, independent of the model, and the bias of ln σ̂²
 //! at few degrees of freedom (−0.33 at ν = 3) is removed rather than fitted.
-//! This is the diagonal of the efficient weighting of GMWM (Guerrier et al.,
-//! JASA 2013, §3) with the χ² variance of each point (IEEE 952 Annex C.4).
+//! Where the correlations of the points are known, the standardised
+//! residuals are whitened by the Cholesky factor of their correlation
+//! matrix: the efficient weighting of GMWM (Guerrier et al., JASA 2013, §3).
 
 use nalgebra::DMatrix;
 use statrs::function::gamma::digamma;
@@ -80,6 +81,12 @@ pub struct Data {
     pub z: Vec<f64>,
     /// Standard deviation of ln σ̂².
     pub s: Vec<f64>,
+    /// The lower Cholesky factor L of the correlation matrix of the
+    /// points' ln σ̂², where it is known: the residuals standardised by `s`
+    /// are whitened by L⁻¹ before they are squared (generalised least
+    /// squares, GMWM's efficient weighting). Without it the points count as
+    /// independent.
+    pub whiten: Option<DMatrix<f64>>,
 }
 
 /// Trigamma ψ₁(x) for x > 0: the recurrence ψ₁(x) = ψ₁(x+1) + 1/x² up to
@@ -102,6 +109,7 @@ impl Data {
             tau: Vec::new(),
             z: Vec::new(),
             s: Vec::new(),
+            whiten: None,
         };
         for (tau, var, nu) in points {
             let h = nu / 2.0;
@@ -110,6 +118,29 @@ impl Data {
             d.s.push(trigamma(h).sqrt());
         }
         d
+    }
+
+    /// The same points, correlated as `corr` says; `None` if `corr` is not
+    /// a positive definite matrix of the points' size.
+    pub fn correlated(mut self, corr: &DMatrix<f64>) -> Option<Data> {
+        if corr.nrows() != self.len() || corr.ncols() != self.len() || corr.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        self.whiten = Some(corr.clone().cholesky()?.l());
+        Some(self)
+    }
+
+    /// Solves L·x = v in place (forward substitution), for the `stride`-th
+    /// elements of `v` starting at `offset`: a column of a row-major matrix.
+    fn whiten_in_place(&self, v: &mut [f64], offset: usize, stride: usize) {
+        let Some(l) = &self.whiten else { return };
+        for i in 0..self.len() {
+            let mut acc = v[offset + i * stride];
+            for k in 0..i {
+                acc -= l[(i, k)] * v[offset + k * stride];
+            }
+            v[offset + i * stride] = acc / l[(i, i)];
+        }
     }
 
     /// Number of points.
@@ -141,11 +172,12 @@ pub fn model_avar(comps: &[Component], theta: &[f64], tau: f64) -> f64 {
 pub struct Fitted {
     /// The parameters, in log form.
     pub theta: Vec<f64>,
-    /// Σ rᵢ², the χ² of the fit.
+    /// Σ rᵢ² of the whitened residuals, the χ² of the fit.
     pub chi2: f64,
-    /// Jacobian of the residuals at the solution (n × p).
+    /// Jacobian of the whitened residuals at the solution (n × p).
     pub jac: DMatrix<f64>,
-    /// Standardised residuals at the solution.
+    /// Each point's residual at the solution over its own standard
+    /// deviation (not whitened: a point's own miss).
     pub resid: Vec<f64>,
 }
 
@@ -170,9 +202,28 @@ fn clamp(comps: &[Component], theta: &mut [f64], tc: TcRange) {
     }
 }
 
-/// Residuals and, when `jac` is given, their Jacobian (row-major n × p),
-/// in one pass over the points; `None` where the model is not finite.
+/// Whitened residuals and, when `jac` is given, their Jacobian (row-major
+/// n × p); `None` where the model is not finite.
 fn evaluate(
+    data: &Data,
+    comps: &[Component],
+    theta: &[f64],
+    mut jac: Option<&mut [f64]>,
+) -> Option<Vec<f64>> {
+    let mut r = standardised(data, comps, theta, jac.as_deref_mut())?;
+    data.whiten_in_place(&mut r, 0, 1);
+    if let Some(j) = jac {
+        for k in 0..theta.len() {
+            data.whiten_in_place(j, k, theta.len());
+        }
+    }
+    Some(r)
+}
+
+/// Each point's residual over its standard deviation and, when `jac` is
+/// given, their Jacobian (row-major n × p), in one pass over the points;
+/// `None` where the model is not finite.
+fn standardised(
     data: &Data,
     comps: &[Component],
     theta: &[f64],
@@ -302,10 +353,10 @@ pub fn fit(
         }
     }
     Some(Fitted {
+        resid: standardised(data, comps, &theta, None)?,
         theta,
         chi2,
         jac: DMatrix::from_row_slice(n, p, &j),
-        resid: r,
     })
 }
 

@@ -9,10 +9,12 @@
 //! Gauss–Markov processes (σ, T). This is the approach of GMWM (Guerrier,
 //! Skaloud, Stebler & Victoria-Feser, "Wavelet-variance-based estimation for
 //! composite stochastic processes", JASA 108, 2013), on the Allan variance
-//! (which is twice the Haar wavelet variance) with the diagonal of its
-//! efficient weights, and with the Bayesian information criterion in place
-//! of WVIC (both penalise a fit's χ² by its parameter count; BIC's ln n
-//! penalty suits the few, partly dependent points of an octave curve).
+//! (which is twice the Haar wavelet variance), in its two steps: a first
+//! fit with the points taken as independent, then every candidate fitted
+//! again with the efficient weights, the inverse of the covariance of the
+//! points under the first fit's model ([`covariance`]: neighbouring octave
+//! points share most of their data). The Bayesian information criterion
+//! stands in for WVIC (both penalise a fit's χ² by its parameter count).
 //!
 //! Rules every result keeps (each has a test in `tests/noise_model.rs`):
 //! - a term enters a model only where it carries at least [`SHOW_SHARE`]
@@ -26,6 +28,7 @@
 //!   value; so is every term when no candidate fits (p below
 //!   [`FIT_P_VALUE`]).
 
+pub mod covariance;
 pub mod lm;
 pub mod process;
 mod select;
@@ -35,6 +38,7 @@ use statrs::distribution::{ChiSquared, ContinuousCDF, StudentsT};
 use crate::Point;
 use crate::noise_terms::{PerTerm, Term, TermEstimate, TermValue};
 use lm::{Component, Data, model_avar};
+use nalgebra::DMatrix;
 pub use select::Candidate;
 
 /// Largest EDF a point is weighted with: a 1 % standard deviation of σ².
@@ -215,8 +219,8 @@ pub fn estimate(points: &[Point], confidence: f64) -> NoiseModel {
     }
 }
 
-/// Passes of selection with each point's EDF taken from the last model.
-const EDF_PASSES: usize = 2;
+/// Passes of selection with the points weighed under the last model.
+const MODEL_PASSES: usize = 2;
 
 /// The power-law exponents α the EDF tables hold for the overlapping ADEV.
 const ALPHAS: [i32; 5] = [2, 1, 0, -1, -2];
@@ -239,23 +243,74 @@ fn cautious(pts: &[Point]) -> Vec<Point> {
         .collect()
 }
 
-/// Selects on `pts` weighted with [`cautious`] EDFs, then again with each
-/// point's EDF that of the processes the selected model has there
-/// ([`select::Best::reweigh`]); returns the points as last weighted and
-/// the selection.
+/// The points weighed under a fitted model: each point's EDF 2·AVAR²/Var
+/// and the correlations between the points, both from the covariance of
+/// the estimates under the model ([`covariance`]). `None` where that
+/// covariance cannot weigh them (a model of trends alone, points of
+/// different τ0).
+fn efficient(best: &select::Best, pts: &[Point]) -> Option<(Vec<Point>, DMatrix<f64>)> {
+    let tau0 = pts.first().map(|p| p.tau / p.m as f64)?;
+    let estimates: Vec<covariance::Estimate> = pts
+        .iter()
+        .map(|p| covariance::Estimate { m: p.m, tau0, n: p.n })
+        .collect();
+    if pts
+        .iter()
+        .any(|p| p.m == 0 || ((p.tau / p.m as f64) / tau0 - 1.0).abs() > 1e-6)
+    {
+        return None;
+    }
+    let cov = covariance::matrix(&best.components, &best.theta, &estimates);
+    let var: Vec<f64> = (0..pts.len()).map(|i| cov[(i, i)]).collect();
+    if var.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
+        return None;
+    }
+    let corr = DMatrix::from_fn(pts.len(), pts.len(), |i, j| {
+        cov[(i, j)] / (var[i] * var[j]).sqrt()
+    });
+    let used = pts
+        .iter()
+        .zip(&var)
+        .map(|(p, v)| {
+            let avar = model_avar(&best.components, &best.theta, p.tau);
+            let edf = 2.0 * avar * avar / v;
+            Point {
+                edf: if edf.is_finite() && edf > 0.0 { edf } else { p.edf },
+                ..*p
+            }
+        })
+        .collect();
+    Some((used, corr))
+}
+
+/// Selects on `pts` weighted with [`cautious`] EDFs as independent points,
+/// then again with the points weighed under the selected model
+/// ([`efficient`], or where it cannot, [`select::Best::reweigh`]'s EDFs
+/// alone): the two-step GMWM, whose second step fits with the efficient
+/// weights of the first step's model. Returns the points as last weighted
+/// and the selection.
 fn select_reweighed(pts: &[Point]) -> (Vec<Point>, select::Selection) {
     let mut used = cautious(pts);
-    let mut sel = select::select(&used);
-    for _ in 0..EDF_PASSES {
+    let mut sel = select::select(&used, None);
+    for _ in 0..MODEL_PASSES {
         let Some(best) = &sel.best else { break };
-        let next_used = best.reweigh(pts);
-        let next = select::select(&next_used);
+        let next = match efficient(best, pts) {
+            Some((next_used, corr)) => {
+                let next = select::select(&next_used, Some(&corr));
+                (next_used, next)
+            }
+            None => {
+                let next_used = best.reweigh(pts);
+                let next = select::select(&next_used, None);
+                (next_used, next)
+            }
+        };
         // A weighting under which no candidate keeps the rules is no
         // better knowledge of the points than the one before it.
-        if next.best.is_none() {
+        if next.1.best.is_none() {
             break;
         }
-        (used, sel) = (next_used, next);
+        (used, sel) = next;
     }
     (used, sel)
 }

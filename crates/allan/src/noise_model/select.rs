@@ -32,22 +32,30 @@ pub(super) struct Best {
     pub quality: Quality,
     pub resid: Vec<f64>,
     jac: DMatrix<f64>,
+    /// Whether the fit weighed the points with their correlations.
+    correlated: bool,
 }
 
 impl Best {
     /// Standard deviation of each log-parameter: from (JᵀJ)⁻¹ of the
-    /// standardised residuals, scaled up by χ²/dof when the model misses the
-    /// points by more than their scatter; and never below what the single
-    /// most telling point gives alone (1/max |J_ik|). Neighbouring octave
-    /// points share most of their data, so the errors of the points are
-    /// positively correlated and the independent-points covariance is too
-    /// optimistic; the single-point spread is its fully correlated limit.
+    /// whitened residuals, scaled up by χ²/dof when the model misses the
+    /// points by more than their scatter. Where the points were weighed as
+    /// independent, never below what the single most telling point gives
+    /// alone (1/max |J_ik|): neighbouring octave points share most of their
+    /// data, so their errors are positively correlated and the
+    /// independent-points covariance is too optimistic; the single-point
+    /// spread is its fully correlated limit.
     pub fn spreads(&self) -> Vec<f64> {
         let p = self.jac.ncols();
         let inflate = self.quality.chi2_reduced.max(1.0);
         let cov = (self.jac.transpose() * &self.jac).try_inverse();
         (0..p)
             .map(|k| {
+                if self.correlated {
+                    return cov
+                        .as_ref()
+                        .map_or(f64::INFINITY, |c| (c[(k, k)].max(0.0) * inflate).sqrt());
+                }
                 let single = self
                     .jac
                     .column(k)
@@ -234,8 +242,9 @@ struct Scored {
     criterion: f64,
 }
 
-/// Fits every candidate to `pts` and selects.
-pub(super) fn select(pts: &[Point]) -> Selection {
+/// Fits every candidate to `pts`, correlated as `corr` says (independent
+/// without it), and selects.
+pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>) -> Selection {
     let n = pts.len();
     let none = Selection {
         best: None,
@@ -245,7 +254,14 @@ pub(super) fn select(pts: &[Point]) -> Selection {
     if n < 2 {
         return none;
     }
-    let data = data_of(pts);
+    let data = match corr {
+        Some(c) => match data_of(pts).correlated(c) {
+            Some(d) => d,
+            None => return none,
+        },
+        None => data_of(pts),
+    };
+    let correlated = data.whiten.is_some();
     let ceilings: Vec<f64> = pts.iter().map(ceiling).collect();
     let tc = TcRange {
         lo: data.tau[0].ln(),
@@ -330,6 +346,7 @@ pub(super) fn select(pts: &[Point]) -> Selection {
         },
         resid: top.fit.resid.clone(),
         jac: top.fit.jac.clone(),
+        correlated,
     };
     Selection {
         best: Some(best),
