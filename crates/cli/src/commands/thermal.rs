@@ -10,7 +10,6 @@ use analysis::thermal_document::{SlicedChannel, ThermalDocument};
 use thermal::surface::{Slicing, Surface, slices};
 
 use crate::args::{SliceBy, ThermalArgs};
-use crate::flags::recording_options;
 use crate::print::read_channels;
 
 pub fn run(a: &ThermalArgs) -> Result<()> {
@@ -24,7 +23,7 @@ pub fn run(a: &ThermalArgs) -> Result<()> {
             step_s: a.step.unwrap_or(a.window / 2.0),
         },
     };
-    let read = recording_options(&a.read)?;
+    let read = a.read.recording_options()?;
     let sel = read_channels(&a.file, &a.channels, &read)?;
     crate::print::refuse_overflow(&sel)?;
     let Some(temp) = &sel.temperature else {
