@@ -4,8 +4,9 @@
 //!
 //! The document was first written from untyped maps, which serde_json
 //! serialises with their keys sorted; its consumers read that order, so
-//! every struct below declares its fields alphabetically (byte order:
-//! capitals first). The schema only gains fields.
+//! every struct below declares its fields in the byte order of their JSON
+//! names (capitals first: `B`, `K`, `N`, `sigma_min`). The schema only
+//! gains fields.
 
 use allan::Point;
 use allan::noise_terms::{Term, TermEstimate, TermValue};
@@ -98,14 +99,16 @@ pub struct ThermalPoint {
 
 /// The model's terms of a slice, and the curve's minimum.
 #[derive(Debug, Serialize)]
-#[allow(non_snake_case)]
 pub struct ThermalTerms {
     /// Bias instability.
-    pub B: ThermalTerm,
+    #[serde(rename = "B")]
+    pub bias_instability: ThermalTerm,
     /// Rate random walk.
-    pub K: ThermalTerm,
+    #[serde(rename = "K")]
+    pub rate_random_walk: ThermalTerm,
     /// White noise.
-    pub N: ThermalTerm,
+    #[serde(rename = "N")]
+    pub white_noise: ThermalTerm,
     /// The curve's lowest deviation (slope method), if it has one.
     pub sigma_min: Option<SigmaMin>,
 }
@@ -202,9 +205,9 @@ impl ThermalRow {
             t_change_c: r.t_change_c,
             t_mean_c: r.t_mean_c,
             terms: ThermalTerms {
-                B: ThermalTerm::of(r.terms.model.get(Term::BiasInstability)),
-                K: ThermalTerm::of(r.terms.model.get(Term::RateRandomWalk)),
-                N: ThermalTerm::of(r.terms.model.get(Term::WhiteNoise)),
+                bias_instability: ThermalTerm::of(r.terms.model.get(Term::BiasInstability)),
+                rate_random_walk: ThermalTerm::of(r.terms.model.get(Term::RateRandomWalk)),
+                white_noise: ThermalTerm::of(r.terms.model.get(Term::WhiteNoise)),
                 sigma_min: r.terms.slope.sigma_min.as_ref().map(SigmaMin::of),
             },
         }
