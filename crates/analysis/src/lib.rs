@@ -9,8 +9,8 @@
 //! - [`source`]: one read of a recording, with its format, streams and
 //!   where its rate came from, which every caller shares;
 //! - [`info_document`], [`adev_document`], [`noise_document`],
-//!   [`navigation_document`]: the versioned JSON documents of `info`,
-//!   `adev`, `noise` and `ins` as types;
+//!   [`thermal_document`], [`navigation_document`]: the versioned JSON
+//!   documents of `info`, `adev`, `noise`, `thermal` and `ins` as types;
 //! - [`channel_checks`]: what a recording's channels rule out (a dead or
 //!   clipped channel, an accelerometer far from g, motion), with figures;
 //! - [`units`]: the unit systems of noise terms (SI, datasheet, thesis);
@@ -79,6 +79,7 @@ pub mod robot_logs;
 pub mod selection;
 pub mod source;
 pub mod summary;
+pub mod thermal_document;
 pub mod thesis;
 pub mod units;
 

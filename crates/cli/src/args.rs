@@ -939,3 +939,115 @@ pub struct InsArgs {
     #[arg(long)]
     pub json: bool,
 }
+
+/// Ends the program as a usage error (status 2), as clap does for a bad
+/// flag: for what only becomes wrong in combination with another flag.
+pub fn usage_error(message: impl std::fmt::Display) -> ! {
+    use clap::CommandFactory;
+    Cli::command()
+        .error(clap::error::ErrorKind::ValueValidation, message)
+        .exit()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Cli;
+
+    /// The whole command line, its defaults included, is well formed
+    /// (clap's own consistency checks).
+    #[test]
+    fn the_command_line_is_consistent() {
+        use clap::CommandFactory;
+        Cli::command().debug_assert();
+    }
+
+    /// Words the command line is made of, to build argument lists from.
+    const WORDS: &[&str] = &[
+        "adev",
+        "info",
+        "noise",
+        "thermal",
+        "tcal",
+        "fit",
+        "apply",
+        "eval",
+        "simulate",
+        "record",
+        "report",
+        "demo",
+        "--stat",
+        "--taus",
+        "--confidence",
+        "--rate",
+        "-r",
+        "--unit",
+        "--time-unit",
+        "--by",
+        "--bin-width",
+        "--window",
+        "--step",
+        "--order",
+        "--tref",
+        "--export",
+        "--device",
+        "--dlpf",
+        "--accel-range",
+        "--gyro-range",
+        "--duration",
+        "--sim-bus-errors",
+        "--sim-clock-ppm",
+        "--format",
+        "--units",
+        "--data-type",
+        "-o",
+        "--out",
+        "--json",
+        "--help",
+        "-h",
+        "--version",
+        "x.txt",
+        "1",
+        "0",
+        "-1",
+        "1e309",
+        "nan",
+        "68.3",
+        "0.683",
+        "auto",
+        "9",
+        "10",
+        "sim:counter",
+        "i2c@0x69",
+        "time",
+        "temp",
+        "oadev",
+        "many",
+        "1,2,3",
+        "gyro_x=deg/s",
+        "2h",
+        "=",
+        ",",
+        "",
+        "--",
+        "-",
+    ];
+
+    use proptest::strategy::Strategy as _;
+
+    proptest::proptest! {
+        /// Any argument list is parsed or refused, never a panic.
+        #[test]
+        fn any_arguments_are_parsed_or_refused(
+            args in proptest::collection::vec(
+                proptest::prop_oneof![
+                    proptest::sample::select(WORDS).prop_map(str::to_string),
+                    ".{0,12}",
+                ],
+                0..12,
+            )
+        ) {
+            use clap::Parser;
+            let _ = Cli::try_parse_from(std::iter::once("imutherm".to_string()).chain(args));
+        }
+    }
+}

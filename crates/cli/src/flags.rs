@@ -373,70 +373,6 @@ pub fn device(text: &str) -> Result<Device, String> {
     })
 }
 
-/// Ends the program as a usage error (status 2), as clap does for a bad
-/// flag: for what only becomes wrong in combination with another flag.
-pub fn usage_error(message: impl std::fmt::Display) -> ! {
-    use clap::CommandFactory;
-    crate::args::Cli::command()
-        .error(clap::error::ErrorKind::ValueValidation, message)
-        .exit()
-}
-
-/// The shared read flags as the reader's options, checked.
-#[cfg(feature = "analysis")]
-pub fn recording_options(a: &crate::args::ReadArgs) -> anyhow::Result<imu::RecordingOptions> {
-    options(a, false)
-}
-
-/// The read flags of a command that takes `--instance all` (tcal fit and
-/// eval): with it, no instance is chosen here; the caller sets each.
-#[cfg(feature = "analysis")]
-pub fn recording_options_any_instance(a: &crate::args::ReadArgs) -> anyhow::Result<imu::RecordingOptions> {
-    options(a, true)
-}
-
-#[cfg(feature = "analysis")]
-fn options(a: &crate::args::ReadArgs, all_allowed: bool) -> anyhow::Result<imu::RecordingOptions> {
-    Ok(analysis::reading::recording_options(
-        &analysis::reading::ReadingChoices {
-            rate_hz: a.rate,
-            units: a.unit.clone(),
-            time_column: a.time_column.clone(),
-            time_unit: a.time_unit.clone(),
-            skip_bad_lines: a.skip_bad_lines,
-            stream: imu::StreamChoice {
-                topic: a.topic.clone(),
-                instance: match a.instance {
-                    None => None,
-                    Some(Instance::One(n)) => Some(n),
-                    Some(Instance::All) if all_allowed => None,
-                    Some(Instance::All) => {
-                        return Err(anyhow::Error::new(UsageError(
-                            "--instance all: only tcal fit and tcal eval take every instance at once; give one number"
-                                .to_string(),
-                        )));
-                    }
-                },
-                temp_topic: a.temp_topic.clone(),
-                first_if_several: false,
-                allow_partial: a.allow_partial,
-            },
-            max_grid_factor: a.max_grid_factor.map(|f| f as usize),
-        },
-    )?)
-}
-
-/// The firmware a `--firmware`, `--for` or `--export` flag names.
-#[cfg(feature = "analysis")]
-impl From<crate::args::FirmwareArg> for thermal::firmware::Firmware {
-    fn from(f: crate::args::FirmwareArg) -> thermal::firmware::Firmware {
-        match f {
-            crate::args::FirmwareArg::Px4 => thermal::firmware::Firmware::Px4,
-            crate::args::FirmwareArg::ArduPilot => thermal::firmware::Firmware::ArduPilot,
-        }
-    }
-}
-
 /// The datasheet `--datasheet` names: a built-in part or a TOML file. A
 /// name that is neither is a usage error; a file that is not a datasheet
 /// is the file's.
@@ -447,18 +383,6 @@ pub fn datasheet(spec: &str) -> anyhow::Result<analysis::datasheet::Datasheet> {
         DatasheetError::Unknown { .. } => anyhow::Error::new(UsageError(format!("--datasheet: {e}"))),
         e => anyhow::Error::new(e),
     })
-}
-
-/// The dynamic ADEV's windows from `--dyn-window` and `--dyn-step`, the
-/// thesis's where not given.
-#[cfg(feature = "analysis")]
-pub fn dynamic_options(a: &crate::args::DynamicArgs) -> analysis::dynamic_adev::DynamicOptions {
-    use analysis::dynamic_adev::{DEFAULT_STEP_S, DEFAULT_WINDOW_S, DynamicOptions};
-    DynamicOptions {
-        window_s: a.dyn_window.unwrap_or(DEFAULT_WINDOW_S),
-        step_s: a.dyn_step.unwrap_or(DEFAULT_STEP_S),
-        ..DynamicOptions::default()
-    }
 }
 
 #[cfg(test)]
@@ -573,103 +497,5 @@ mod tests {
         assert!(unit_override("gyro_x=deg/s").is_ok());
         assert!(unit_override("gyro_x=furlong").is_err() && unit_override("=deg/s").is_err());
         assert!(time_unit("ms").is_ok() && time_unit("deg/s").is_err());
-    }
-
-    /// The whole command line, its defaults included, is well formed
-    /// (clap's own consistency checks).
-    #[test]
-    fn the_command_line_is_consistent() {
-        use clap::CommandFactory;
-        crate::args::Cli::command().debug_assert();
-    }
-
-    /// Words the command line is made of, to build argument lists from.
-    const WORDS: &[&str] = &[
-        "adev",
-        "info",
-        "noise",
-        "thermal",
-        "tcal",
-        "fit",
-        "apply",
-        "eval",
-        "simulate",
-        "record",
-        "report",
-        "demo",
-        "--stat",
-        "--taus",
-        "--confidence",
-        "--rate",
-        "-r",
-        "--unit",
-        "--time-unit",
-        "--by",
-        "--bin-width",
-        "--window",
-        "--step",
-        "--order",
-        "--tref",
-        "--export",
-        "--device",
-        "--dlpf",
-        "--accel-range",
-        "--gyro-range",
-        "--duration",
-        "--sim-bus-errors",
-        "--sim-clock-ppm",
-        "--format",
-        "--units",
-        "--data-type",
-        "-o",
-        "--out",
-        "--json",
-        "--help",
-        "-h",
-        "--version",
-        "x.txt",
-        "1",
-        "0",
-        "-1",
-        "1e309",
-        "nan",
-        "68.3",
-        "0.683",
-        "auto",
-        "9",
-        "10",
-        "sim:counter",
-        "i2c@0x69",
-        "time",
-        "temp",
-        "oadev",
-        "many",
-        "1,2,3",
-        "gyro_x=deg/s",
-        "2h",
-        "=",
-        ",",
-        "",
-        "--",
-        "-",
-    ];
-
-    use proptest::strategy::Strategy as _;
-
-    proptest::proptest! {
-        /// Any argument list is parsed or refused, never a panic.
-        #[test]
-        fn any_arguments_are_parsed_or_refused(
-            args in proptest::collection::vec(
-                proptest::prop_oneof![
-                    proptest::sample::select(WORDS).prop_map(str::to_string),
-                    ".{0,12}",
-                ],
-                0..12,
-            )
-        ) {
-            use clap::Parser;
-            let _ = crate::args::Cli::try_parse_from(std::iter::once("imutherm".to_string()).chain(args));
-        }
     }
 }

@@ -1,7 +1,8 @@
 //! `imutherm`: the command line over imutherm's libraries.
 //!
-//! Thin glue: flags are defined in [`args`], each subcommand lives in
-//! [`commands`], and this is the only crate that prints. Exit status: 0
+//! Thin glue: flags are defined in [`args`], their values checked in
+//! [`flags`] and turned into the libraries' options in `options`; each
+//! subcommand lives in [`commands`], and this is the only crate that prints. Exit status: 0
 //! success, 1 runtime error, 2 usage error.
 
 #[cfg(not(any(feature = "analysis", feature = "record")))]
@@ -10,6 +11,8 @@ compile_error!("imutherm needs the feature `analysis`, `record` or both");
 mod args;
 mod commands;
 mod flags;
+#[cfg(feature = "analysis")]
+mod options;
 #[cfg(feature = "analysis")]
 mod print;
 #[cfg(feature = "analysis")]

@@ -13,12 +13,11 @@ use analysis::adev_document::AdevDocument;
 use analysis::reading::unit_text;
 use analysis::selection::SelectedChannel;
 
-use crate::flags::recording_options;
 use crate::print::read_channels;
 
 pub fn run(a: &AdevArgs) -> Result<()> {
     let opts = options(a)?;
-    let read = recording_options(&a.read)?;
+    let read = a.read.recording_options()?;
     let mut channels: Vec<SelectedChannel> = Vec::new();
     for file in &a.files {
         channels.extend(read_channels(file, &a.channels, &read)?.channels);

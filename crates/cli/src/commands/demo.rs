@@ -71,9 +71,9 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     } else {
         (3600.0, 3.0 * 3600.0)
     };
-    let dynamic = crate::flags::dynamic_options(&a.dynamic);
+    let dynamic = a.dynamic.dynamic_options();
     if dynamic.window_s > cooling_s {
-        crate::flags::usage_error(format!(
+        crate::args::usage_error(format!(
             "--dyn-window {} s is longer than the demo's cooling run ({cooling_s} s){}",
             dynamic.window_s,
             if a.quick { " with --quick" } else { "" }

@@ -9,10 +9,9 @@ use analysis::reading::unit_text;
 use analysis::source::read_source;
 
 use crate::args::InfoArgs;
-use crate::flags::recording_options;
 
 pub fn run(a: &InfoArgs) -> Result<()> {
-    let mut opts = recording_options(&a.read)?;
+    let mut opts = a.read.recording_options()?;
     // info lists every stream: with several and none chosen, it summarises
     // the first instead of refusing.
     opts.stream.first_if_several = true;

@@ -18,7 +18,7 @@ use report::plots::Target;
 use thermal::tcal::Model;
 
 use crate::args::InsArgs;
-use crate::flags::{UsageError, recording_options};
+use crate::flags::UsageError;
 use crate::print::{notes, read_static_channels};
 
 /// How a plot is written, from the name's extension.
@@ -44,7 +44,7 @@ fn plot_format(path: &Path) -> Result<PlotFormat> {
 }
 
 pub fn run(a: &InsArgs) -> Result<()> {
-    let read = recording_options(&a.read)?;
+    let read = a.read.recording_options()?;
     // Without the transport rate the navigation has no Schuler loop: past
     // 1/ω_s its figures are those of a flat Earth, and grow as t^{5/2} to
     // t^{7/2} where a navigator on the Earth oscillates.

@@ -20,7 +20,6 @@ use analysis::thesis::ThesisTables;
 use analysis::units::{Units, density_of, unit_of};
 
 use crate::args::{NoiseArgs, TermUnits};
-use crate::flags::recording_options;
 use crate::print::read_static_channels;
 
 struct Analysed {
@@ -59,7 +58,7 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
         TermUnits::Datasheet => Units::Datasheet,
     };
     let confidence = a.confidence;
-    let read = recording_options(&a.read)?;
+    let read = a.read.recording_options()?;
     let mut temps = Vec::new();
     let mut rates = Vec::new();
     let mut work = Vec::new();

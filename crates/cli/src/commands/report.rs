@@ -16,14 +16,13 @@ use report::plots::adev_heatmap;
 use thermal::surface::{Slicing, surface};
 
 use crate::args::{FigureFormat, ReportArgs};
-use crate::flags::recording_options;
 use crate::print::{notes, read_channels};
 
 /// Temperature span from which a run gets its ADEV-over-temperature maps, °C.
 const SURFACE_SPAN_C: f64 = 5.0;
 
 pub fn run(a: &ReportArgs) -> Result<()> {
-    let read = recording_options(&a.read)?;
+    let read = a.read.recording_options()?;
     let sheet = a.datasheet.as_deref().map(crate::flags::datasheet).transpose()?;
     // Before any work: the page is never one of the inputs, nor a file
     // imutherm did not write.
@@ -40,7 +39,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     let mut rows = Vec::new();
     let mut problems = Vec::new();
     let mut changing = Vec::new();
-    let dynamic = crate::flags::dynamic_options(&a.dynamic);
+    let dynamic = a.dynamic.dynamic_options();
     for f in &a.files {
         let (rec, rep, _) = analysis::robot_logs::read_recording_with_report(f, &read)?;
         // One pass, without a copy of the channel; the sum in order from
@@ -61,7 +60,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
                 && let Some(d) = rec.duration_s()
                 && dynamic.window_s > d
             {
-                crate::flags::usage_error(format!(
+                crate::args::usage_error(format!(
                     "--dyn-window {} s is longer than {} ({d:.1} s)",
                     dynamic.window_s,
                     f.display()

@@ -13,8 +13,9 @@ use imu::{LogFormat, RecordingOptions, write_recording};
 use thermal::firmware::Firmware;
 use thermal::tcal::Model;
 
+use crate::args::usage_error;
 use crate::args::{TcalApplyArgs, TcalEvalArgs, TcalFitArgs};
-use crate::flags::{Instance, recording_options, recording_options_any_instance, usage_error};
+use crate::flags::Instance;
 use crate::print::read_static_channels;
 
 /// Reads channels and the temperature of one run of a static sensor,
@@ -50,7 +51,7 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
     };
     req.check().map_err(exit_status)?;
     let instances = fit_instances(a)?;
-    let read = recording_options_any_instance(&a.read)?;
+    let read = a.read.recording_options_any_instance()?;
     let policy = OutputPolicy {
         overwrite: a.overwrite,
         inputs: &a.files,
@@ -158,7 +159,7 @@ pub fn apply(a: &TcalApplyArgs) -> Result<()> {
     };
     check_output(&a.output, &policy)?;
     let model = Model::read(&a.model)?;
-    let read = recording_options(&a.read)?;
+    let read = a.read.recording_options()?;
     // A model of several IMUs compensates the one instance asked for, with
     // that instance's own model.
     let model = if model.instances.is_empty() {
@@ -220,7 +221,7 @@ pub fn apply(a: &TcalApplyArgs) -> Result<()> {
 
 pub fn eval(a: &TcalEvalArgs) -> Result<()> {
     let model = Model::read(&a.model)?;
-    let read = recording_options_any_instance(&a.read)?;
+    let read = a.read.recording_options_any_instance()?;
     let many = !model.instances.is_empty();
     if !many && a.read.instance == Some(Instance::All) {
         usage_error(format!(

@@ -9,7 +9,7 @@ use thermal::firmware::{Firmware, Target, export as export_params};
 use thermal::tcal::Model;
 
 use crate::args::TcalExportArgs;
-use crate::flags::usage_error;
+use crate::args::usage_error;
 
 pub fn run(a: &TcalExportArgs) -> Result<()> {
     let firmware = Firmware::from(a.firmware);

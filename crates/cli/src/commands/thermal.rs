@@ -4,16 +4,13 @@ use std::io::Write;
 
 use anyhow::{Context, Result, bail};
 use rayon::prelude::*;
-use serde_json::json;
 
 use allan::noise_terms::{Term, TermEstimate};
+use analysis::thermal_document::{SlicedChannel, ThermalDocument};
 use thermal::surface::{Slicing, Surface, slices};
 
 use crate::args::{SliceBy, ThermalArgs};
-use crate::flags::recording_options;
 use crate::print::read_channels;
-
-const SCHEMA: &str = "imutherm.thermal/1";
 
 pub fn run(a: &ThermalArgs) -> Result<()> {
     let confidence = a.confidence;
@@ -26,7 +23,7 @@ pub fn run(a: &ThermalArgs) -> Result<()> {
             step_s: a.step.unwrap_or(a.window / 2.0),
         },
     };
-    let read = recording_options(&a.read)?;
+    let read = a.read.recording_options()?;
     let sel = read_channels(&a.file, &a.channels, &read)?;
     crate::print::refuse_overflow(&sel)?;
     let Some(temp) = &sel.temperature else {
@@ -47,50 +44,18 @@ pub fn run(a: &ThermalArgs) -> Result<()> {
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     if a.json {
-        let term = |e: &TermEstimate| match e {
-            TermEstimate::Value(v) => json!({"value": v.value, "lo": v.lo, "hi": v.hi}),
-            TermEstimate::NotIdentifiable(why) => json!({"reason": why}),
-        };
-        let channels: Vec<_> = surfaces
+        let channels: Vec<SlicedChannel<'_>> = surfaces
             .iter()
-            .map(|(name, unit, surface)| {
-                json!({
-                    "name": name,
-                    "unit": unit,
-                    "rows": surface.rows.iter().map(|r| json!({
-                        "start": r.start,
-                        "end": r.end,
-                        "t_mean_c": r.t_mean_c,
-                        "t_change_c": r.t_change_c,
-                        "samples": r.samples,
-                        "points": r.points.iter().map(|p| json!({
-                            "tau": p.tau, "m": p.m, "dev": p.dev, "n": p.n, "edf": p.edf,
-                            "dev_lo": p.dev_lo, "dev_hi": p.dev_hi,
-                        })).collect::<Vec<_>>(),
-                        "terms": {
-                            "N": term(r.terms.model.get(Term::WhiteNoise)),
-                            "B": term(r.terms.model.get(Term::BiasInstability)),
-                            "K": term(r.terms.model.get(Term::RateRandomWalk)),
-                            "sigma_min": r.terms.slope.sigma_min.map(|m| json!({"value": m.value, "tau": m.tau})),
-                        },
-                    })).collect::<Vec<_>>(),
-                    "skipped": surface.skipped.iter().map(|k| json!({
-                        "start": k.start,
-                        "end": k.end,
-                        "reason": k.reason.to_string(),
-                    })).collect::<Vec<_>>(),
-                })
-            })
+            .map(|(name, unit, surface)| SlicedChannel { name, unit, surface })
             .collect();
-        let doc = json!({
-            "schema": SCHEMA,
-            "imutherm_version": env!("CARGO_PKG_VERSION"),
-            "file": a.file.display().to_string(),
-            "by": match slicing { Slicing::Temperature { .. } => "temperature", Slicing::Time { .. } => "time" },
-            "rate_hz": sel.rate_hz,
-            "confidence": confidence,
-            "channels": channels,
-        });
+        let doc = ThermalDocument::new(
+            env!("CARGO_PKG_VERSION"),
+            a.file.display().to_string(),
+            slicing,
+            sel.rate_hz,
+            confidence,
+            &channels,
+        );
         serde_json::to_writer_pretty(&mut out, &doc)?;
         writeln!(out)?;
     } else {
