@@ -5,7 +5,7 @@ use std::path::Path;
 
 use anyhow::Result;
 
-use analysis::selection::Selection;
+use analysis::selection::{SelectedChannel, Selection};
 use imu::RecordingOptions;
 
 /// Shows each line an analysis noted (`warning: …`, `note: …`).
@@ -23,25 +23,42 @@ pub fn read_channels(file: &Path, wanted: &[String], read: &RecordingOptions) ->
     Ok(sel)
 }
 
-/// Refuses a selection holding a value whose differences square past the
-/// largest double (beyond √MAX/2, about ±6.7e153): every deviation, fit
-/// and integral over it would be infinite or NaN, so the column is named
-/// and the cause said, as `adev` says it (`commands::adev::run`).
-pub fn refuse_overflow(sel: &Selection) -> Result<()> {
-    let limit = f64::MAX.sqrt() / 2.0;
-    let beyond = |data: &[f64]| data.iter().copied().find(|v| v.is_finite() && v.abs() > limit);
-    for ch in &sel.channels {
-        if let Some(v) = beyond(&ch.data) {
+/// Values beyond √MAX/2: their differences square past the largest
+/// double, so every deviation, fit and integral over them would be
+/// infinite or NaN.
+fn overflow_limit() -> f64 {
+    f64::MAX.sqrt() / 2.0
+}
+
+/// The first finite value of `data` beyond [`overflow_limit`].
+fn first_overflowing(data: &[f64]) -> Option<f64> {
+    let limit = overflow_limit();
+    data.iter().copied().find(|v| v.is_finite() && v.abs() > limit)
+}
+
+/// Refuses channels holding a value beyond [`overflow_limit`], naming the
+/// column and saying the cause rather than anything about taus or fits.
+pub fn refuse_overflowing(channels: &[SelectedChannel]) -> Result<()> {
+    for ch in channels {
+        if let Some(v) = first_overflowing(&ch.data) {
             anyhow::bail!(
-                "{}: column {} ({}): a value of {v:e} overflows double precision in the statistics (values must stay within ±{limit:.1e})",
+                "{}: column {} ({}): a value of {v:e} overflows double precision in the statistics (values must stay within ±{:.1e})",
                 ch.file.display(),
                 ch.column,
-                ch.name
+                ch.name,
+                overflow_limit()
             );
         }
     }
+    Ok(())
+}
+
+/// [`refuse_overflowing`] for a selection, its temperature included.
+pub fn refuse_overflow(sel: &Selection) -> Result<()> {
+    refuse_overflowing(&sel.channels)?;
+    let limit = overflow_limit();
     if let (Some(t), Some(ch)) = (&sel.temperature, sel.channels.first())
-        && let Some(v) = beyond(t)
+        && let Some(v) = first_overflowing(t)
     {
         anyhow::bail!(
             "{}: the temperature channel: a value of {v:e} °C overflows double precision in the statistics (values must stay within ±{limit:.1e})",

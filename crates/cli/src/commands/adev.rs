@@ -2,7 +2,7 @@
 
 use std::io::{IsTerminal, Write};
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 
@@ -13,7 +13,7 @@ use analysis::adev_document::AdevDocument;
 use analysis::reading::unit_text;
 use analysis::selection::SelectedChannel;
 
-use crate::print::read_channels;
+use crate::print::{read_channels, refuse_overflowing};
 
 pub fn run(a: &AdevArgs) -> Result<()> {
     let opts = options(a)?;
@@ -22,20 +22,7 @@ pub fn run(a: &AdevArgs) -> Result<()> {
     for file in &a.files {
         channels.extend(read_channels(file, &a.channels, &read)?.channels);
     }
-    // Differences of values beyond √MAX/2 square past the largest double:
-    // the deviations would be infinite or silently dropped, so say
-    // overflow rather than anything about taus.
-    let limit = f64::MAX.sqrt() / 2.0;
-    for ch in &channels {
-        if let Some(v) = ch.data.iter().copied().find(|v| v.is_finite() && v.abs() > limit) {
-            bail!(
-                "{}: column {} ({}): a value of {v:e} overflows double precision in the statistics (values must stay within ±{limit:.1e})",
-                ch.file.display(),
-                ch.column,
-                ch.name
-            );
-        }
-    }
+    refuse_overflowing(&channels)?;
     // The samples are handed over and turned into phase in place.
     let data: Vec<Vec<f64>> = channels.iter_mut().map(|c| std::mem::take(&mut c.data)).collect();
     let operations: u64 = channels
