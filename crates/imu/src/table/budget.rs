@@ -40,7 +40,11 @@ fn address_space_limit() -> Option<u64> {
     };
     // SAFETY: getrlimit writes the struct it is given, which lives here.
     let ok = unsafe { libc::getrlimit(libc::RLIMIT_AS, &mut limit) } == 0;
-    (ok && limit.rlim_cur != libc::RLIM_INFINITY).then_some(limit.rlim_cur)
+    // `rlim_t` is 32 bits wide on 32-bit Linux (the Pi's armv7) and 64 on
+    // 64-bit, so the widening is needed on one and a no-op on the other.
+    #[allow(clippy::useless_conversion)]
+    let current = u64::from(limit.rlim_cur);
+    (ok && limit.rlim_cur != libc::RLIM_INFINITY).then_some(current)
 }
 
 const VALUE_BYTES: u64 = size_of::<f64>() as u64;
