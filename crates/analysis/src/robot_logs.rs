@@ -59,10 +59,11 @@ pub fn format_of(path: &Path) -> Option<&'static str> {
 pub fn imu_instances(path: &Path) -> Result<Vec<u32>, AnalysisError> {
     #[cfg(feature = "robotlogs")]
     {
-        let Some(format) = robotlogs::detect(path) else {
+        let log_error = |e: robotlogs::LogError| AnalysisError::RobotLog(e.to_string());
+        let Some(log) = robotlogs::Log::detect(path).map_err(log_error)? else {
             return Ok(Vec::new());
         };
-        let d = robotlogs::decode(path, format).map_err(|e| AnalysisError::RobotLog(e.to_string()))?;
+        let (d, _) = robotlogs::decode_log(path, log, false).map_err(log_error)?;
         let mut out: Vec<u32> = d
             .imu
             .iter()
@@ -98,9 +99,9 @@ pub(crate) type AnyRead = (Recording, ReadReport, Vec<Stream>, Option<&'static s
 /// An input opened once: a robot log by its format, or a text log with its
 /// header read on the one open file.
 pub(crate) enum Input {
-    /// A robot log.
+    /// A robot log, held open for its decoder.
     #[cfg(feature = "robotlogs")]
-    Log(robotlogs::Format),
+    Log(robotlogs::Log),
     /// A text log, a pipe or standard input.
     Text(TableReader),
 }
@@ -132,7 +133,7 @@ fn log_error(e: robotlogs::Error) -> AnalysisError {
 pub(crate) fn open(path: &Path, opts: &RecordingOptions) -> Result<Input, AnalysisError> {
     Ok(
         match robotlogs::open(path, &choice_of(opts)).map_err(log_error)? {
-            robotlogs::Opened::Log(format) => Input::Log(format),
+            robotlogs::Opened::Log(log) => Input::Log(log),
             robotlogs::Opened::Text(reader) => Input::Text(reader),
         },
     )
@@ -158,8 +159,9 @@ pub(crate) fn read_input(
 ) -> Result<AnyRead, AnalysisError> {
     match input {
         #[cfg(feature = "robotlogs")]
-        Input::Log(format) => {
-            let r = robotlogs::read_opened(path, robotlogs::Opened::Log(format), opts, &choice_of(opts))
+        Input::Log(log) => {
+            let format = log.format();
+            let r = robotlogs::read_opened(path, robotlogs::Opened::Log(log), opts, &choice_of(opts))
                 .map_err(log_error)?;
             let streams = r
                 .streams
@@ -194,11 +196,11 @@ pub(crate) fn read_any(path: &Path, opts: &RecordingOptions) -> Result<AnyRead, 
 #[cfg(feature = "robotlogs")]
 pub(crate) fn read_channels(
     file: &Path,
-    format: robotlogs::Format,
+    log: robotlogs::Log,
     wanted: &[String],
     read: &RecordingOptions,
 ) -> Result<Selection, AnalysisError> {
-    let (mut rec, report, _, _) = read_input(file, Input::Log(format), read)?;
+    let (mut rec, report, _, _) = read_input(file, Input::Log(log), read)?;
     let mut notes = reader_notes(file, &report, "the messages' clock");
     let checks = checked(file, &rec, &mut notes);
     let rate_hz = rec.rate_hz.unwrap_or(1.0);

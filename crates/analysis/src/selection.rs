@@ -68,7 +68,7 @@ pub fn read_channels(
     // alone decides what is selected, before the body is read.
     let reader = match crate::robot_logs::open(file, read)? {
         #[cfg(feature = "robotlogs")]
-        Input::Log(format) => return crate::robot_logs::read_channels(file, format, wanted, read),
+        Input::Log(log) => return crate::robot_logs::read_channels(file, log, wanted, read),
         Input::Text(reader) => reader,
     };
     let headers = reader.names().to_vec();

@@ -90,8 +90,9 @@ fn parse_fmt(body: &[u8]) -> Option<(u8, Format)> {
 }
 
 /// Reads the `IMU` messages of a DataFlash log into `out`.
-pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
-    let file = File::open(path).map_err(|e| LogError::new(path, e.into()))?;
+///
+/// `file` is `path` opened, at its start; `path` names the errors.
+pub fn read(path: &Path, file: File, out: &mut Decoded) -> Result<(), LogError> {
     let mut bytes = BufReader::with_capacity(1 << 20, file).bytes();
     let mut formats: HashMap<u8, Format> = HashMap::new();
     let mut ids: HashMap<String, f64> = HashMap::new();

@@ -37,6 +37,18 @@ pub enum LogErrorKind {
     /// SQLite's own error.
     #[error("SQLite: {0}")]
     Sqlite(String),
+    /// A SQLite3 bag larger than a read may hold in memory.
+    #[error(
+        "a SQLite3 bag of {} MiB is read into memory whole, more than the {} MiB a read may take",
+        bytes.div_ceil(1 << 20),
+        limit >> 20
+    )]
+    DatabaseTooLarge {
+        /// The file's size.
+        bytes: u64,
+        /// The memory a read may take.
+        limit: u64,
+    },
     /// No IMU stream in the log.
     #[error(
         "no IMU stream (sensor_msgs Imu topic, PX4 sensor_gyro/sensor_combined, ArduPilot IMU) in the log"

@@ -1,7 +1,7 @@
 //! Which kind of log a path holds, told by its content, not its name.
 
 use std::fs::File;
-use std::io::Read;
+use std::io::{Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
 use crate::error::{LogError, malformed};
@@ -72,16 +72,16 @@ pub fn detect(path: &Path) -> Option<Format> {
     if !meta.is_file() {
         return None;
     }
-    let mut head = [0u8; 16];
-    let mut f = File::open(path).ok()?;
-    let mut n = 0;
-    while n < head.len() {
-        match f.read(&mut head[n..]) {
-            Ok(0) | Err(_) => break,
-            Ok(k) => n += k,
-        }
-    }
-    of_bytes(&head[..n])
+    sniff(&mut File::open(path).ok()?).ok()?
+}
+
+/// The format of an open file by its first bytes, the file rewound to its
+/// start after, for its reader to read from the same handle.
+pub fn sniff(file: &mut File) -> std::io::Result<Option<Format>> {
+    let mut head = Vec::with_capacity(16);
+    (&mut *file).take(16).read_to_end(&mut head)?;
+    file.seek(SeekFrom::Start(0))?;
+    Ok(of_bytes(&head))
 }
 
 /// The storage files of a ROS 2 bag directory, in order: those listed

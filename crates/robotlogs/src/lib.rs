@@ -25,6 +25,7 @@ pub mod sqlite_bag;
 pub mod streams;
 pub mod ulog;
 
+use std::fs::File;
 use std::path::Path;
 
 pub use assemble::{Choice, StreamInfo};
@@ -57,46 +58,100 @@ pub enum Error {
     Text(#[from] imu::ReadError),
 }
 
-/// Decodes every IMU and temperature stream of a robot log.
-pub fn decode(path: &Path, format: Format) -> Result<streams::Decoded, LogError> {
-    Ok(decode_partial(path, format, false)?.0)
+/// A robot log opened: its format and, for a single file, the file
+/// itself at its start, which its decoder reads without opening it again.
+#[derive(Debug)]
+pub struct Log {
+    format: Format,
+    /// `None` for a bag directory, whose files are opened one by one.
+    file: Option<File>,
 }
 
-/// [`decode`]; with `allow_partial`, a bag missing some of its listed
-/// files is read from the others, and the missing ones are returned.
-pub fn decode_partial(
+impl Log {
+    /// Opens `path`, a log of `format`.
+    pub fn open(path: &Path, format: Format) -> Result<Log, LogError> {
+        let file = match format {
+            Format::Ros2BagDir => None,
+            _ => Some(File::open(path).map_err(|e| LogError::new(path, e.into()))?),
+        };
+        Ok(Log { format, file })
+    }
+
+    /// `path` opened once when its content is a robot log's; `None` for
+    /// anything else, the file let go unread past its first bytes.
+    pub fn detect(path: &Path) -> Result<Option<Log>, LogError> {
+        let io = |e: std::io::Error| LogError::new(path, e.into());
+        let meta = std::fs::metadata(path).map_err(io)?;
+        if meta.is_dir() {
+            return Ok(detect(path).map(|format| Log { format, file: None }));
+        }
+        if !meta.is_file() {
+            return Ok(None);
+        }
+        let mut file = File::open(path).map_err(io)?;
+        Ok(format::sniff(&mut file).map_err(io)?.map(|format| Log {
+            format,
+            file: Some(file),
+        }))
+    }
+
+    /// Its format.
+    pub fn format(&self) -> Format {
+        self.format
+    }
+}
+
+/// Decodes every IMU and temperature stream of a robot log.
+pub fn decode(path: &Path, format: Format) -> Result<streams::Decoded, LogError> {
+    Ok(decode_log(path, Log::open(path, format)?, false)?.0)
+}
+
+/// [`decode`] of a log opened; with `allow_partial`, a bag missing some of
+/// its listed files is read from the others, and the missing ones are
+/// returned.
+pub fn decode_log(
     path: &Path,
-    format: Format,
+    log: Log,
     allow_partial: bool,
 ) -> Result<(streams::Decoded, Vec<format::MissingFile>), LogError> {
     let mut d = streams::Decoded::default();
-    let mut missing = Vec::new();
-    match format {
-        Format::Ros2BagDir => {
-            let storage = format::bag_storage(path, allow_partial)?;
-            missing = storage.missing;
-            for f in storage.present {
-                match format::detect(&f) {
-                    Some(Format::Mcap) => mcap_file::read(&f, &mut d)?,
-                    Some(Format::Sqlite) => sqlite_bag::read(&f, &mut d)?,
-                    _ => {
-                        return Err(error::malformed(
-                            path,
-                            "ROS 2 bag",
-                            "a storage file neither MCAP nor SQLite3",
-                        )
-                        .at(f.display().to_string()));
-                    }
-                }
+    let file = match log.file {
+        Some(file) if log.format != Format::Ros2BagDir => file,
+        _ => return decode_bag(path, allow_partial),
+    };
+    match log.format {
+        Format::Mcap => mcap_file::read(path, file, &mut d)?,
+        Format::Sqlite => sqlite_bag::read(path, file, &mut d)?,
+        Format::Ros1Bag => ros1_bag::read(path, file, &mut d)?,
+        Format::ULog => ulog::read(path, file, &mut d)?,
+        Format::DataFlash => dataflash::read(path, file, &mut d)?,
+        Format::Ros2BagDir => {}
+    }
+    Ok((d, Vec::new()))
+}
+
+/// A ROS 2 bag directory: `metadata.yaml` read once, then each storage
+/// file opened once, told MCAP or SQLite3 by the handle its reader reads.
+fn decode_bag(
+    dir: &Path,
+    allow_partial: bool,
+) -> Result<(streams::Decoded, Vec<format::MissingFile>), LogError> {
+    let mut d = streams::Decoded::default();
+    let storage = format::bag_storage(dir, allow_partial)?;
+    for f in storage.present {
+        let mut file = File::open(&f).map_err(|e| LogError::new(&f, e.into()))?;
+        match format::sniff(&mut file).map_err(|e| LogError::new(&f, e.into()))? {
+            Some(Format::Mcap) => mcap_file::read(&f, file, &mut d)?,
+            Some(Format::Sqlite) => sqlite_bag::read(&f, file, &mut d)?,
+            _ => {
+                return Err(
+                    error::malformed(dir, "ROS 2 bag", "a storage file neither MCAP nor SQLite3")
+                        .at(f.display().to_string()),
+                );
             }
         }
-        Format::Mcap => mcap_file::read(path, &mut d)?,
-        Format::Sqlite => sqlite_bag::read(path, &mut d)?,
-        Format::Ros1Bag => ros1_bag::read(path, &mut d)?,
-        Format::ULog => ulog::read(path, &mut d)?,
-        Format::DataFlash => dataflash::read(path, &mut d)?,
     }
-    Ok((d, missing))
+    Ok((d, storage.missing))
 }
 
 /// Each storage file of a partial bag as a problem: which, and how many
@@ -127,8 +182,8 @@ fn report_missing(missing: &[format::MissingFile], report: &mut ReadReport) {
 /// An input opened once: a robot log by the format its first bytes show,
 /// or a text log with its header read, on the one open file.
 pub enum Opened {
-    /// A robot log (read by its decoder).
-    Log(Format),
+    /// A robot log (read by its decoder from the handle held).
+    Log(Log),
     /// A text log, a pipe or standard input.
     Text(imu::table::TableReader),
 }
@@ -139,7 +194,6 @@ pub enum Opened {
 /// (its bytes can be read once); a directory is a ROS 2 bag or nothing. A
 /// stream choice given for a text log is an error, not ignored.
 pub fn open(path: &Path, choice: &Choice) -> Result<Opened, Error> {
-    use std::io::{Read as _, Seek, SeekFrom};
     let text = |reader: Result<imu::table::TableReader, imu::ReadError>| -> Result<Opened, Error> {
         for (given, flag) in [
             (choice.topic.is_some(), "--topic"),
@@ -159,28 +213,27 @@ pub fn open(path: &Path, choice: &Choice) -> Result<Opened, Error> {
     };
     if meta.is_dir() {
         return match detect(path) {
-            Some(format) => Ok(Opened::Log(format)),
+            Some(format) => Ok(Opened::Log(Log { format, file: None })),
             None => text(imu::table::TableReader::open(path)),
         };
     }
     if !meta.is_file() {
         return text(imu::table::TableReader::open(path));
     }
-    let mut file = match std::fs::File::open(path) {
+    let mut file = match File::open(path) {
         Ok(f) => f,
         Err(_) => return text(imu::table::TableReader::open(path)),
     };
-    let mut head = Vec::with_capacity(16);
-    // A file that cannot be read is the text reader's to name.
-    let looked = (&mut file).take(16).read_to_end(&mut head).is_ok();
-    if let Some(format) = format::of_bytes(&head).filter(|_| looked) {
-        return Ok(Opened::Log(format));
+    match format::sniff(&mut file) {
+        Ok(Some(format)) => Ok(Opened::Log(Log {
+            format,
+            file: Some(file),
+        })),
+        Ok(None) => text(imu::table::TableReader::from_file(path, file)),
+        // A file that cannot be read or rewound is the text reader's to
+        // name.
+        Err(_) => text(imu::table::TableReader::open(path)),
     }
-    if file.seek(SeekFrom::Start(0)).is_err() {
-        // A regular file that cannot rewind: the reader opens it afresh.
-        return text(imu::table::TableReader::open(path));
-    }
-    text(imu::table::TableReader::from_file(path, file))
 }
 
 /// Reads a recording from any file imutherm reads: a robot log by its
@@ -198,8 +251,9 @@ pub fn read_opened(
     choice: &Choice,
 ) -> Result<Read, Error> {
     match opened {
-        Opened::Log(format) => {
-            let (d, missing) = decode_partial(path, format, choice.allow_partial)?;
+        Opened::Log(log) => {
+            let format = log.format;
+            let (d, missing) = decode_log(path, log, choice.allow_partial)?;
             let choice = Choice {
                 rate_hz: choice.rate_hz.or(opts.rate_hz),
                 max_grid_factor: choice.max_grid_factor.or(opts.max_grid_factor),

@@ -33,8 +33,9 @@ struct State<'p> {
 }
 
 /// Reads the IMU and temperature messages of one MCAP file into `out`.
-pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
-    let mut file = File::open(path).map_err(|e| LogError::new(path, e.into()))?;
+///
+/// `file` is `path` opened, at its start; `path` names the errors.
+pub fn read(path: &Path, mut file: File, out: &mut Decoded) -> Result<(), LogError> {
     // No record of a file is longer than the file: a corrupt length is an
     // error, not a request for that many bytes of memory (found by fuzzing:
     // a record claiming 2.5e18 bytes aborted the process).

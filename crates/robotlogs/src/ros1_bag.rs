@@ -30,8 +30,9 @@ struct State {
 }
 
 /// Reads the IMU and temperature messages of a ROS 1 bag into `out`.
-pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
-    let file = File::open(path).map_err(|e| LogError::new(path, e.into()))?;
+///
+/// `file` is `path` opened, at its start; `path` names the errors.
+pub fn read(path: &Path, file: File, out: &mut Decoded) -> Result<(), LogError> {
     let mut r = BufReader::with_capacity(1 << 20, file);
     let mut magic = [0u8; 13];
     r.read_exact(&mut magic)

@@ -1,19 +1,29 @@
 //! ROS 2 SQLite3 bags (rosbag2_storage_default_plugins, sqlite3 storage):
 //! a `topics` table (id, name, type, serialization_format) and a
 //! `messages` table (topic_id, timestamp in ns, data), read in time order.
+//!
+//! The database is read from the file already opened to tell its format,
+//! into SQLite's memory (`sqlite3_deserialize`), not reopened by its path:
+//! each input is opened once. That holds the whole file in memory while it
+//! is read, so a file larger than imutherm's memory limit for a read
+//! ([`imu::table::column_limit`]) is refused by its size before any byte
+//! is read.
 
+use std::fs::File;
 use std::path::Path;
 
-use rusqlite::{Connection, OpenFlags};
+use rusqlite::{Connection, MAIN_DB};
 
 use crate::error::{LogError, LogErrorKind};
 use crate::ros_msgs::{self, Kind};
 use crate::streams::{BadMessage, Decoded};
 
 /// Reads the IMU and temperature messages of one `.db3` file into `out`.
-pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
+///
+/// `file` is `path` opened, at its start; `path` names the errors.
+pub fn read(path: &Path, file: File, out: &mut Decoded) -> Result<(), LogError> {
     let sql = |e: rusqlite::Error| LogError::new(path, LogErrorKind::Sqlite(e.to_string()));
-    let db = Connection::open_with_flags(path, OpenFlags::SQLITE_OPEN_READ_ONLY).map_err(sql)?;
+    let db = in_memory(path, file)?;
     let mut topics: Vec<(i64, String, String, Kind)> = Vec::new();
     {
         let mut st = db
@@ -93,6 +103,26 @@ pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
         Some(e) if decoded == 0 => Err(e),
         _ => Ok(()),
     }
+}
+
+/// The database of `file`, read whole into memory, read-only.
+fn in_memory(path: &Path, file: File) -> Result<Connection, LogError> {
+    let sql = |e: rusqlite::Error| LogError::new(path, LogErrorKind::Sqlite(e.to_string()));
+    let bytes = file.metadata().map_err(|e| LogError::new(path, e.into()))?.len();
+    // Unbounded, a read still cannot take more than the address space.
+    let addressable = u64::try_from(usize::MAX).unwrap_or(u64::MAX);
+    let limit = imu::table::column_limit().map_or(addressable, |l| l.min(addressable));
+    if bytes > limit {
+        return Err(LogError::new(
+            path,
+            LogErrorKind::DatabaseTooLarge { bytes, limit },
+        ));
+    }
+    let size = usize::try_from(bytes).unwrap_or(usize::MAX);
+    let mut db = Connection::open_in_memory().map_err(sql)?;
+    db.deserialize_read_exact(MAIN_DB, file, size, true)
+        .map_err(sql)?;
+    Ok(db)
 }
 
 /// Why a row was not read.

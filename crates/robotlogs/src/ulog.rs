@@ -294,8 +294,9 @@ struct Sensor {
 }
 
 /// Reads the IMU topics of a ULog file into `out`.
-pub fn read(path: &Path, out: &mut Decoded) -> Result<(), LogError> {
-    let file = File::open(path).map_err(|e| LogError::new(path, e.into()))?;
+///
+/// `file` is `path` opened, at its start; `path` names the errors.
+pub fn read(path: &Path, file: File, out: &mut Decoded) -> Result<(), LogError> {
     let mut r = BufReader::with_capacity(1 << 20, file);
     let mut head = [0u8; 16];
     r.read_exact(&mut head)

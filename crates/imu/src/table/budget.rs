@@ -14,7 +14,7 @@
 use crate::error::ReadErrorKind;
 
 /// The bytes the columns may take, or `None` when nothing bounds them.
-pub(super) fn column_limit() -> Option<u64> {
+pub fn column_limit() -> Option<u64> {
     let memory = physical_memory().map(|m| m / 2);
     let address_space = address_space_limit().map(|a| a / 4);
     [memory, address_space].into_iter().flatten().min()

@@ -27,6 +27,7 @@ mod sniff;
 
 #[cfg(test)]
 use blocks::BLOCK_BYTES;
+pub use budget::column_limit;
 pub use sniff::Delimiter;
 
 /// The longest line read, in bytes. An IMU row is under 200 bytes; a
