@@ -7,6 +7,8 @@
 
 use std::path::{Path, PathBuf};
 
+use imu::RecordingOptions;
+
 use serde::Serialize;
 use thermal::evaluation::{BinMean, SliceMinimum, bin_means, level, spread, surface_minima};
 use thermal::firmware::verdict::{self, RunFacts};
@@ -14,8 +16,7 @@ use thermal::firmware::{self, Calibration, Firmware, Sensor, Target, sensor_axis
 use thermal::tcal::{FitOptions, Model, Order, Run, TcalChannel};
 
 use crate::AnalysisError;
-use crate::file_identity::digest;
-use crate::selection::Selection;
+use crate::selection::{Selection, read_channels_digested};
 
 /// Most averaging bins a fit is asked for: 0.1 °C bins over 100 °C. Finer
 /// bins hold a sample or two each, and the cross-validation over them would
@@ -32,11 +33,23 @@ pub struct RunData {
     pub selection: Selection,
     /// The temperature, °C, one per sample.
     pub temp: Vec<f64>,
+    /// The digest of the run's bytes ([`crate::file_identity::digest`]),
+    /// which a model keeps to know its fitted runs by.
+    pub digest: String,
 }
 
 impl RunData {
-    /// Splits the temperature off channels read from `file`.
-    pub fn new(file: &Path, mut selection: Selection) -> Result<RunData, AnalysisError> {
+    /// Reads the `wanted` channels and the temperature of the run in
+    /// `file`, its digest taken from the same read: the file is opened
+    /// once, and may be a pipe.
+    pub fn read(file: &Path, wanted: &[String], read: &RecordingOptions) -> Result<RunData, AnalysisError> {
+        let (selection, digest) = read_channels_digested(file, wanted, read)?;
+        RunData::new(file, selection, digest)
+    }
+
+    /// Splits the temperature off channels read from `file`, whose bytes
+    /// have `digest`.
+    pub fn new(file: &Path, mut selection: Selection, digest: String) -> Result<RunData, AnalysisError> {
         let Some(temp) = selection.temperature.take() else {
             return Err(AnalysisError::MissingChannel {
                 file: file.to_path_buf(),
@@ -46,7 +59,11 @@ impl RunData {
         selection
             .channels
             .retain(|c| c.quantity != imu::Quantity::Temperature);
-        Ok(RunData { selection, temp })
+        Ok(RunData {
+            selection,
+            temp,
+            digest,
+        })
     }
 }
 
@@ -91,7 +108,7 @@ pub struct Fitted {
 /// Fits a model on `runs`, read from `files` in the same order.
 pub fn fit(files: &[PathBuf], runs: &[RunData], req: &FitRequest) -> Result<Fitted, AnalysisError> {
     req.check()?;
-    let digests = distinct_runs(files)?;
+    let digests = distinct_runs(files, runs.iter().map(|r| r.digest.clone()).collect())?;
     check_bins(runs.iter().map(|r| r.temp.as_slice()), req.bin_width_c)?;
     let columns: Vec<Vec<TcalChannel>> = runs
         .iter()
@@ -135,7 +152,8 @@ pub fn fit(files: &[PathBuf], runs: &[RunData], req: &FitRequest) -> Result<Fitt
         let first = runs.first().and_then(id)?;
         runs.iter().all(|r| id(r) == Some(first)).then_some(first)
     };
-    let gyro = agreed(|r| r.selection.device_ids.gyro).or_else(|| recorded_device_id(files));
+    // A text log's `# device_id:` is among them (`DeviceIds::of`).
+    let gyro = agreed(|r| r.selection.device_ids.gyro);
     let accel = agreed(|r| r.selection.device_ids.accel);
     model.device_id = gyro;
     model.accel_device_id = accel.filter(|a| Some(*a) != gyro);
@@ -162,10 +180,9 @@ pub fn fit(files: &[PathBuf], runs: &[RunData], req: &FitRequest) -> Result<Fitt
     })
 }
 
-/// The digest of each run; one run given twice (by two names, or as a
-/// copy) would count twice, and is refused.
-pub fn distinct_runs(files: &[PathBuf]) -> Result<Vec<String>, AnalysisError> {
-    let digests: Vec<String> = files.iter().map(|f| file_digest(f)).collect::<Result<_, _>>()?;
+/// The digests of the runs in `files`, checked: one run given twice (by
+/// two names, or as a copy) would count twice, and is refused.
+pub fn distinct_runs(files: &[PathBuf], digests: Vec<String>) -> Result<Vec<String>, AnalysisError> {
     for (i, f) in files.iter().enumerate() {
         if let Some(j) = (0..i).find(|&j| digests[j] == digests[i] || imu::output::same_file(&files[j], f)) {
             return Err(AnalysisError::SameRecording {
@@ -193,47 +210,19 @@ pub fn check_bins<'a>(temps: impl Iterator<Item = &'a [f64]>, width: f64) -> Res
     Ok(())
 }
 
-/// The `# device_id:` the recordings carry (PX4's TC_x0_ID), when they all
-/// carry the same.
-pub fn recorded_device_id(files: &[PathBuf]) -> Option<u32> {
-    let ids: Vec<Option<u32>> = files
-        .iter()
-        .map(|f| {
-            let reader = imu::table::TableReader::open(f).ok()?;
-            let meta = imu::log_file::parse_metadata(reader.comments());
-            let v = meta.get("device_id")?.trim().to_string();
-            match v.strip_prefix("0x") {
-                Some(hex) => u32::from_str_radix(hex, 16).ok(),
-                None => v.parse().ok(),
-            }
-        })
-        .collect();
-    match ids.first() {
-        Some(Some(id)) if ids.iter().all(|i| *i == Some(*id)) => Some(*id),
-        _ => None,
-    }
-}
-
-/// The digest of a run, naming it when it cannot be read.
-fn file_digest(path: &Path) -> Result<String, AnalysisError> {
-    digest(path).map_err(|cause| AnalysisError::File {
-        path: path.to_path_buf(),
-        cause,
-    })
-}
-
-/// Whether `file` is one the model was fitted on: the same bytes (the
-/// model keeps a digest of each fitted run), whatever its name. A model
-/// from before digests were kept falls back to the file itself (device and
-/// inode) or, failing that, its name.
-pub fn was_fitted_on(model: &Model, file: &Path) -> Result<bool, AnalysisError> {
+/// Whether the run read from `file`, whose bytes have `digest`, is one the
+/// model was fitted on: the same bytes (the model keeps a digest of each
+/// fitted run), whatever its name. A model from before digests were kept
+/// falls back to the file itself (device and inode) or, failing that, its
+/// name.
+pub fn was_fitted_on(model: &Model, file: &Path, digest: &str) -> bool {
     if !model.fitted_on_digests.is_empty() {
-        return Ok(model.fitted_on_digests.contains(&file_digest(file)?));
+        return model.fitted_on_digests.iter().any(|d| d == digest);
     }
-    Ok(model
+    model
         .fitted_on
         .iter()
-        .any(|f| Path::new(f) == file || imu::output::same_file(Path::new(f), file)))
+        .any(|f| Path::new(f) == file || imu::output::same_file(Path::new(f), file))
 }
 
 /// An exported parameter file and the firmware's view of it.
@@ -547,8 +536,8 @@ pub fn eval_rows(
     run: RunData,
     loaded: Option<&AsLoaded>,
 ) -> Result<Vec<EvalRow>, AnalysisError> {
-    let held_out = !was_fitted_on(model, file)?;
-    let RunData { selection, temp } = run;
+    let held_out = !was_fitted_on(model, file, &run.digest);
+    let RunData { selection, temp, .. } = run;
     let mut rows = Vec::with_capacity(selection.channels.len());
     for ch in selection.channels {
         let mut comp = ch.data.clone();
@@ -677,24 +666,37 @@ mod tests {
         std::fs::write(&a, "gyro_x,temperature\n1,20\n").unwrap();
         std::fs::write(&b, "gyro_x,temperature\n1,21\n").unwrap();
         std::fs::copy(&a, &c).unwrap();
-        assert_eq!(distinct_runs(&[a.clone(), b.clone()]).unwrap().len(), 2);
-        let err = distinct_runs(&[a.clone(), b, c.clone()]).unwrap_err();
+        let digests = |files: &[PathBuf]| -> Vec<String> {
+            files
+                .iter()
+                .map(|f| crate::file_identity::digest(f).unwrap())
+                .collect()
+        };
+        let two = [a.clone(), b.clone()];
+        assert_eq!(distinct_runs(&two, digests(&two)).unwrap().len(), 2);
+        let three = [a.clone(), b, c.clone()];
+        let err = distinct_runs(&three, digests(&three)).unwrap_err();
         assert!(
             matches!(&err, AnalysisError::SameRecording { first, second } if *first == a && *second == c)
         );
     }
 
     #[test]
-    fn the_device_id_is_kept_only_when_every_run_has_the_same() {
+    fn a_text_log_gives_its_device_id_and_its_digest_from_one_read() {
         let dir = tempfile::tempdir().unwrap();
         let write = |name: &str, id: &str| {
             let p = dir.path().join(name);
-            std::fs::write(&p, format!("# device_id: {id}\ngyro_x,temperature\n1,20\n")).unwrap();
+            std::fs::write(&p, format!("# device_id: {id}\ngyro_x,temperature\n1,20\n2,21\n")).unwrap();
             p
         };
-        let (hex, dec, other) = (write("a", "0x2f0009"), write("b", "3080201"), write("c", "7"));
-        // 0x2f0009 = 3080201.
-        assert_eq!(recorded_device_id(&[hex.clone(), dec.clone()]), Some(0x2f0009));
-        assert_eq!(recorded_device_id(&[hex, other]), None);
+        let (hex, dec) = (write("a", "0x2f0009"), write("b", "3080201"));
+        let read = RecordingOptions::default();
+        let a = RunData::read(&hex, &[], &read).unwrap();
+        let b = RunData::read(&dec, &[], &read).unwrap();
+        // 0x2f0009 = 3080201: the ids agree, written either way.
+        assert_eq!(a.selection.device_ids.gyro, Some(0x2f0009));
+        assert_eq!(a.selection.device_ids.gyro, b.selection.device_ids.gyro);
+        assert_eq!(a.digest, crate::file_identity::digest(&hex).unwrap());
+        assert_ne!(a.digest, b.digest);
     }
 }

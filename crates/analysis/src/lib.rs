@@ -78,6 +78,7 @@ pub mod reading;
 pub mod robot_logs;
 pub mod selection;
 pub mod source;
+pub mod source_facts;
 pub mod summary;
 pub mod thermal_document;
 pub mod thesis;

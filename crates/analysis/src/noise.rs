@@ -10,7 +10,7 @@ use allan::noise_terms::{Chosen, NoiseTerms, Term, analyze_terms_vec};
 use imu::{Quantity, RecordingOptions};
 
 use crate::AnalysisError;
-use crate::selection::{SelectedChannel, read_channels};
+use crate::selection::{SelectedChannel, Selection, read_channels};
 use crate::units::deg;
 
 /// Confidence of the ADEV bands and term intervals in an experiment's
@@ -46,7 +46,11 @@ pub struct RunNoise {
 
 /// Reads the inertial channels of a run and identifies their noise terms.
 pub fn analyse_run(path: &Path, read: &RecordingOptions) -> Result<RunNoise, AnalysisError> {
-    let sel = read_channels(path, &[], read)?;
+    analyse_selection(path, read_channels(path, &[], read)?)
+}
+
+/// [`analyse_run`] of the channels already read from `path`.
+pub fn analyse_selection(path: &Path, sel: Selection) -> Result<RunNoise, AnalysisError> {
     let rate = sel.rate_hz;
     let channels = sel
         .channels

@@ -3,7 +3,12 @@
 //! on to `imu`'s reader unchanged. The stream to read comes with the
 //! reader's options ([`imu::StreamChoice`]).
 
+use std::fs::File;
+use std::io::Read;
+#[cfg(feature = "robotlogs")]
+use std::io::{Seek, SeekFrom};
 use std::path::Path;
+use std::sync::{Arc, Mutex};
 
 use imu::log_file::read_recording_from;
 use imu::table::TableReader;
@@ -13,6 +18,9 @@ use serde::Serialize;
 use crate::AnalysisError;
 #[cfg(feature = "robotlogs")]
 use crate::channel_spec::ChannelSpec;
+#[cfg(feature = "robotlogs")]
+use crate::file_identity::digest_of;
+use crate::file_identity::{Digesting, Fingerprint, digest};
 #[cfg(feature = "robotlogs")]
 use crate::selection::{Selection, checked, reader_notes, selection, take_channel};
 
@@ -150,6 +158,92 @@ pub(crate) fn open(path: &Path, opts: &RecordingOptions) -> Result<Input, Analys
     Ok(Input::Text(TableReader::open(path)?))
 }
 
+/// The digest of an input read by [`open_digesting`]: known at the open
+/// (a robot log), or growing as its reader reads (a text log).
+pub(crate) enum Digest {
+    /// Taken from the open file before its decoder reads it.
+    #[cfg_attr(not(feature = "robotlogs"), allow(dead_code))]
+    Known(String),
+    /// Taken from the bytes as the text reader reads them.
+    Reading(Arc<Mutex<Fingerprint>>),
+}
+
+impl Digest {
+    /// The digest, once the input has been read to its end.
+    pub(crate) fn value(self) -> String {
+        match self {
+            Digest::Known(d) => d,
+            Digest::Reading(print) => print.lock().map(|p| p.finish()).unwrap_or_default(),
+        }
+    }
+}
+
+/// [`open`], with the digest of the input's bytes ([`crate::file_identity`])
+/// taken from the same open file: a text log's as its reader reads it (a
+/// pipe gives its bytes once), a robot log's from its handle, rewound after
+/// for the decoder (a ULog is read by seeking, not in one pass). A directory
+/// has no digest, as [`crate::file_identity::digest`] says.
+pub(crate) fn open_digesting(path: &Path, opts: &RecordingOptions) -> Result<(Input, Digest), AnalysisError> {
+    let file_error = |cause: std::io::Error| AnalysisError::File {
+        path: path.to_path_buf(),
+        cause,
+    };
+    let meta = std::fs::metadata(path).ok();
+    if meta.as_ref().is_some_and(|m| m.is_dir()) {
+        digest(path).map_err(file_error)?;
+    }
+    let raw: Box<dyn Read + Send> = if path == Path::new("-") {
+        Box::new(std::io::stdin())
+    } else {
+        match File::open(path) {
+            #[cfg_attr(not(feature = "robotlogs"), allow(unused_mut))]
+            Ok(mut file) => {
+                #[cfg(feature = "robotlogs")]
+                if meta.as_ref().is_some_and(|m| m.is_file())
+                    && let Some(format) = robotlogs::format::sniff(&mut file).map_err(file_error)?
+                {
+                    let d = digest_of(&mut file).map_err(file_error)?;
+                    file.seek(SeekFrom::Start(0)).map_err(file_error)?;
+                    return Ok((
+                        Input::Log(robotlogs::Log::of_file(format, file)),
+                        Digest::Known(d),
+                    ));
+                }
+                Box::new(file)
+            }
+            // The reader names the error as it does for any command.
+            Err(e) => {
+                open(path, opts)?;
+                return Err(file_error(e));
+            }
+        }
+    };
+    refuse_choice_for_text(path, opts)?;
+    let (reader, print) = Digesting::new(raw);
+    let regular_bytes = meta.filter(|m| m.is_file()).map(|m| m.len());
+    let reader = TableReader::from_reader(path, Box::new(reader), regular_bytes)?;
+    Ok((Input::Text(reader), Digest::Reading(print)))
+}
+
+/// Refuses a robot log's stream choice given for a text log.
+fn refuse_choice_for_text(path: &Path, opts: &RecordingOptions) -> Result<(), AnalysisError> {
+    #[cfg(feature = "robotlogs")]
+    {
+        robotlogs::refuse_choice_for_text(path, &choice_of(opts))
+            .map_err(|e| log_error(robotlogs::Error::Log(e)))
+    }
+    #[cfg(not(feature = "robotlogs"))]
+    {
+        let _ = path;
+        if opts.stream.is_given() {
+            return Err(AnalysisError::Option(
+                "--topic, --instance and --temp-topic need imutherm built with robot-log support".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// Reads an input [`open`] opened (`path` names a robot log's errors).
 #[cfg_attr(not(feature = "robotlogs"), allow(unused_variables))]
 pub(crate) fn read_input(
@@ -201,6 +295,7 @@ pub(crate) fn read_channels(
     read: &RecordingOptions,
 ) -> Result<Selection, AnalysisError> {
     let (mut rec, report, _, _) = read_input(file, Input::Log(log), read)?;
+    let facts = crate::source_facts::RecordingFacts::of(&rec, &report);
     let mut notes = reader_notes(file, &report, "the messages' clock");
     let checks = checked(file, &rec, &mut notes);
     let rate_hz = rec.rate_hz.unwrap_or(1.0);
@@ -245,5 +340,5 @@ pub(crate) fn read_channels(
         .into_iter()
         .map(|i| take_channel(file, i + 1, &mut rec.channels[i], rate_hz, report.lines))
         .collect();
-    Ok(selection(&mut rec, channels, rate_hz, notes, checks))
+    Ok(selection(&mut rec, channels, rate_hz, notes, checks, facts))
 }

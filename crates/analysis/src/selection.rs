@@ -9,9 +9,11 @@ use crate::AnalysisError;
 use crate::channel_checks::{self, Checks};
 use crate::channel_spec::ChannelSpec;
 use crate::robot_logs::Input;
+use crate::source_facts::RecordingFacts;
 
 /// One column to analyse (a file's column as selected, not the data
 /// model's [`imu::Channel`]).
+#[derive(Clone)]
 pub struct SelectedChannel {
     /// The file it is read from.
     pub file: PathBuf,
@@ -34,6 +36,7 @@ pub struct SelectedChannel {
 }
 
 /// The channels read from one file, and what else a command needs of it.
+#[derive(Clone)]
 pub struct Selection {
     /// The selected channels.
     pub channels: Vec<SelectedChannel>,
@@ -55,6 +58,8 @@ pub struct Selection {
     /// What the file's inertial channels rule out (all of them, selected
     /// or not: motion shows on any axis).
     pub checks: Checks,
+    /// The recording's device, length, rate and problems, as read.
+    pub recording: RecordingFacts,
 }
 
 /// Reads the wanted channels of one file, converted to SI, with gaps where
@@ -64,9 +69,33 @@ pub fn read_channels(
     wanted: &[String],
     read: &RecordingOptions,
 ) -> Result<Selection, AnalysisError> {
-    // Opened once: a robot log goes to its reader, a text log's header
-    // alone decides what is selected, before the body is read.
-    let reader = match crate::robot_logs::open(file, read)? {
+    read_opened(file, crate::robot_logs::open(file, read)?, wanted, read)
+}
+
+/// [`read_channels`], with the digest of the file's bytes
+/// ([`crate::file_identity::digest`]) taken from the same read: the file is
+/// opened once, and a pipe works.
+pub fn read_channels_digested(
+    file: &Path,
+    wanted: &[String],
+    read: &RecordingOptions,
+) -> Result<(Selection, String), AnalysisError> {
+    let (input, digest) = crate::robot_logs::open_digesting(file, read)?;
+    let selection = read_opened(file, input, wanted, read)?;
+    Ok((selection, digest.value()))
+}
+
+/// [`read_channels`] of an input opened.
+#[cfg_attr(not(feature = "robotlogs"), allow(clippy::infallible_destructuring_match))]
+fn read_opened(
+    file: &Path,
+    input: Input,
+    wanted: &[String],
+    read: &RecordingOptions,
+) -> Result<Selection, AnalysisError> {
+    // A robot log goes to its reader; a text log's header alone decides
+    // what is selected, before the body is read.
+    let reader = match input {
         #[cfg(feature = "robotlogs")]
         Input::Log(log) => return crate::robot_logs::read_channels(file, log, wanted, read),
         Input::Text(reader) => reader,
@@ -135,6 +164,7 @@ pub fn read_channels(
     refuse_ambiguity(file, &headers, &kinds, &select, &by_header)?;
     // The same reader goes on to the body: a pipe or `-` is read once.
     let (mut rec, report) = read_recording_from(reader, read)?;
+    let facts = RecordingFacts::of(&rec, &report);
     let mut notes = reader_notes(file, &report, "the time column's clock");
     let rate_hz = match rec.rate_hz {
         Some(r) => r,
@@ -187,7 +217,7 @@ pub fn read_channels(
             report.lines,
         ));
     }
-    Ok(selection(&mut rec, out, rate_hz, notes, checks))
+    Ok(selection(&mut rec, out, rate_hz, notes, checks, facts))
 }
 
 /// What a time column's stamps are when they give no clock.
@@ -323,6 +353,7 @@ pub(crate) fn selection(
     rate_hz: f64,
     notes: Vec<String>,
     checks: Checks,
+    recording: RecordingFacts,
 ) -> Selection {
     let temperature = rec
         .channels
@@ -344,6 +375,7 @@ pub(crate) fn selection(
         device_ids: DeviceIds::of(&rec.meta),
         notes,
         checks,
+        recording,
     }
 }
 

@@ -77,7 +77,11 @@ pub fn read_static_channels(
     read: &RecordingOptions,
     allow_motion: bool,
 ) -> Result<Selection> {
-    let sel = read_channels(file, wanted, read)?;
+    static_checked(file, read_channels(file, wanted, read)?, allow_motion)
+}
+
+/// The checks of [`read_static_channels`] on channels read from `file`.
+pub fn static_checked(file: &Path, sel: Selection, allow_motion: bool) -> Result<Selection> {
     refuse_overflow(&sel)?;
     // A dead channel is shown (among the notes) and left to the command:
     // `noise` refuses it, navigation shows what it costs.

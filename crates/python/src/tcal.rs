@@ -7,7 +7,6 @@ use std::path::{Path, PathBuf};
 
 use analysis::compensation::{self, EvalDocument, FitRequest, RunData};
 use analysis::reading::{ReadingChoices, recording_options};
-use analysis::selection::read_channels;
 use imu::RecordingOptions;
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
@@ -57,8 +56,7 @@ fn model_of(text: &str) -> PyResult<Model> {
 
 /// The channels and the temperature of one run.
 fn run_data(file: &Path, channels: &[String], read: &RecordingOptions) -> PyResult<RunData> {
-    let sel = read_channels(file, channels, read).map_err(analysis_err)?;
-    RunData::new(file, sel).map_err(analysis_err)
+    RunData::read(file, channels, read).map_err(analysis_err)
 }
 
 /// Fits a model on the runs in `files`, as `imutherm tcal fit`; returns the

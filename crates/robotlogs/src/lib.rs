@@ -77,6 +77,14 @@ impl Log {
         Ok(Log { format, file })
     }
 
+    /// A log of `format` in `file`, opened and at its start.
+    pub fn of_file(format: Format, file: File) -> Log {
+        Log {
+            format,
+            file: Some(file),
+        }
+    }
+
     /// `path` opened once when its content is a robot log's; `None` for
     /// anything else, the file let go unread past its first bytes.
     pub fn detect(path: &Path) -> Result<Option<Log>, LogError> {
@@ -195,16 +203,7 @@ pub enum Opened {
 /// stream choice given for a text log is an error, not ignored.
 pub fn open(path: &Path, choice: &Choice) -> Result<Opened, Error> {
     let text = |reader: Result<imu::table::TableReader, imu::ReadError>| -> Result<Opened, Error> {
-        for (given, flag) in [
-            (choice.topic.is_some(), "--topic"),
-            (choice.instance.is_some(), "--instance"),
-            (choice.temp_topic.is_some(), "--temp-topic"),
-            (choice.allow_partial, "--allow-partial"),
-        ] {
-            if given {
-                return Err(LogError::new(path, LogErrorKind::NotARobotLog(flag)).into());
-            }
-        }
+        refuse_choice_for_text(path, choice)?;
         Ok(Opened::Text(reader?))
     };
     let Ok(meta) = std::fs::metadata(path) else {
@@ -234,6 +233,22 @@ pub fn open(path: &Path, choice: &Choice) -> Result<Opened, Error> {
         // name.
         Err(_) => text(imu::table::TableReader::open(path)),
     }
+}
+
+/// Refuses a stream choice given for a text log, which has one stream:
+/// ignored, it would be a silent guess at what was meant.
+pub fn refuse_choice_for_text(path: &Path, choice: &Choice) -> Result<(), LogError> {
+    for (given, flag) in [
+        (choice.topic.is_some(), "--topic"),
+        (choice.instance.is_some(), "--instance"),
+        (choice.temp_topic.is_some(), "--temp-topic"),
+        (choice.allow_partial, "--allow-partial"),
+    ] {
+        if given {
+            return Err(LogError::new(path, LogErrorKind::NotARobotLog(flag)));
+        }
+    }
+    Ok(())
 }
 
 /// Reads a recording from any file imutherm reads: a robot log by its

@@ -4,7 +4,8 @@ use anyhow::{Context, Result};
 
 use analysis::dynamic_adev::{DynamicAdevError, dynamic_adev};
 use analysis::navigation::{Plan, navigate, take_six_channels};
-use analysis::noise::analyse_run;
+use analysis::noise::analyse_selection;
+use analysis::selection::Selection;
 use analysis::summary::Summary;
 use ins::drift::report_times;
 use report::experiment::{
@@ -16,7 +17,7 @@ use report::plots::adev_heatmap;
 use thermal::surface::{Slicing, surface};
 
 use crate::args::{FigureFormat, ReportArgs};
-use crate::print::{notes, read_channels};
+use crate::print::notes;
 
 /// Temperature span from which a run gets its ADEV-over-temperature maps, °C.
 const SURFACE_SPAN_C: f64 = 5.0;
@@ -40,12 +41,16 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     let mut problems = Vec::new();
     let mut changing = Vec::new();
     let dynamic = a.dynamic.dynamic_options();
+    // Each input read once, its selection held for every section below:
+    // a pipe gives its bytes once.
+    let mut read_runs = Vec::with_capacity(a.files.len());
     for f in &a.files {
-        let (rec, rep, _) = analysis::robot_logs::read_recording_with_report(f, &read)?;
+        let sel = analysis::selection::read_channels(f, &[], &read)?;
+        let facts = &sel.recording;
         // One pass, without a copy of the channel; the sum in order from
         // -0.0, as `Iterator::sum`.
-        let temp = rec.temperature().map(|t| {
-            let (lo, hi, sum, n) = t.data.iter().filter(|x| x.is_finite()).fold(
+        let temp = sel.temperature.as_ref().map(|t| {
+            let (lo, hi, sum, n) = t.iter().filter(|x| x.is_finite()).fold(
                 (f64::INFINITY, f64::NEG_INFINITY, -0.0, 0usize),
                 |(a, b, s, n), &x| (a.min(x), b.max(x), s + x, n + 1),
             );
@@ -57,7 +62,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
             // Asked for in so many words, a window the run cannot hold is
             // the user's to change; the default one is left out with a note.
             if a.dynamic.dyn_window.is_some()
-                && let Some(d) = rec.duration_s()
+                && let Some(d) = facts.duration_s
                 && dynamic.window_s > d
             {
                 crate::args::usage_error(format!(
@@ -66,31 +71,35 @@ pub fn run(a: &ReportArgs) -> Result<()> {
                     f.display()
                 ));
             }
-            changing.push(f.clone());
+            changing.push(read_runs.len());
         }
         rows.push(vec![
             f.display().to_string(),
-            rec.meta.device.clone().unwrap_or_else(|| "—".into()),
-            rec.len().to_string(),
-            rec.rate_hz.map_or("unknown".into(), |r| {
+            facts.device.clone().unwrap_or_else(|| "—".into()),
+            facts.samples.to_string(),
+            facts.rate_hz.map_or("unknown".into(), |r| {
                 format!("{} Hz", imu::log_file::round_rate(r))
             }),
-            rec.duration_s().map_or("—".into(), |d| format!("{d:.1} s")),
+            facts.duration_s.map_or("—".into(), |d| format!("{d:.1} s")),
             temp.map_or("—".into(), |(lo, m, hi)| format!("{lo:.1} / {m:.1} / {hi:.1}")),
-            (rep.problems.len() + rep.unlisted).to_string(),
+            (facts.problems.len() + facts.unlisted).to_string(),
         ]);
-        for p in &rep.problems {
+        for p in &facts.problems {
             problems.push(vec![
                 f.display().to_string(),
                 p.line.map_or("—".into(), |l| l.to_string()),
                 p.message.clone(),
             ]);
         }
+        read_runs.push(sel);
     }
+    // The noise analysis takes the channels' samples: it is given a copy,
+    // and the selection stays for the figures and the navigation.
     let analysed = a
         .files
         .iter()
-        .map(|f| analyse_run(f, &read))
+        .zip(&read_runs)
+        .map(|(f, sel)| analyse_selection(f, sel.clone()))
         .collect::<Result<Vec<_>, _>>()?;
     for run in &analysed {
         notes(&run.notes);
@@ -125,10 +134,12 @@ pub fn run(a: &ReportArgs) -> Result<()> {
     adev_figures(&mut page, &analysed, &png)?;
     model_figures(&mut page, &analysed, &png)?;
 
-    for f in &changing {
+    for &i in &changing {
+        let (f, sel) = (&a.files[i], &read_runs[i]);
         page.heading(&format!("ADEV over temperature: {}", f.display()));
-        let sel = read_channels(f, &[], &read)?;
-        time_figures(&mut page, &sel, &f.display().to_string(), &png)?;
+        // The reader's notes again beside this section's figures.
+        notes(&sel.notes);
+        time_figures(&mut page, sel, &f.display().to_string(), &png)?;
         let Some(temp) = &sel.temperature else { continue };
         let mut noted = false;
         for c in &sel.channels {
@@ -176,7 +187,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
         }
     }
 
-    navigation_section(&mut page, &a.files, &read, &png)?;
+    navigation_section(&mut page, &a.files, read_runs, &png)?;
 
     let path = a.out.join("report.html");
     // DIR is the report's own: its report.html is replaced (atomically),
@@ -201,13 +212,13 @@ pub fn run(a: &ReportArgs) -> Result<()> {
 fn navigation_section(
     page: &mut Page,
     files: &[std::path::PathBuf],
-    read: &imu::RecordingOptions,
+    read_runs: Vec<Selection>,
     png: &PngDir,
 ) -> Result<()> {
     let plan = Plan::standard(report_times(120.0));
     let mut navigated = Vec::new();
-    for f in files {
-        let mut sel = read_channels(f, &[], read)?;
+    for (f, mut sel) in files.iter().zip(read_runs) {
+        notes(&sel.notes);
         let six = take_six_channels(f, &mut sel);
         let rate = sel.rate_hz;
         // What is left, the temperature, is not navigated: freed first.

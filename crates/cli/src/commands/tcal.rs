@@ -16,19 +16,23 @@ use thermal::tcal::Model;
 use crate::args::usage_error;
 use crate::args::{TcalApplyArgs, TcalEvalArgs, TcalFitArgs};
 use crate::flags::Instance;
-use crate::print::read_static_channels;
+use crate::print::{notes, static_checked};
 
 /// Reads channels and the temperature of one run of a static sensor,
-/// printing the reader's notes.
+/// printing the reader's notes; the digest of its bytes comes from the same
+/// read, so the run is opened once and may be a pipe.
 fn run_data(
     file: &Path,
     channels: &[String],
     read: &RecordingOptions,
     allow_motion: bool,
 ) -> Result<RunData> {
+    let (sel, digest) = analysis::selection::read_channels_digested(file, channels, read)?;
+    notes(&sel.notes);
     Ok(RunData::new(
         file,
-        read_static_channels(file, channels, read, allow_motion)?,
+        static_checked(file, sel, allow_motion)?,
+        digest,
     )?)
 }
 

@@ -48,7 +48,7 @@ pub(super) fn from_file(path: &Path, file: File) -> Result<Input, ReadError> {
     from_raw(path, Box::new(file), size)
 }
 
-fn from_raw(
+pub(super) fn from_raw(
     path: &Path,
     raw_input: Box<dyn Read + Send>,
     regular_bytes: Option<u64>,

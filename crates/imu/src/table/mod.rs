@@ -200,6 +200,19 @@ impl TableReader {
         Self::from_input(path, input)
     }
 
+    /// [`TableReader::open`] of bytes read through `reader` (a file or a
+    /// stream the caller opened and wraps, to see the bytes as they are
+    /// read); `regular_bytes` is the file's size when it is a regular file.
+    pub fn from_reader(
+        path: impl AsRef<Path>,
+        reader: Box<dyn std::io::Read + Send>,
+        regular_bytes: Option<u64>,
+    ) -> Result<TableReader, ReadError> {
+        let path = path.as_ref().to_path_buf();
+        let input = input::from_raw(&path, reader, regular_bytes)?;
+        Self::from_input(path, input)
+    }
+
     fn from_input(path: PathBuf, mut input: input::Input) -> Result<TableReader, ReadError> {
         let head = sniff::read_head(&mut input.reader, &path)?;
         let (names, has_header, delimiter) = sniff::columns_of(&head.first, head.line_no, &path)?;

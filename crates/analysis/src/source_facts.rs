@@ -1,0 +1,38 @@
+//! What is known of a recording as a whole once its channels are selected
+//! and moved out of it: the facts `report` lists for each input, kept with
+//! the selection so that the report reads each input once.
+
+use imu::{Problem, ReadReport, Recording};
+
+/// A recording's device, length, rate and problems, as read.
+#[derive(Debug, Clone, Default)]
+pub struct RecordingFacts {
+    /// The device the file names.
+    pub device: Option<String>,
+    /// Samples on its clock.
+    pub samples: usize,
+    /// The rate found (given, fitted or recorded); `None` when nothing gave
+    /// one (a selection then assumes 1 Hz, and says so).
+    pub rate_hz: Option<f64>,
+    /// Its duration, s.
+    pub duration_s: Option<f64>,
+    /// The reader's problems, listed.
+    pub problems: Vec<Problem>,
+    /// Problems beyond those listed.
+    pub unlisted: usize,
+}
+
+impl RecordingFacts {
+    /// The facts of `rec`, read with `report`, before any channel of it is
+    /// moved out (its length is its first channel's).
+    pub fn of(rec: &Recording, report: &ReadReport) -> RecordingFacts {
+        RecordingFacts {
+            device: rec.meta.device.clone(),
+            samples: rec.len(),
+            rate_hz: rec.rate_hz,
+            duration_s: rec.duration_s(),
+            problems: report.problems.clone(),
+            unlisted: report.unlisted,
+        }
+    }
+}
