@@ -128,18 +128,6 @@ pub enum AnalysisError {
         #[source]
         cause: std::io::Error,
     },
-    /// A pipe, a FIFO or standard input given where the analysis reads the
-    /// input more than once.
-    #[error(
-        "{}: {why}, which a pipe or standard input cannot give; save it to a file first",
-        file.display()
-    )]
-    ReadTwice {
-        /// The input.
-        file: PathBuf,
-        /// What reads it again.
-        why: &'static str,
-    },
     /// One run given twice, by two names or as a copy: it would count
     /// twice in a fit. A usage error.
     #[error("{} and {} are the same recording: give each run once", first.display(), second.display())]

@@ -15,8 +15,6 @@ mod flags;
 mod options;
 #[cfg(feature = "analysis")]
 mod print;
-#[cfg(feature = "analysis")]
-mod rereads;
 
 use std::process::ExitCode;
 
@@ -25,11 +23,6 @@ use clap::Parser;
 fn main() -> ExitCode {
     quiet_on_closed_stdout();
     let cli = args::Cli::parse();
-    #[cfg(feature = "analysis")]
-    if let Err(e) = rereads::refuse_streams(&cli.command) {
-        eprintln!("error: {e}");
-        return ExitCode::from(1);
-    }
     let result = match cli.command {
         #[cfg(feature = "analysis")]
         args::Command::Demo(a) => commands::demo::run(&a),
