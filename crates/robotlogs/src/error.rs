@@ -49,6 +49,13 @@ pub enum LogErrorKind {
         /// The memory a read may take.
         limit: u64,
     },
+    /// A SQLite3 bag in WAL mode whose log was never folded into it.
+    #[error(
+        "its write-ahead log {} holds messages not yet in the bag (the recorder did not close it); \
+         open the bag once with sqlite3 to fold the log in, then read it",
+        .0.display()
+    )]
+    UnfoldedLog(std::path::PathBuf),
     /// No IMU stream in the log.
     #[error(
         "no IMU stream (sensor_msgs Imu topic, PX4 sensor_gyro/sensor_combined, ArduPilot IMU) in the log"

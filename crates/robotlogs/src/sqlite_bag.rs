@@ -10,6 +10,7 @@
 //! is read.
 
 use std::fs::File;
+use std::io::Read;
 use std::path::Path;
 
 use rusqlite::{Connection, MAIN_DB};
@@ -119,8 +120,28 @@ fn in_memory(path: &Path, file: File) -> Result<Connection, LogError> {
         ));
     }
     let size = usize::try_from(bytes).unwrap_or(usize::MAX);
+    let mut file = file;
+    let mut header = [0u8; 100];
+    file.read_exact(&mut header)
+        .map_err(|e| LogError::new(path, e.into()))?;
+    // A bag written in WAL mode (rosbag2's "resilient" preset) says so in
+    // its header's file-format bytes (sqlite.org/fileformat.html, 1.3.3:
+    // offsets 18 and 19 are 2). A database in memory has no log beside
+    // it, and SQLite refuses to open one marked WAL there: once its log is
+    // folded in (the recorder closed the bag), its pages are all in the
+    // file, and read as a rollback-journal database. A log still beside
+    // it holds messages the file lacks: refused, not read without them.
+    if header[18] == 2 || header[19] == 2 {
+        let mut wal = path.as_os_str().to_owned();
+        wal.push("-wal");
+        if std::fs::metadata(&wal).is_ok_and(|m| m.len() > 0) {
+            return Err(LogError::new(path, LogErrorKind::UnfoldedLog(wal.into())));
+        }
+        header[18] = 1;
+        header[19] = 1;
+    }
     let mut db = Connection::open_in_memory().map_err(sql)?;
-    db.deserialize_read_exact(MAIN_DB, file, size, true)
+    db.deserialize_read_exact(MAIN_DB, (&header[..]).chain(file), size, true)
         .map_err(sql)?;
     Ok(db)
 }
@@ -163,4 +184,53 @@ fn decode_row(
             .map_err(|what| Fault::Cdr(name.clone(), what))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bag of rosbag2's schema in WAL mode, its connection left open (its
+    /// log not yet folded in) or closed.
+    fn wal_bag(dir: &Path, close: bool) -> (std::path::PathBuf, Option<Connection>) {
+        let p = dir.join("bag.db3");
+        let db = Connection::open(&p).unwrap();
+        db.query_row("PRAGMA journal_mode=WAL", [], |_| Ok(())).unwrap();
+        db.execute_batch(
+            "PRAGMA wal_autocheckpoint=0;
+             CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT, type TEXT, serialization_format TEXT);
+             CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER, timestamp INTEGER, data BLOB);
+             INSERT INTO topics VALUES (1, '/chatter', 'std_msgs/msg/String', 'cdr');",
+        )
+        .unwrap();
+        if close {
+            drop(db);
+            return (p, None);
+        }
+        (p, Some(db))
+    }
+
+    #[test]
+    fn a_closed_wal_bag_is_read_from_its_file_alone() {
+        let dir = tempfile::tempdir().unwrap();
+        let (p, _) = wal_bag(dir.path(), true);
+        let mut head = [0u8; 20];
+        File::open(&p).unwrap().read_exact(&mut head).unwrap();
+        assert_eq!(head[18..20], [2, 2], "the bag is in WAL mode");
+        let mut out = Decoded::default();
+        read(&p, File::open(&p).unwrap(), &mut out).unwrap();
+        assert!(out.imu.is_empty() && out.bad_messages.is_empty());
+    }
+
+    #[test]
+    fn a_bag_whose_log_is_not_folded_in_is_refused_naming_the_log() {
+        let dir = tempfile::tempdir().unwrap();
+        let (p, open) = wal_bag(dir.path(), false);
+        assert!(open.is_some());
+        let e = read(&p, File::open(&p).unwrap(), &mut Decoded::default()).unwrap_err();
+        assert!(
+            matches!(&e.kind, LogErrorKind::UnfoldedLog(w) if w.ends_with("bag.db3-wal")),
+            "{e}"
+        );
+    }
 }
