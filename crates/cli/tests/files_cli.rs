@@ -401,8 +401,8 @@ fn report_never_replaces_an_input_in_its_directory() {
         .stderr(predicate::str::contains("destroy the data being read"));
     assert_eq!(std::fs::read(&input).unwrap(), before);
     assert_eq!(std::fs::read(out.join("notes.txt")).unwrap(), b"mine");
-    // It reads each recording several times: a stream is refused, not
-    // waited on forever.
+    // Read from standard input, the same recording is still not written
+    // over the file that happens to hold it.
     imutherm()
         .args(["report", "-", "--out"])
         .arg(&out)
@@ -410,7 +410,8 @@ fn report_never_replaces_an_input_in_its_directory() {
         .unwrap()
         .assert()
         .code(1)
-        .stderr(predicate::str::contains("save it to a file first"));
+        .stderr(predicate::str::contains("was not written by imutherm"));
+    assert_eq!(std::fs::read(&input).unwrap(), before);
 }
 
 #[test]
