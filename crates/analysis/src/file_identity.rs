@@ -6,7 +6,7 @@ use std::fs::File;
 use std::hash::Hasher;
 use std::io::Read;
 use std::path::Path;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, PoisonError};
 
 /// A fingerprint of a file's bytes: FNV-1a 64 and the length
 /// (`fnv1a64:0123456789abcdef:1048576`). Not a defence against forgery,
@@ -74,10 +74,12 @@ impl<R: Read> Digesting<R> {
 impl<R: Read> Read for Digesting<R> {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
         let n = self.inner.read(buf)?;
-        // A poisoned lock is a panic elsewhere, which ends the read anyway.
-        if let Ok(mut p) = self.print.lock() {
-            p.update(&buf[..n]);
-        }
+        // The lock is only ever held to update or finish, neither of which
+        // panics: a poisoned one still holds every byte taken in.
+        self.print
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .update(&buf[..n]);
         Ok(n)
     }
 }

@@ -173,7 +173,10 @@ impl Digest {
     pub(crate) fn value(self) -> String {
         match self {
             Digest::Known(d) => d,
-            Digest::Reading(print) => print.lock().map(|p| p.finish()).unwrap_or_default(),
+            Digest::Reading(print) => print
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .finish(),
         }
     }
 }
