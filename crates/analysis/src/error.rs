@@ -174,6 +174,10 @@ pub enum AnalysisError {
         /// The firmware.
         firmware: thermal::firmware::Firmware,
     },
+    /// An IMU instance asked for that the log or the model does not hold.
+    /// A usage error.
+    #[error(transparent)]
+    Instances(#[from] crate::tcal_instances::InstanceError),
     /// Navigation refused the data.
     #[error("{context}: {cause}")]
     Ins {
@@ -193,6 +197,7 @@ impl AnalysisError {
             AnalysisError::SameRecording { .. }
                 | AnalysisError::OrderForFirmware { .. }
                 | AnalysisError::Instance { .. }
+                | AnalysisError::Instances(_)
         )
     }
 

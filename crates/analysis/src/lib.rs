@@ -28,6 +28,8 @@
 //! - [`navigation`]: what the noise costs in metres without GNSS;
 //! - [`compensation`]: the temperature compensation's fit, checks,
 //!   firmware view and evaluation document, as `tcal` and Python share them;
+//! - [`tcal_instances`]: every IMU instance of a log in one model: its fit,
+//!   the instance a compensation takes, the evaluation per instance;
 //! - [`experiment`]: the thesis's whole experiment (noise terms, ADEV over
 //!   temperature, compensation fitted and evaluated on a held-out run,
 //!   navigation) as one value.
@@ -80,6 +82,7 @@ pub mod selection;
 pub mod source;
 pub mod source_facts;
 pub mod summary;
+pub mod tcal_instances;
 pub mod thermal_document;
 pub mod thesis;
 pub mod units;

@@ -58,6 +58,8 @@ fn _imutherm(m: &Bound<'_, PyModule>) -> PyResult<()> {
         wrap_pyfunction!(tcal::tcal_apply, m)?,
         wrap_pyfunction!(tcal::tcal_eval, m)?,
         wrap_pyfunction!(tcal::tcal_export, m)?,
+        wrap_pyfunction!(tcal::tcal_instances, m)?,
+        wrap_pyfunction!(tcal::tcal_sensor, m)?,
     ] {
         m.add_function(f)?;
     }

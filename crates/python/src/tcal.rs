@@ -5,8 +5,10 @@
 
 use std::path::{Path, PathBuf};
 
-use analysis::compensation::{self, EvalDocument, FitRequest, RunData};
+use analysis::AnalysisError;
+use analysis::compensation::{self, FitRequest, RunData};
 use analysis::reading::{ReadingChoices, recording_options};
+use analysis::tcal_instances::{self as instances, Instances};
 use imu::RecordingOptions;
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
@@ -34,6 +36,15 @@ pub struct Reading {
     temp_topic: Option<String>,
 }
 
+/// The instances asked for: every one with `all`, else the one read.
+fn asked(r: &Reading, all: bool) -> Option<Instances> {
+    if all {
+        Some(Instances::All)
+    } else {
+        r.instance.map(Instances::One)
+    }
+}
+
 fn options(r: Reading) -> PyResult<RecordingOptions> {
     recording_options(&ReadingChoices {
         rate_hz: r.rate,
@@ -55,14 +66,16 @@ fn model_of(text: &str) -> PyResult<Model> {
 }
 
 /// The channels and the temperature of one run.
-fn run_data(file: &Path, channels: &[String], read: &RecordingOptions) -> PyResult<RunData> {
-    RunData::read(file, channels, read).map_err(analysis_err)
+fn run_data(file: &Path, channels: &[String], read: &RecordingOptions) -> Result<RunData, AnalysisError> {
+    RunData::read(file, channels, read)
 }
 
 /// Fits a model on the runs in `files`, as `imutherm tcal fit`; returns the
-/// model file's text and the export's warnings for `firmware`.
+/// model file's text and the export's warnings for `firmware`. With
+/// `all_instances`, and by default for a firmware on a log of several IMUs,
+/// the model holds every instance of the log.
 #[pyfunction]
-#[pyo3(signature = (files, channels, order, tref, bin_width, rate_term, firmware, reading))]
+#[pyo3(signature = (files, channels, order, tref, bin_width, rate_term, firmware, reading, all_instances=false))]
 // One argument per flag of `tcal fit`, as Python passes them.
 #[allow(clippy::too_many_arguments)]
 pub fn tcal_fit(
@@ -75,6 +88,7 @@ pub fn tcal_fit(
     rate_term: bool,
     firmware: Option<&str>,
     reading: Reading,
+    all_instances: bool,
 ) -> PyResult<(String, Vec<String>)> {
     let req = FitRequest {
         order: order.map_or(Order::Auto, Order::Fixed),
@@ -87,13 +101,16 @@ pub fn tcal_fit(
     if files.is_empty() {
         return Err(refused("no run to fit on"));
     }
+    let asked = asked(&reading, all_instances);
+    let topic_named = reading.topic.is_some();
     let read = options(reading)?;
     py.detach(|| {
-        let runs: Vec<RunData> = files
-            .iter()
-            .map(|f| run_data(f, &channels, &read))
-            .collect::<PyResult<_>>()?;
-        let fitted = compensation::fit(&files, &runs, &req).map_err(analysis_err)?;
+        let numbers = instances::instances_to_fit(&files, asked, req.firmware.is_some(), topic_named)
+            .map_err(analysis_err)?;
+        let fitted = instances::fit(&files, &req, &read, numbers.as_deref(), |f, read| {
+            run_data(f, &channels, read)
+        })
+        .map_err(analysis_err)?;
         let text = serde_json::to_string_pretty(&fitted.model).map_err(|e| refused(e.to_string()))?;
         Ok((text + "\n", fitted.export_warnings))
     })
@@ -124,9 +141,43 @@ pub fn tcal_apply<'py>(
     Ok((out.into_pyarray(py), report.out_of_range))
 }
 
-/// `imutherm tcal eval --json`'s document (`imutherm.tcal-eval/1`), as text.
+/// The text of the model that compensates a recording of IMU `instance`,
+/// as `tcal apply --instance N` picks it: the model itself for one sensor,
+/// else that instance's own model.
 #[pyfunction]
-#[pyo3(signature = (model, model_name, files, export, params, reading))]
+#[pyo3(signature = (model, model_name, instance))]
+pub fn tcal_sensor(model: &str, model_name: &str, instance: Option<u32>) -> PyResult<String> {
+    let whole = model_of(model)?;
+    if whole.instances.is_empty() {
+        return Ok(model.to_string());
+    }
+    let one = instances::to_apply(&whole, model_name, instance).map_err(|e| to_py(&e))?;
+    let text = serde_json::to_string_pretty(&one).map_err(|e| refused(e.to_string()))?;
+    Ok(text + "\n")
+}
+
+/// Each instance of a model of several, as (its number, its model's text);
+/// empty for a model of one sensor.
+#[pyfunction]
+pub fn tcal_instances(text: &str) -> PyResult<Vec<(u32, String)>> {
+    let model = model_of(text)?;
+    model
+        .instances
+        .iter()
+        .map(|m| {
+            let text = serde_json::to_string_pretty(m).map_err(|e| refused(e.to_string()))?;
+            Ok((m.instance.unwrap_or(0), text + "\n"))
+        })
+        .collect()
+}
+
+/// `imutherm tcal eval --json`'s document (`imutherm.tcal-eval/1`), as
+/// text, and the export's warnings. A model of several instances is judged
+/// per instance (the one in `reading`, or all), as the command line does.
+#[pyfunction]
+#[pyo3(signature = (model, model_name, files, export, params, reading, all_instances=false))]
+// One argument per flag of `tcal eval`, as Python passes them.
+#[allow(clippy::too_many_arguments)]
 pub fn tcal_eval(
     py: Python<'_>,
     model: &str,
@@ -135,8 +186,10 @@ pub fn tcal_eval(
     export: Option<&str>,
     params: Option<PathBuf>,
     reading: Reading,
+    all_instances: bool,
 ) -> PyResult<(String, Vec<String>)> {
     let model = model_of(model)?;
+    let asked = asked(&reading, all_instances);
     let read = options(reading)?;
     let firmware = export.map(firmware_of).transpose()?;
     py.detach(|| {
@@ -144,26 +197,16 @@ pub fn tcal_eval(
             .map(|f| compensation::as_loaded(&model, f, params.as_deref()))
             .transpose()
             .map_err(analysis_err)?;
-        let names: Vec<String> = model.channels.iter().map(|c| c.name.clone()).collect();
-        let mut rows = Vec::new();
-        let mut verdicts = Vec::new();
-        // As `imutherm tcal eval`: each run judged as the firmware would, and
-        // corrected with the set the firmware picks for it.
-        for file in &files {
-            let run = run_data(file, &names, &read)?;
-            if let Some(l) = &loaded {
-                verdicts.push(compensation::judge(l, file, &run).map_err(analysis_err)?);
-            }
-            let for_run = match &loaded {
-                Some(l) => l.for_run(file, &run).map_err(analysis_err)?,
-                None => None,
-            };
-            rows.extend(
-                compensation::eval_rows(&model, file, run, for_run.as_ref().or(loaded.as_ref()))
-                    .map_err(analysis_err)?,
-            );
-        }
-        let doc = EvalDocument::new(model_name, rows, loaded.as_ref(), verdicts);
+        let doc = instances::evaluate(
+            &model,
+            model_name,
+            &files,
+            loaded.as_ref(),
+            asked,
+            &read,
+            run_data,
+        )
+        .map_err(analysis_err)?;
         let text = serde_json::to_string_pretty(&doc).map_err(|e| refused(e.to_string()))?;
         Ok((text + "\n", loaded.map(|l| l.warnings).unwrap_or_default()))
     })

@@ -7,7 +7,8 @@ use std::path::Path;
 use anyhow::{Context, Result};
 
 use analysis::AnalysisError;
-use analysis::compensation::{self, AsLoaded, EvalDocument, FitRequest, RunData};
+use analysis::compensation::{self, AsLoaded, FitRequest, RunData};
+use analysis::tcal_instances::{self, Instances};
 use imu::output::{AtomicFile, OutputPolicy, check_output, write_file};
 use imu::{LogFormat, RecordingOptions, write_recording};
 use thermal::firmware::Firmware;
@@ -54,52 +55,24 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
         firmware: a.for_firmware.map(Firmware::from),
     };
     req.check().map_err(exit_status)?;
-    let instances = fit_instances(a)?;
+    let instances = tcal_instances::instances_to_fit(
+        &a.files,
+        a.read.instance.map(instances_of),
+        a.for_firmware.is_some(),
+        a.read.topic.is_some(),
+    )
+    .map_err(exit_status)?;
     let read = a.read.recording_options_any_instance()?;
     let policy = OutputPolicy {
         overwrite: a.overwrite,
         inputs: &a.files,
     };
     check_output(&a.output, &policy)?;
-    let fit_one = |read: &RecordingOptions| -> Result<compensation::Fitted> {
-        let runs: Vec<RunData> = a
-            .files
-            .iter()
-            .map(|f| run_data(f, &a.channels, read, a.motion.allow_motion))
-            .collect::<Result<_>>()?;
-        compensation::fit(&a.files, &runs, &req).map_err(exit_status)
-    };
-    let (model, warnings) = match &instances {
-        None => {
-            let fitted = fit_one(&read)?;
-            (fitted.model, fitted.export_warnings)
-        }
-        Some(numbers) => {
-            let mut each = Vec::with_capacity(numbers.len());
-            let mut warnings = Vec::new();
-            for &n in numbers {
-                let mut one = read.clone();
-                one.stream.instance = Some(n);
-                let mut fitted = fit_one(&one)?;
-                fitted.model.instance = Some(n);
-                warnings.extend(
-                    fitted
-                        .export_warnings
-                        .into_iter()
-                        .map(|w| format!("instance {n}: {w}")),
-                );
-                each.push(fitted.model);
-            }
-            let model = Model::of_instances(each).context("the log has no IMU instance")?;
-            // Each instance fitted; the file they make together is checked
-            // now, so that its faults show at the fit, not at the vehicle.
-            if let Some(fw) = req.firmware {
-                thermal::firmware::export(&model, fw, thermal::firmware::Target::default())
-                    .with_context(|| format!("the instances together cannot be written for {}", fw.name()))?;
-            }
-            (model, warnings)
-        }
-    };
+    let fitted = tcal_instances::fit(&a.files, &req, &read, instances.as_deref(), |f, read| {
+        run_data(f, &a.channels, read, a.motion.allow_motion)
+    })
+    .map_err(usage_exit)?;
+    let (model, warnings) = (fitted.model, fitted.export_warnings);
     let text = serde_json::to_string_pretty(&model)?;
     write_file(&a.output, (text + "\n").as_bytes(), &policy)?;
     eprintln!("wrote {}", a.output.display());
@@ -129,27 +102,19 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
     Ok(())
 }
 
-/// The instances `tcal fit` fits at once: every one of the first log's
-/// with `--instance all`, and by default for `--for` when it has several;
-/// `None` for one sensor.
-fn fit_instances(a: &TcalFitArgs) -> Result<Option<Vec<u32>>> {
-    let all = match a.read.instance {
-        Some(Instance::One(_)) => return Ok(None),
-        Some(Instance::All) => true,
-        None if a.for_firmware.is_some() && a.read.topic.is_none() => false,
-        None => return Ok(None),
-    };
-    let Some(first) = a.files.first() else {
-        return Ok(None);
-    };
-    let found = analysis::robot_logs::imu_instances(first).map_err(exit_status)?;
-    match found.len() {
-        0 if all => usage_error(format!(
-            "--instance all: {} has no IMU instances (it is not a PX4 ULog or ArduPilot DataFlash log with several IMUs)",
-            first.display()
-        )),
-        0 | 1 if !all => Ok(None),
-        _ => Ok(Some(found)),
+/// The library's name of `--instance N|all`.
+fn instances_of(i: Instance) -> Instances {
+    match i {
+        Instance::One(n) => Instances::One(n),
+        Instance::All => Instances::All,
+    }
+}
+
+/// [`exit_status`] for an error that may wrap a compensation error.
+fn usage_exit(e: anyhow::Error) -> anyhow::Error {
+    match e.downcast::<AnalysisError>() {
+        Ok(e) => exit_status(e),
+        Err(e) => e,
     }
 }
 
@@ -166,24 +131,12 @@ pub fn apply(a: &TcalApplyArgs) -> Result<()> {
     let read = a.read.recording_options()?;
     // A model of several IMUs compensates the one instance asked for, with
     // that instance's own model.
-    let model = if model.instances.is_empty() {
-        model
-    } else {
-        let numbers: Vec<u32> = model.instances.iter().filter_map(|m| m.instance).collect();
-        match a.read.instance {
-            Some(Instance::One(n)) => match model.instances.iter().find(|m| m.instance == Some(n)) {
-                Some(m) => m.clone(),
-                None => usage_error(format!(
-                    "--instance {n}: {} holds instances {numbers:?}",
-                    a.model.display()
-                )),
-            },
-            _ => usage_error(format!(
-                "{} holds instances {numbers:?}: give --instance N to compensate one",
-                a.model.display()
-            )),
-        }
+    let asked = match a.read.instance {
+        Some(Instance::One(n)) => Some(n),
+        _ => None,
     };
+    let model = tcal_instances::to_apply(&model, &a.model.display().to_string(), asked)
+        .map_err(|e| exit_status(e.into()))?;
     let (mut rec, _, _) = analysis::robot_logs::read_recording_with_report(&a.file, &read)?;
     let rate = rec.rate_hz.unwrap_or(1.0);
     let temp = rec
@@ -226,76 +179,25 @@ pub fn apply(a: &TcalApplyArgs) -> Result<()> {
 pub fn eval(a: &TcalEvalArgs) -> Result<()> {
     let model = Model::read(&a.model)?;
     let read = a.read.recording_options_any_instance()?;
-    let many = !model.instances.is_empty();
-    if !many && a.read.instance == Some(Instance::All) {
-        usage_error(format!(
-            "--instance all: {} is the model of one sensor; give its instance number",
-            a.model.display()
-        ));
-    }
     let loaded: Option<AsLoaded> = a
         .export
         .map(|f| compensation::as_loaded(&model, f.into(), a.params.as_deref()))
         .transpose()?;
-    // A model of several instances is judged per instance: each read from
-    // the log as its own IMU, against its own set of the file.
-    let sensors: Vec<&Model> = model
-        .sensors()
-        .into_iter()
-        .filter(|m| match (many, a.read.instance) {
-            (true, Some(Instance::One(n))) => m.instance == Some(n),
-            _ => true,
-        })
-        .collect();
-    if sensors.is_empty() {
-        usage_error(format!(
-            "--instance: {} holds instances {:?}",
-            a.model.display(),
-            model
-                .instances
-                .iter()
-                .filter_map(|m| m.instance)
-                .collect::<Vec<_>>()
-        ));
-    }
-    let mut rows = Vec::new();
-    let mut verdicts = Vec::new();
-    for file in &a.files {
-        for m in &sensors {
-            let mut read = read.clone();
-            let for_instance = match (many, &loaded) {
-                (true, Some(l)) => Some(l.for_instance(m)?),
-                _ => None,
-            };
-            if many {
-                read.stream.instance = m.instance;
-            }
-            let names: Vec<String> = m.channels.iter().map(|c| c.name.clone()).collect();
-            let run = run_data(file, &names, &read, a.motion.allow_motion)?;
-            let loaded = for_instance.as_ref().or(loaded.as_ref());
-            if let Some(l) = loaded {
-                let mut v = compensation::judge(l, file, &run)?;
-                v.instance = m.instance.filter(|_| many);
-                verdicts.push(v);
-            }
-            let for_run = match loaded {
-                Some(l) => l.for_run(file, &run)?,
-                None => None,
-            };
-            rows.extend(compensation::eval_rows(
-                m,
-                file,
-                run,
-                for_run.as_ref().or(loaded),
-            )?);
-        }
-    }
+    let doc = tcal_instances::evaluate(
+        &model,
+        &a.model.display().to_string(),
+        &a.files,
+        loaded.as_ref(),
+        a.read.instance.map(instances_of),
+        &read,
+        |file, names, read| run_data(file, names, read, a.motion.allow_motion),
+    )
+    .map_err(usage_exit)?;
     if let Some(l) = &loaded {
         for w in &l.warnings {
             eprintln!("warning: {w}");
         }
     }
-    let doc = EvalDocument::new(&a.model.display().to_string(), rows, loaded.as_ref(), verdicts);
     let nothing: Vec<&str> = doc
         .firmware
         .iter()

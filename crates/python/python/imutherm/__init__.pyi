@@ -230,7 +230,11 @@ class TcalModel:
     def t_max(self) -> float: ...
     @property
     def channels(self) -> dict[str, dict[str, Any]]: ...
-    def apply(self, recording: Recording) -> Recording: ...
+    @property
+    def instance(self) -> int | None: ...
+    @property
+    def instances(self) -> dict[int, TcalModel]: ...
+    def apply(self, recording: Recording, instance: int | None = None) -> Recording: ...
     def evaluate(
         self,
         runs: _Runs,
@@ -239,7 +243,7 @@ class TcalModel:
         rate: float | None = None,
         units: _Units = None,
         topic: str | None = None,
-        instance: int | None = None,
+        instance: int | Literal["all"] | None = None,
         temp_topic: str | None = None,
     ) -> dict[str, Any]: ...
     def export(self, firmware: _Firmware, instance: int | None = None, device_id: int | None = None) -> str: ...
@@ -255,6 +259,6 @@ def tcal_fit(
     rate: float | None = None,
     units: _Units = None,
     topic: str | None = None,
-    instance: int | None = None,
+    instance: int | Literal["all"] | None = None,
     temp_topic: str | None = None,
 ) -> TcalModel: ...

@@ -20,7 +20,8 @@ _FLAG_VALUE = [
     (re.compile(r"--unit (\S+?):"), r"units entry '\1':"),
     (re.compile(r"--topic (\S+?)( in the log|:|;|$)"), r"topic='\1'\2"),
     (re.compile(r"--temp-topic (\S+?)( in the log|:|;|$)"), r"temp_topic='\1'\2"),
-    (re.compile(r"--instance (\d+)"), r"instance=\1"),
+    (re.compile(r"--instance (\d+|N\b)"), r"instance=\1"),
+    (re.compile(r"--instance all"), r"instance='all'"),
     # The temperature compensation (crates/analysis/src/error.rs and
     # compensation.rs; crates/thermal/src/firmware/mod.rs and px4.rs).
     (re.compile(r"`imutherm tcal fit --for (\w+)`"), r"`imutherm.tcal_fit(..., firmware='\1')`"),

@@ -12,9 +12,10 @@ READ_FLAGS = ("rate", "units", "topic", "instance", "temp_topic")
 
 
 def _runs(runs, given):
-    """The runs' paths and the reading flags for all of them: those given,
-    else those the recordings among the runs were read with (which must
-    agree, as one set of flags reads every run on the command line)."""
+    """The runs' paths, the reading flags for all of them (those given, else
+    those the recordings among the runs were read with, which must agree, as
+    one set of flags reads every run on the command line), and whether every
+    IMU instance was asked for (``instance="all"``, ``--instance all``)."""
     if isinstance(runs, (str, os.PathLike)) or hasattr(runs, "channels"):
         runs = [runs]
     paths, seen = [], []
@@ -34,8 +35,9 @@ def _runs(runs, given):
         reading = dict(seen[0])
     reading["rate"] = None if reading["rate"] is None else float(reading["rate"])
     reading["units"] = _units(reading["units"])
-    reading["instance"] = None if reading["instance"] is None else int(reading["instance"])
-    return paths, reading
+    every = isinstance(reading["instance"], str) and reading["instance"].strip().lower() == "all"
+    reading["instance"] = None if reading["instance"] is None or every else int(reading["instance"])
+    return paths, reading, every
 
 
 def _units(units):
@@ -60,6 +62,13 @@ def tcal_fit(runs, channels=None, order="auto", tref=None, bin_width=1.0, rate_t
     ``instance`` and ``temp_topic`` as in :func:`imutherm.read`, for every
     run (by default those the recordings given were read with).
 
+    ``instance="all"`` fits every IMU instance of a flight controller's log
+    (PX4 ULog, ArduPilot DataFlash) into one model, as ``imutherm tcal fit
+    LOG --instance all``; it is the default with ``firmware`` on a log of
+    several IMUs (and no ``topic``), as ``--for`` is. Such a model holds
+    each instance's own fit (:attr:`TcalModel.instances`) and exports to
+    one parameter file covering them all.
+
     Returns a :class:`TcalModel`; ``model.save(path)`` writes the same file
     as ``imutherm tcal fit -o path``. Warnings of the export for
     ``firmware`` are in ``model.warnings``.
@@ -68,8 +77,8 @@ def tcal_fit(runs, channels=None, order="auto", tref=None, bin_width=1.0, rate_t
     >>> model.save("model.json")                                      # doctest: +SKIP
     >>> print(model.export("px4"))                                    # doctest: +SKIP
     """
-    paths, reading = _runs(runs, dict(rate=rate, units=units, topic=topic, instance=instance,
-                                      temp_topic=temp_topic))
+    paths, reading, every = _runs(runs, dict(rate=rate, units=units, topic=topic, instance=instance,
+                                             temp_topic=temp_topic))
     if isinstance(channels, str):
         channels = [channels]
     if order == "auto" or order is None:
@@ -78,7 +87,7 @@ def tcal_fit(runs, channels=None, order="auto", tref=None, bin_width=1.0, rate_t
         order = int(order)
     text, warnings = _imutherm.tcal_fit(paths, list(channels or []), order,
                                         None if tref is None else float(tref), float(bin_width),
-                                        bool(rate_term), firmware, reading)
+                                        bool(rate_term), firmware, reading, every)
     return TcalModel(text, warnings=warnings)
 
 
@@ -91,7 +100,15 @@ class TcalModel:
       ``residual_rms``, ...);
     * ``to_json()`` -- the model file's text; ``save(path)`` writes it;
       ``TcalModel.load(path)`` reads one (checked as ``tcal apply`` checks
-      it).
+      it);
+    * ``instances`` -- for a model of several IMU instances (``tcal fit
+      --instance all``), a dict, instance number -> that instance's own
+      :class:`TcalModel`, as imutherm reads it from the file (what ``tcal
+      apply --instance N`` compensates with); empty for a model of one
+      sensor. The fields above are then the first instance's, as in the
+      model file;
+    * ``instance`` -- the log's IMU instance the model was fitted on, or
+      None.
     """
 
     def __init__(self, text, name=None, warnings=()):
@@ -139,13 +156,30 @@ class TcalModel:
     def channels(self):
         return {c["name"]: c for c in self._doc["channels"]}
 
+    @property
+    def instance(self):
+        return self._doc.get("instance")
+
+    @property
+    def instances(self):
+        return {n: TcalModel(text, name=self.name) for n, text in _imutherm.tcal_instances(self._text)}
+
     @in_python_words()
-    def apply(self, recording):
+    def apply(self, recording, instance=None):
         """A copy of ``recording`` with every modelled channel compensated,
         as ``imutherm tcal apply`` writes it: x - (p(T) - p(T_ref)) with T
         clamped to the fitted range (``out_of_range`` counts the samples
-        clamped). Needs the recording's temperature channel."""
+        clamped). Needs the recording's temperature channel. A model of
+        several instances compensates with the model of ``instance``
+        (``tcal apply --instance N``), by default the instance the recording
+        was read with."""
         import copy
+
+        if instance is None:
+            instance = getattr(recording, "read_options", {}).get("instance")
+        sensor = _imutherm.tcal_sensor(self._text, self.name or "model",
+                                       None if instance is None else int(instance))
+        names = [c["name"] for c in json.loads(sensor)["channels"]]
 
         temp = recording.temperature
         if temp is None:
@@ -155,12 +189,12 @@ class TcalModel:
         out._channels = [copy.copy(c) for c in recording._channels]
         out.out_of_range = 0
         rate = recording.rate or 1.0
-        for name in self.channels:
+        for name in names:
             chans = [c for c in out._channels if c.name == name]
             if not chans:
                 raise _imutherm.ImuthermError(
                     f"{recording.file or 'recording'}: the model has channel '{name}', the file does not")
-            data, clamped = _imutherm.tcal_apply(self._text, name, chans[0].data, temp, float(rate))
+            data, clamped = _imutherm.tcal_apply(sensor, name, chans[0].data, temp, float(rate))
             chans[0].data = data
             out.channels[name] = data
             out.out_of_range = max(out.out_of_range, clamped)
@@ -178,12 +212,18 @@ class TcalModel:
         over 1 degree C bins before and after (``bias_rms_*``,
         ``bias_max_*``, ``bins_*``), the ADEV minimum per 5 degree C slice,
         whether the run was held out of the fit, and with ``export`` the
-        bias as the firmware applies the exported file. The reading flags are
-        :func:`tcal_fit`'s."""
-        paths, reading = _runs(runs, dict(rate=rate, units=units, topic=topic, instance=instance,
-                                          temp_topic=temp_topic))
-        text, _ = _imutherm.tcal_eval(self._text, self.name or "model", paths, export,
-                                      None if params is None else os.fspath(params), reading)
+        bias as the firmware applies the exported file and its verdict per
+        run. The reading flags are :func:`tcal_fit`'s. A model of several
+        instances judges each instance (or the one ``instance`` names) read
+        as its own IMU, against its own set of the parameter file, each row
+        and verdict naming its ``instance``. The export's warnings go to
+        ``export_warnings``."""
+        paths, reading, every = _runs(runs, dict(rate=rate, units=units, topic=topic,
+                                                 instance=instance, temp_topic=temp_topic))
+        text, warnings = _imutherm.tcal_eval(self._text, self.name or "model", paths, export,
+                                             None if params is None else os.fspath(params), reading,
+                                             every)
+        self.export_warnings = [python_words(w) for w in warnings]
         return json.loads(text)
 
     @in_python_words()
@@ -191,7 +231,11 @@ class TcalModel:
         """The parameter file ``imutherm tcal export MODEL --firmware
         FIRMWARE [--instance N] [--device-id ID]`` writes (``"px4"``: a
         QGroundControl ``.params`` file; ``"ardupilot"``: a ``.parm``
-        file), as text. The export's warnings go to ``export_warnings``."""
+        file), as text. A model of several instances is written whole, each
+        instance to its own set with its own device ids (PX4 ``TC_G{n}``/
+        ``TC_A{n}``, ArduPilot ``INS_TCAL{n+1}``), and takes neither
+        ``instance`` nor ``device_id``. The export's warnings go to
+        ``export_warnings``."""
         text, warnings = _imutherm.tcal_export(self._text, self.name or "model", str(firmware),
                                                None if instance is None else int(instance),
                                                None if device_id is None else int(device_id))
@@ -201,7 +245,14 @@ class TcalModel:
     def __repr__(self):
         rows = [f"<imutherm.TcalModel {self.name or ''} {self.t_min:.1f}..{self.t_max:.1f} degC, "
                 f"T_ref {self.t_ref:.2f} degC>".replace("  ", " ")]
-        for c in self._doc["channels"]:
-            rows.append(f"  {c['name']:<8} order {c['order']}  residual RMS "
-                        f"{c['residual_rms']:.3e} {c['unit']}")
+        sensors = [json.loads(text) for _, text in _imutherm.tcal_instances(self._text)] or [self._doc]
+        for doc in sensors:
+            indent = "  "
+            if doc.get("instance") is not None and len(sensors) > 1:
+                rows.append(f"  instance {doc['instance']}: {doc['t_min_c']:.1f}..{doc['t_max_c']:.1f} "
+                            f"degC, T_ref {doc['t_ref_c']:.2f} degC")
+                indent = "    "
+            for c in doc["channels"]:
+                rows.append(f"{indent}{c['name']:<8} order {c['order']}  residual RMS "
+                            f"{c['residual_rms']:.3e} {c['unit']}")
         return "\n".join(rows)

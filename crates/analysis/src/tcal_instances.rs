@@ -1,0 +1,328 @@
+//! Every IMU instance of a flight controller's log in one model: which
+//! instances a fit covers, the fit of each into one model, the instance a
+//! compensation takes, and the evaluation of each instance against its own
+//! set of the parameter file. `imutherm tcal` and the Python package both
+//! call these, so that a model of several instances and its evaluation are
+//! the same bytes from either.
+//!
+//! Reading a run is left to the caller (`read_run`): the command line
+//! prints the reader's notes and checks the sensor is static, Python does
+//! neither.
+
+use std::path::{Path, PathBuf};
+
+use imu::RecordingOptions;
+use thermal::firmware::{self, Target};
+use thermal::tcal::Model;
+use thiserror::Error;
+
+use crate::AnalysisError;
+use crate::compensation::{self, AsLoaded, EvalDocument, FitRequest, Fitted, RunData};
+
+/// The IMU instances asked for (`--instance N|all`, Python's
+/// `instance=N|"all"`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Instances {
+    /// One instance of the log.
+    One(u32),
+    /// Every instance of the log.
+    All,
+}
+
+/// An instance asked for that the log or the model does not hold. A usage
+/// error: the flags, not the data, are at fault.
+#[derive(Debug, Error)]
+pub enum InstanceError {
+    /// Every instance asked of a file that has none.
+    #[error(
+        "--instance all: {} has no IMU instances (it is not a PX4 ULog or ArduPilot DataFlash log with several IMUs)",
+        file.display()
+    )]
+    NoneInLog {
+        /// The first run.
+        file: PathBuf,
+    },
+    /// Every instance asked of a model of one sensor.
+    #[error("--instance all: {model} is the model of one sensor; give its instance number")]
+    OneSensor {
+        /// The model, as named.
+        model: String,
+    },
+    /// An instance the model does not hold.
+    #[error("--instance {instance}: {model} holds instances {held:?}")]
+    NotInModel {
+        /// The instance asked for.
+        instance: u32,
+        /// The model, as named.
+        model: String,
+        /// The instances it holds.
+        held: Vec<u32>,
+    },
+    /// A compensation of a model of several instances without saying which.
+    #[error("{model} holds instances {held:?}: give --instance N to compensate one")]
+    Unchosen {
+        /// The model, as named.
+        model: String,
+        /// The instances it holds.
+        held: Vec<u32>,
+    },
+}
+
+/// The instance numbers a model holds, in its order.
+pub fn held(model: &Model) -> Vec<u32> {
+    model.instances.iter().filter_map(|m| m.instance).collect()
+}
+
+/// The instances a fit covers: every one of the first run's with
+/// [`Instances::All`], and by default when fitting for a firmware (with no
+/// topic named) on a log of several IMUs; `None` for one sensor.
+pub fn instances_to_fit(
+    files: &[PathBuf],
+    asked: Option<Instances>,
+    for_firmware: bool,
+    topic_named: bool,
+) -> Result<Option<Vec<u32>>, AnalysisError> {
+    let all = match asked {
+        Some(Instances::One(_)) => return Ok(None),
+        Some(Instances::All) => true,
+        None if for_firmware && !topic_named => false,
+        None => return Ok(None),
+    };
+    let Some(first) = files.first() else {
+        return Ok(None);
+    };
+    let found = crate::robot_logs::imu_instances(first)?;
+    match found.len() {
+        0 if all => Err(InstanceError::NoneInLog {
+            file: first.to_path_buf(),
+        }
+        .into()),
+        0 | 1 if !all => Ok(None),
+        _ => Ok(Some(found)),
+    }
+}
+
+/// Fits `files` as `req` asks: one model from runs read with `read`, or,
+/// with `instances`, one model holding a fit of each instance (read as its
+/// own IMU), its warnings prefixed with the instance. A model for a
+/// firmware is exported once whole, so that a fault of the file the
+/// instances make together shows at the fit, not at the vehicle.
+pub fn fit<E: From<AnalysisError>>(
+    files: &[PathBuf],
+    req: &FitRequest,
+    read: &RecordingOptions,
+    instances: Option<&[u32]>,
+    mut read_run: impl FnMut(&Path, &RecordingOptions) -> Result<RunData, E>,
+) -> Result<Fitted, E> {
+    let mut fit_one = |read: &RecordingOptions| -> Result<Fitted, E> {
+        let runs: Vec<RunData> = files
+            .iter()
+            .map(|f| read_run(f, read))
+            .collect::<Result<_, _>>()?;
+        Ok(compensation::fit(files, &runs, req)?)
+    };
+    let Some(numbers) = instances else {
+        return fit_one(read);
+    };
+    let mut each = Vec::with_capacity(numbers.len());
+    let mut export_warnings = Vec::new();
+    for &n in numbers {
+        let mut one = read.clone();
+        one.stream.instance = Some(n);
+        let fitted = fit_one(&one)?;
+        let mut model = fitted.model;
+        model.instance = Some(n);
+        export_warnings.extend(
+            fitted
+                .export_warnings
+                .into_iter()
+                .map(|w| format!("instance {n}: {w}")),
+        );
+        each.push(model);
+    }
+    let model = Model::of_instances(each).ok_or_else(|| {
+        AnalysisError::from(InstanceError::NoneInLog {
+            file: files.first().cloned().unwrap_or_default(),
+        })
+    })?;
+    if let Some(fw) = req.firmware {
+        firmware::export(&model, fw, Target::default()).map_err(|cause| AnalysisError::Firmware {
+            context: format!("the instances together cannot be written for {}", fw.name()),
+            cause,
+        })?;
+    }
+    Ok(Fitted {
+        model,
+        export_warnings,
+    })
+}
+
+/// The model that compensates a recording of instance `asked`: a model of
+/// one sensor itself, else the instance's own model, which must be named.
+pub fn to_apply(model: &Model, model_name: &str, asked: Option<u32>) -> Result<Model, InstanceError> {
+    if model.instances.is_empty() {
+        return Ok(model.clone());
+    }
+    let Some(n) = asked else {
+        return Err(InstanceError::Unchosen {
+            model: model_name.to_string(),
+            held: held(model),
+        });
+    };
+    model
+        .instances
+        .iter()
+        .find(|m| m.instance == Some(n))
+        .cloned()
+        .ok_or_else(|| InstanceError::NotInModel {
+            instance: n,
+            model: model_name.to_string(),
+            held: held(model),
+        })
+}
+
+/// The sensors of `model` an evaluation judges: each of its instances (or
+/// the one asked for), or the model itself for one sensor.
+pub fn to_evaluate<'m>(
+    model: &'m Model,
+    model_name: &str,
+    asked: Option<Instances>,
+) -> Result<Vec<&'m Model>, InstanceError> {
+    let many = !model.instances.is_empty();
+    match (many, asked) {
+        (false, Some(Instances::All)) => Err(InstanceError::OneSensor {
+            model: model_name.to_string(),
+        }),
+        (true, Some(Instances::One(n))) => {
+            let one: Vec<&Model> = model.instances.iter().filter(|m| m.instance == Some(n)).collect();
+            if one.is_empty() {
+                return Err(InstanceError::NotInModel {
+                    instance: n,
+                    model: model_name.to_string(),
+                    held: held(model),
+                });
+            }
+            Ok(one)
+        }
+        _ => Ok(model.sensors()),
+    }
+}
+
+/// `tcal eval`'s document: every run of `files` judged for each sensor of
+/// `model` (read as its own IMU for a model of several instances), with
+/// `loaded`, where given, applied as the firmware applies it (each instance
+/// against its own set) and its verdict on each run.
+pub fn evaluate<E: From<AnalysisError>>(
+    model: &Model,
+    model_name: &str,
+    files: &[PathBuf],
+    loaded: Option<&AsLoaded>,
+    asked: Option<Instances>,
+    read: &RecordingOptions,
+    mut read_run: impl FnMut(&Path, &[String], &RecordingOptions) -> Result<RunData, E>,
+) -> Result<EvalDocument, E> {
+    let many = !model.instances.is_empty();
+    let sensors = to_evaluate(model, model_name, asked).map_err(AnalysisError::from)?;
+    let mut rows = Vec::new();
+    let mut verdicts = Vec::new();
+    for file in files {
+        for m in &sensors {
+            let mut read = read.clone();
+            let for_instance = match (many, loaded) {
+                (true, Some(l)) => Some(l.for_instance(m)?),
+                _ => None,
+            };
+            if many {
+                read.stream.instance = m.instance;
+            }
+            let names: Vec<String> = m.channels.iter().map(|c| c.name.clone()).collect();
+            let run = read_run(file, &names, &read)?;
+            let loaded = for_instance.as_ref().or(loaded);
+            if let Some(l) = loaded {
+                let mut v = compensation::judge(l, file, &run)?;
+                v.instance = m.instance.filter(|_| many);
+                verdicts.push(v);
+            }
+            let for_run = match loaded {
+                Some(l) => l.for_run(file, &run)?,
+                None => None,
+            };
+            rows.extend(compensation::eval_rows(
+                m,
+                file,
+                run,
+                for_run.as_ref().or(loaded),
+            )?);
+        }
+    }
+    Ok(EvalDocument::new(model_name, rows, loaded, verdicts))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn model(instance: Option<u32>) -> Model {
+        let text = r#"{"schema":"imutherm.tcal/1","t_ref_c":30.0,"t_min_c":20.0,"t_max_c":40.0,
+            "centre_c":30.0,"scale_c":10.0,"bin_width_c":1.0,"channels":[]}"#;
+        let mut m: Model = serde_json::from_str(text).unwrap();
+        m.instance = instance;
+        m
+    }
+
+    #[test]
+    fn a_model_of_several_instances_compensates_only_the_one_named() {
+        let many = Model::of_instances(vec![model(Some(0)), model(Some(2))]).unwrap();
+        assert_eq!(to_apply(&many, "m.json", Some(2)).unwrap().instance, Some(2));
+        let err = to_apply(&many, "m.json", Some(1)).unwrap_err().to_string();
+        assert_eq!(err, "--instance 1: m.json holds instances [0, 2]");
+        let err = to_apply(&many, "m.json", None).unwrap_err().to_string();
+        assert_eq!(
+            err,
+            "m.json holds instances [0, 2]: give --instance N to compensate one"
+        );
+        // A model of one sensor compensates whatever instance was read.
+        assert_eq!(to_apply(&model(None), "m.json", Some(3)).unwrap(), model(None));
+    }
+
+    #[test]
+    fn an_evaluation_judges_each_instance_or_the_one_asked() {
+        let many = Model::of_instances(vec![model(Some(0)), model(Some(1))]).unwrap();
+        let each = |asked| -> Vec<Option<u32>> {
+            to_evaluate(&many, "m", asked)
+                .unwrap()
+                .iter()
+                .map(|m| m.instance)
+                .collect()
+        };
+        assert_eq!(each(None), [Some(0), Some(1)]);
+        assert_eq!(each(Some(Instances::All)), [Some(0), Some(1)]);
+        assert_eq!(each(Some(Instances::One(1))), [Some(1)]);
+        assert!(matches!(
+            to_evaluate(&many, "m", Some(Instances::One(5))),
+            Err(InstanceError::NotInModel { instance: 5, .. })
+        ));
+        let one = model(None);
+        assert_eq!(to_evaluate(&one, "m", Some(Instances::One(4))).unwrap().len(), 1);
+        assert!(matches!(
+            to_evaluate(&one, "m", Some(Instances::All)),
+            Err(InstanceError::OneSensor { .. })
+        ));
+    }
+
+    #[test]
+    fn instances_are_fitted_together_only_where_asked_or_a_firmware_wants_them() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = dir.path().join("run.csv");
+        std::fs::write(&text, "gyro_x,temperature\n1,20\n").unwrap();
+        let files = [text.clone()];
+        assert_eq!(instances_to_fit(&files, None, true, false).unwrap(), None);
+        assert_eq!(
+            instances_to_fit(&files, Some(Instances::One(1)), true, false).unwrap(),
+            None
+        );
+        let err = instances_to_fit(&files, Some(Instances::All), false, false).unwrap_err();
+        assert!(err.is_usage(), "{err}");
+        assert!(err.to_string().contains("has no IMU instances"), "{err}");
+    }
+}
