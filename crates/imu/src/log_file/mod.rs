@@ -10,10 +10,15 @@
 //!
 //! [`writer`] writes both; [`columns`] classifies a header's columns;
 //! [`reader`] reads either (or any numeric table with a header) and says
-//! which it found; [`trailer`] finds the recorder's closing line.
+//! which it found, in stages: `layout` (the header, units and time column),
+//! `gaps` (the channels and their gaps), `time_axis` (the time column and
+//! rate); [`trailer`] finds the recorder's closing line.
 
 pub mod columns;
+mod gaps;
+mod layout;
 pub mod reader;
+mod time_axis;
 pub mod trailer;
 pub mod writer;
 
