@@ -12,8 +12,8 @@ use predicates::prelude::*;
 
 mod support;
 use support::{
-    Simulation, imutherm, json_of, json_stdout, replaces_only_with_overwrite, scratch_files, stderr_of,
-    tcal_fit,
+    Refused, Simulation, cli, imutherm, json_of, json_stdout, replaces_only_with_overwrite, scratch_files,
+    stderr_of, tcal_fit,
 };
 
 /// A temperature run to fit: 20 minutes at 2 Hz.
@@ -96,14 +96,7 @@ fn tcal_never_writes_onto_its_inputs_by_any_name() {
 
     // Without --overwrite an existing model stays; with it, it is replaced.
     let old_model = std::fs::read(&model).unwrap();
-    imutherm()
-        .args(["tcal", "fit", "--order", "1"])
-        .arg(&run)
-        .arg("-o")
-        .arg(&model)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("already exists"));
+    cli!["tcal", "fit", "--order", "1", &run, "-o", &model].refused(1, "already exists");
     assert_eq!(std::fs::read(&model).unwrap(), old_model);
     // Reading the input from standard input (`- < ramp.txt`) does not
     // hide it either.
@@ -321,14 +314,7 @@ fn a_duplicated_column_name_never_picks_the_wrong_column() {
     let p = dir.path().join("dup.txt");
     std::fs::write(&p, "# sample_rate_hz: 10\ngyro_x,gyro_x\n1,2\n3,4\n").unwrap();
     for channel in ["2", "gyro_x"] {
-        imutherm()
-            .args(["adev", "--channels", channel])
-            .arg(&p)
-            .assert()
-            .code(1)
-            .stderr(predicate::str::contains(
-                "columns 1 and 2 are both named 'gyro_x'",
-            ));
+        cli!["adev", "--channels", channel, &p].refused(1, "columns 1 and 2 are both named 'gyro_x'");
     }
 }
 
@@ -391,14 +377,7 @@ fn report_never_replaces_an_input_in_its_directory() {
     let before = std::fs::read(&input).unwrap();
     let mut stray = std::fs::File::create(out.join("notes.txt")).unwrap();
     stray.write_all(b"mine").unwrap();
-    imutherm()
-        .arg("report")
-        .arg(&input)
-        .arg("--out")
-        .arg(&out)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("destroy the data being read"));
+    cli!["report", &input, "--out", &out].refused(1, "destroy the data being read");
     assert_eq!(std::fs::read(&input).unwrap(), before);
     assert_eq!(std::fs::read(out.join("notes.txt")).unwrap(), b"mine");
     // It reads each recording several times: a stream is refused, not
@@ -430,14 +409,7 @@ fn output_directories_replace_only_imutherms_own_files() {
     }
     let page = out.join("report.html");
     std::fs::write(&page, "my notes\n").unwrap();
-    imutherm()
-        .arg("report")
-        .arg(&run)
-        .arg("--out")
-        .arg(&out)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("was not written by imutherm"));
+    cli!["report", &run, "--out", &out].refused(1, "was not written by imutherm");
     assert_eq!(std::fs::read_to_string(&page).unwrap(), "my notes\n");
 
     // The demo checks all its names before simulating anything.
@@ -445,14 +417,7 @@ fn output_directories_replace_only_imutherms_own_files() {
     std::fs::create_dir(&demo).unwrap();
     std::fs::write(demo.join("run_62C.txt"), "a run of my own\n").unwrap();
     let t0 = std::time::Instant::now();
-    imutherm()
-        .args(["demo", "--quick", "--out"])
-        .arg(&demo)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains(
-            "run_62C.txt exists and was not written by imutherm",
-        ));
+    cli!["demo", "--quick", "--out", &demo].refused(1, "run_62C.txt exists and was not written by imutherm");
     assert!(t0.elapsed().as_secs_f64() < 5.0);
     assert_eq!(std::fs::read_dir(&demo).unwrap().count(), 1);
 }

@@ -6,7 +6,7 @@
 use predicates::prelude::*;
 
 mod support;
-use support::{Simulation, imutherm};
+use support::{Refused, Simulation, cli, imutherm};
 
 const MISSING: &str = "/nonexistent/imutherm-flags.txt";
 
@@ -266,25 +266,16 @@ fn a_dynamic_adev_window_that_is_not_a_duration_or_longer_than_the_run_is_a_usag
         ("--dyn-step", "90 parsecs"),
         ("--dyn-window", "0"),
     ] {
-        imutherm()
-            .args(["report", MISSING, "--out"])
-            .arg(dir.path().join("rep"))
-            .args([flag, value])
-            .assert()
-            .code(2)
-            .stderr(predicate::str::contains(format!("for '{flag} ")));
+        cli!["report", MISSING, "--out", dir.path().join("rep"), flag, value]
+            .refused(2, format!("for '{flag} "));
     }
     // Longer than the quick demo's 1 h cooling run: refused before any
     // simulation.
     let demo = dir.path().join("demo");
-    imutherm()
-        .args(["demo", "--quick", "--dyn-window", "2h", "--out"])
-        .arg(&demo)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains(
-            "--dyn-window 7200 s is longer than the demo's cooling run (3600 s)",
-        ));
+    cli!["demo", "--quick", "--dyn-window", "2h", "--out", &demo].refused(
+        2,
+        "--dyn-window 7200 s is longer than the demo's cooling run (3600 s)",
+    );
     assert!(!demo.join("cooling_100_to_20C.txt").exists());
     // Longer than a report's run whose temperature changes, named.
     let cooling = Simulation::new()
@@ -465,18 +456,15 @@ fn a_simulation_too_large_is_refused_at_once_unless_allowed() {
         ])
         .assert()
         .code(1);
-    imutherm()
-        .args([
-            "simulate",
-            "--rate",
-            "1e9",
-            "--allow-large",
-            "-o",
-            "/nonexistent/dir/x.txt",
-        ])
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("/nonexistent/dir"));
+    cli![
+        "simulate",
+        "--rate",
+        "1e9",
+        "--allow-large",
+        "-o",
+        "/nonexistent/dir/x.txt"
+    ]
+    .refused(1, "/nonexistent/dir");
 }
 
 #[test]
@@ -513,14 +501,7 @@ fn absurd_slicings_of_a_recording_are_refused_before_the_analysis() {
     }
     let model = dir.path().join("m.json");
     let started = std::time::Instant::now();
-    imutherm()
-        .args(["tcal", "fit", "--bin-width", "1e-4"])
-        .arg(&run)
-        .arg("-o")
-        .arg(&model)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("at most 1000 are fitted"));
+    cli!["tcal", "fit", "--bin-width", "1e-4", &run, "-o", &model].refused(1, "at most 1000 are fitted");
     assert!(started.elapsed().as_secs_f64() < 5.0);
     assert!(!model.exists());
 }

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use predicates::prelude::*;
 
 mod support;
-use support::{file, imutherm, json_stdout};
+use support::{Refused, cli, file, imutherm, json_stdout};
 
 const HEADER: &str = "mpu_accel_1[m/^2], mpu_accel_2[m/^2], mpu_accel_3[m/^2], mpu_gyro_1[rad/s], \
                       mpu_gyro_2[rad/s], mpu_gyro_3[rad/s], temp[degC]\n";
@@ -106,12 +106,7 @@ fn unreadable_files_are_clear_errors() {
         "bad.txt",
         format!("{HEADER}1,2,3,4,5,6,7\n1,2,3,x,5,6,7\n").as_bytes(),
     );
-    imutherm()
-        .arg("info")
-        .arg(&p)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("bad.txt:3: column 4: cannot read 'x'"));
+    cli!["info", &p].refused(1, "bad.txt:3: column 4: cannot read 'x'");
     imutherm()
         .args(["info", "--skip-bad-lines"])
         .arg(&p)

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use predicates::prelude::*;
 
 mod support;
-use support::{imutherm, json_stdout, succeed};
+use support::{Refused, cli, imutherm, json_stdout, succeed};
 
 const HEADER: &str = "mpu_accel_1[m/^2], mpu_accel_2[m/^2], mpu_accel_3[m/^2], mpu_gyro_1[rad/s], \
                       mpu_gyro_2[rad/s], mpu_gyro_3[rad/s], temp[degC]\n";
@@ -205,14 +205,8 @@ fn an_unknown_header_is_a_clear_error() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("mystery.csv");
     std::fs::write(&p, "alpha,beta\n1,2\n3,4\n5,6\n").unwrap();
-    imutherm()
-        .args(["noise", "--rate", "1"])
-        .arg(&p)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains(
-            "mystery.csv: no accelerometer or gyroscope column recognised",
-        ));
+    cli!["noise", "--rate", "1", &p]
+        .refused(1, "mystery.csv: no accelerometer or gyroscope column recognised");
 }
 
 /// The four values of a Kalibr yaml.

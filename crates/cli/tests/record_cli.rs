@@ -9,7 +9,7 @@ use std::time::Duration;
 use assert_cmd::cargo::CommandCargoExt;
 
 mod support;
-use support::{imutherm, json_stdout, replaces_only_with_overwrite};
+use support::{Refused, cli, imutherm, json_stdout, replaces_only_with_overwrite};
 
 fn rows(path: &std::path::Path) -> Vec<Vec<f64>> {
     std::fs::read_to_string(path)
@@ -198,12 +198,16 @@ fn a_missing_bus_is_a_clear_error() {
         ),
         ("i2c:/dev/i2c-1@68h", 2, "'68h' is not an address like 0x68"),
     ] {
-        imutherm()
-            .args(["record", "--device", device, "--duration", "1", "-o"])
-            .arg(dir.path().join("x.txt"))
-            .assert()
-            .code(status)
-            .stderr(predicates::str::contains(says));
+        cli![
+            "record",
+            "--device",
+            device,
+            "--duration",
+            "1",
+            "-o",
+            dir.path().join("x.txt")
+        ]
+        .refused(status, says);
     }
 }
 

@@ -1,7 +1,7 @@
 //! `imutherm report`: a page for any recordings, with file names shown as text.
 
 mod support;
-use support::{Simulation, imutherm};
+use support::{Refused, Simulation, cli, imutherm};
 
 #[test]
 fn report_escapes_file_names_and_draws_every_figure() {
@@ -136,14 +136,9 @@ fn an_unknown_datasheet_is_a_usage_error() {
         .duration("60")
         .rate("20")
         .write(dir.path(), "run.txt");
-    imutherm()
-        .arg("report")
-        .arg(&run)
-        .args(["--out", "rep", "--datasheet", "no-such-part"])
+    cli!["report", &run, "--out", "rep", "--datasheet", "no-such-part"]
         .current_dir(dir.path())
-        .assert()
-        .code(2)
-        .stderr(predicates::str::contains("MPU-6050"));
+        .refused(2, "MPU-6050");
 }
 
 /// The bias slope across constant-temperature runs: the thesis preset's

@@ -3,7 +3,7 @@
 use predicates::prelude::*;
 
 mod support;
-use support::{Simulation, imutherm, json_stdout, scratch_files, succeed};
+use support::{Refused, Simulation, cli, imutherm, json_stdout, scratch_files, succeed};
 
 #[test]
 fn writes_a_log_with_its_truth_that_reads_back() {
@@ -66,26 +66,9 @@ fn print_config_round_trips_through_config() {
 fn bad_configurations_exit_1_with_the_reason() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.txt");
-    imutherm()
-        .args(["simulate", "--preset", "mpu6050-dream", "-o"])
-        .arg(&out)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("unknown preset 'mpu6050-dream'"));
-    imutherm()
-        .args(["simulate", "--rate", "0", "-o"])
-        .arg(&out)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains(
-            "'--rate <HZ>': expected a positive number",
-        ));
-    imutherm()
-        .args(["simulate", "--duration", "ten minutes", "-o"])
-        .arg(&out)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("duration 'ten minutes'"));
+    cli!["simulate", "--preset", "mpu6050-dream", "-o", &out].refused(1, "unknown preset 'mpu6050-dream'");
+    cli!["simulate", "--rate", "0", "-o", &out].refused(2, "'--rate <HZ>': expected a positive number");
+    cli!["simulate", "--duration", "ten minutes", "-o", &out].refused(2, "duration 'ten minutes'");
     let printed = imutherm()
         .args(["simulate", "--preset", "white", "--print-config"])
         .output()
@@ -140,12 +123,14 @@ fn a_profile_file_beside_the_configuration() {
     assert!((t["max"].as_f64().unwrap() - 60.0).abs() < 0.01, "{t}");
     assert!(t["min"].as_f64().unwrap() < 42.5, "{t}");
     // And a missing one is an error that names it.
-    imutherm()
-        .args(["simulate", "--profile", "file:no-such-chamber.csv", "-o"])
-        .arg(dir.path().join("x.txt"))
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("no-such-chamber.csv"));
+    cli![
+        "simulate",
+        "--profile",
+        "file:no-such-chamber.csv",
+        "-o",
+        dir.path().join("x.txt")
+    ]
+    .refused(1, "no-such-chamber.csv");
 }
 
 #[test]
@@ -168,12 +153,7 @@ fn a_log_of_no_samples_is_a_usage_error_and_no_file() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("empty.txt");
     // 1 ms at the thesis preset's 20 Hz rounds to 0 samples.
-    imutherm()
-        .args(["simulate", "--duration", "0.001", "-o"])
-        .arg(&out)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("less than one sample"));
+    cli!["simulate", "--duration", "0.001", "-o", &out].refused(2, "less than one sample");
     assert!(!out.exists());
 }
 

@@ -15,7 +15,8 @@ use serde_json::Value;
 
 mod support;
 use support::{
-    Simulation, imutherm, json_stdout, read_json, replaces_only_with_overwrite, succeed, tcal_fit,
+    Refused, Simulation, cli, imutherm, json_stdout, read_json, replaces_only_with_overwrite, succeed,
+    tcal_fit,
 };
 
 /// The runs here: 2 Hz, long enough for a thermal profile.
@@ -516,13 +517,16 @@ fn tref_outside_the_fitted_range_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let run = simulate(dir.path(), "run.txt", "ramp:25:60:1800", "30m", "61");
     for tref in ["500", "10"] {
-        imutherm()
-            .args(["tcal", "fit", "--tref", tref, "-o"])
-            .arg(dir.path().join("m.json"))
-            .arg(&run)
-            .assert()
-            .code(1)
-            .stderr(predicate::str::contains("outside the fitted range"));
+        cli![
+            "tcal",
+            "fit",
+            "--tref",
+            tref,
+            "-o",
+            dir.path().join("m.json"),
+            &run
+        ]
+        .refused(1, "outside the fitted range");
         assert!(!dir.path().join("m.json").exists());
     }
     // Not a temperature at all: refused when the flags are parsed.
@@ -623,14 +627,7 @@ fn held_out_is_judged_by_the_file_and_a_run_is_fitted_once() {
     std::fs::copy(&cooling, &copy).unwrap();
     let model = dir.path().join("model.json");
     for twice in [dir.path().join(".").join("cool.txt"), copy.clone()] {
-        imutherm()
-            .args(["tcal", "fit", "-o"])
-            .arg(&model)
-            .arg(&cooling)
-            .arg(&twice)
-            .assert()
-            .code(2)
-            .stderr(predicate::str::contains("are the same recording"));
+        cli!["tcal", "fit", "-o", &model, &cooling, &twice].refused(2, "are the same recording");
     }
     tcal_fit(&model, &["--order", "2"], &[&cooling]);
     let doc = eval_json(

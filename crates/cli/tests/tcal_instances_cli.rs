@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 
 mod support;
-use support::{imutherm, json_stdout, read_json, tcal_fit};
+use support::{Refused, cli, imutherm, json_stdout, read_json, tcal_fit};
 
 const RATE_HZ: f64 = 25.0;
 const SAMPLES: usize = 20 * 60 * 25;
@@ -413,23 +413,12 @@ fn a_ulog_of_two_imus_gives_one_px4_file_with_each_imus_ids() {
         .assert()
         .success();
     assert!(out.exists());
-    imutherm()
-        .args(["tcal", "apply", "-o"])
-        .arg(dir.path().join("none.txt"))
-        .arg(&model)
-        .arg(&cool)
-        .assert()
-        .code(2)
-        .stderr(predicates::str::contains("give --instance N"));
+    cli!["tcal", "apply", "-o", dir.path().join("none.txt"), &model, &cool].refused(2, "give --instance N");
     assert!(!dir.path().join("none.txt").exists());
 
     // One slot or id for a model of several is a usage error.
-    imutherm()
-        .args(["tcal", "export", "--firmware", "px4", "--instance", "1"])
-        .arg(&model)
-        .assert()
-        .code(2)
-        .stderr(predicates::str::contains("holds instances [0, 1]"));
+    cli!["tcal", "export", "--firmware", "px4", "--instance", "1", &model]
+        .refused(2, "holds instances [0, 1]");
 }
 
 #[test]
@@ -495,18 +484,16 @@ fn instance_all_is_refused_where_it_means_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let text = dir.path().join("run.txt");
     std::fs::write(&text, "time_s,gyro_x,temperature\n0,0.1,20\n1,0.1,21\n").unwrap();
-    imutherm()
-        .args(["tcal", "fit", "--instance", "all", "-o"])
-        .arg(dir.path().join("m.json"))
-        .arg(&text)
-        .assert()
-        .code(2)
-        .stderr(predicates::str::contains("has no IMU instances"));
-    imutherm()
-        .args(["adev", "--instance", "all"])
-        .arg(&text)
-        .assert()
-        .code(2)
-        .stderr(predicates::str::contains("only tcal fit and tcal eval"));
+    cli![
+        "tcal",
+        "fit",
+        "--instance",
+        "all",
+        "-o",
+        dir.path().join("m.json"),
+        &text
+    ]
+    .refused(2, "has no IMU instances");
+    cli!["adev", "--instance", "all", &text].refused(2, "only tcal fit and tcal eval");
     assert!(!dir.path().join("m.json").exists());
 }

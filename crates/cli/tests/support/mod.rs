@@ -31,6 +31,33 @@ pub fn imutherm() -> Command {
     Command::cargo_bin("imutherm").unwrap()
 }
 
+/// `imutherm` with these arguments, words and paths alike, in order.
+#[allow(unused_macros)]
+macro_rules! cli {
+    ($($arg:expr),* $(,)?) => {{
+        let mut cmd = $crate::support::imutherm();
+        $(cmd.arg($arg);)*
+        cmd
+    }};
+}
+#[allow(unused_imports)]
+pub(crate) use cli;
+
+/// A command that must be refused.
+pub trait Refused {
+    /// Runs the command, which must exit with `code` and say `says` on
+    /// standard error.
+    fn refused(&mut self, code: i32, says: impl Into<String>) -> Assert;
+}
+
+impl Refused for Command {
+    fn refused(&mut self, code: i32, says: impl Into<String>) -> Assert {
+        self.assert()
+            .code(code)
+            .stderr(predicates::str::contains(says.into()))
+    }
+}
+
 /// An `imutherm simulate` run: the profile, duration, rate and seed a test
 /// names, anything else as extra arguments; the rest stays at the
 /// simulator's defaults.
