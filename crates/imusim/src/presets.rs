@@ -126,11 +126,7 @@ fn thesis() -> SimConfig {
         seed: 1,
         t_ref_c: 34.0,
         sensor_lag_s: 120.0,
-        profile: Profile::Constant {
-            temp_c: 34.0,
-            fluctuation_c: 0.05,
-            fluctuation_tau_s: 60.0,
-        },
+        profile: Profile::constant(34.0, 0.05),
         sensor: SensorConfig {
             gyro_range_dps: 500.0,
             accel_range_g: 8.0,
@@ -175,11 +171,7 @@ fn white() -> SimConfig {
         seed: 1,
         t_ref_c: 25.0,
         sensor_lag_s: 0.0,
-        profile: Profile::Constant {
-            temp_c: 25.0,
-            fluctuation_c: 0.0,
-            fluctuation_tau_s: 60.0,
-        },
+        profile: Profile::constant(25.0, 0.0),
         sensor: SensorConfig {
             quantize: false,
             ..SensorConfig::default()
