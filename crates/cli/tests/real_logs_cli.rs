@@ -366,16 +366,10 @@ fn a_clock_running_backwards_is_refused_with_its_line() {
         .map(|k| format!("{:.2}", 50.0 - k as f64 * 0.01))
         .collect();
     table(&path, "time", &times, &rows);
-    imutherm()
-        .arg("info")
-        .arg(&path)
-        .assert()
-        .code(1)
-        .stdout("")
-        .stderr(
-            predicate::str::contains("backwards_clock.csv:3: column 1")
-                .and(predicate::str::contains("runs backwards")),
-        );
+    cli!["info", &path].assert().code(1).stdout("").stderr(
+        predicate::str::contains("backwards_clock.csv:3: column 1")
+            .and(predicate::str::contains("runs backwards")),
+    );
 }
 
 #[test]

@@ -531,13 +531,18 @@ fn tref_outside_the_fitted_range_is_refused() {
     }
     // Not a temperature at all: refused when the flags are parsed.
     for tref in ["nan", "inf"] {
-        imutherm()
-            .args(["tcal", "fit", "--tref", tref, "-o"])
-            .arg(dir.path().join("m.json"))
-            .arg(&run)
-            .assert()
-            .code(2)
-            .stderr(predicate::str::contains("'--tref <C>'").and(predicate::str::contains("finite number")));
+        cli![
+            "tcal",
+            "fit",
+            "--tref",
+            tref,
+            "-o",
+            dir.path().join("m.json"),
+            &run
+        ]
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("'--tref <C>'").and(predicate::str::contains("finite number")));
         assert!(!dir.path().join("m.json").exists());
     }
 }
@@ -576,12 +581,7 @@ fn the_rate_term_does_not_amplify_a_temperature_spike() {
     let spiked_path = dir.path().join("spiked.txt");
     std::fs::write(&spiked_path, spiked.join("\n") + "\n").unwrap();
     let out = dir.path().join("comp.txt");
-    imutherm()
-        .args(["tcal", "apply"])
-        .arg(&model)
-        .arg(&spiked_path)
-        .arg("-o")
-        .arg(&out)
+    cli!["tcal", "apply", &model, &spiked_path, "-o", &out]
         .assert()
         .success();
     let raw = read_columns(&spiked_path);
@@ -657,9 +657,7 @@ fn eval_without_a_run_is_a_usage_error() {
     let dir = tempfile::tempdir().unwrap();
     let model = dir.path().join("model.json");
     std::fs::write(&model, "{}").unwrap();
-    imutherm()
-        .args(["tcal", "eval"])
-        .arg(&model)
+    cli!["tcal", "eval", &model]
         .assert()
         .code(2)
         .stdout("")

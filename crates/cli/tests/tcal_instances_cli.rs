@@ -365,10 +365,7 @@ fn a_ulog_of_two_imus_gives_one_px4_file_with_each_imus_ids() {
     assert_eq!(m["channels"], instances[0]["channels"]);
 
     let params = dir.path().join("all.params");
-    imutherm()
-        .args(["tcal", "export", "--firmware", "px4", "-o"])
-        .arg(&params)
-        .arg(&model)
+    cli!["tcal", "export", "--firmware", "px4", "-o", &params, &model]
         .assert()
         .success();
     let text = std::fs::read_to_string(&params).unwrap();
@@ -405,11 +402,7 @@ fn a_ulog_of_two_imus_gives_one_px4_file_with_each_imus_ids() {
 
     // `tcal apply` compensates the instance asked for, with its own model.
     let out = dir.path().join("imu1.txt");
-    imutherm()
-        .args(["tcal", "apply", "--instance", "1", "-o"])
-        .arg(&out)
-        .arg(&model)
-        .arg(&cool)
+    cli!["tcal", "apply", "--instance", "1", "-o", &out, &model, &cool]
         .assert()
         .success();
     assert!(out.exists());
@@ -436,10 +429,7 @@ fn a_dataflash_log_of_two_imus_gives_one_ardupilot_file_in_imu_order() {
         assert_eq!(inst["accel_device_id"], IDS[i].1);
     }
     let params = dir.path().join("all.parm");
-    imutherm()
-        .args(["tcal", "export", "--firmware", "ardupilot", "-o"])
-        .arg(&params)
-        .arg(&model)
+    cli!["tcal", "export", "--firmware", "ardupilot", "-o", &params, &model]
         .assert()
         .success();
     let text = std::fs::read_to_string(&params).unwrap();

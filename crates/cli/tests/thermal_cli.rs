@@ -43,19 +43,13 @@ fn fit_apply_eval_and_the_surface() {
         );
         assert!(a < 0.1 * b, "{}: {b} → {a}", r["channel"]);
     }
-    imutherm()
-        .args(["tcal", "eval", "--export", "ardupilot"])
-        .arg(&model)
-        .arg(&heating)
+    cli!["tcal", "eval", "--export", "ardupilot", &model, &heating]
         .assert()
         .success()
         .stdout(
             predicate::str::contains("INS_TCAL1_GYR1_X").and(predicate::str::contains("INS_TCAL1_ACC3_Z")),
         );
-    imutherm()
-        .args(["tcal", "eval", "--export", "px4"])
-        .arg(&model)
-        .arg(&heating)
+    cli!["tcal", "eval", "--export", "px4", &model, &heating]
         .assert()
         .success()
         .stdout(
@@ -64,12 +58,7 @@ fn fit_apply_eval_and_the_surface() {
         );
 
     let comp = dir.path().join("heat_comp.txt");
-    imutherm()
-        .args(["tcal", "apply"])
-        .arg(&model)
-        .arg(&heating)
-        .arg("-o")
-        .arg(&comp)
+    cli!["tcal", "apply", &model, &heating, "-o", &comp]
         .assert()
         .success();
     let text = std::fs::read_to_string(&comp).unwrap();
@@ -84,12 +73,19 @@ fn fit_apply_eval_and_the_surface() {
     let rows = doc["channels"][0]["rows"].as_array().unwrap();
     assert!(rows.len() >= 5, "{} bins", rows.len());
     assert!(rows.iter().all(|r| !r["points"].as_array().unwrap().is_empty()));
-    imutherm()
-        .args(["thermal", "--by", "time", "--window", "300", "--channels", "gyro"])
-        .arg(&cooling)
-        .assert()
-        .success()
-        .stdout(predicate::str::contains("window [s]"));
+    cli![
+        "thermal",
+        "--by",
+        "time",
+        "--window",
+        "300",
+        "--channels",
+        "gyro",
+        &cooling
+    ]
+    .assert()
+    .success()
+    .stdout(predicate::str::contains("window [s]"));
 }
 
 #[test]
