@@ -73,24 +73,29 @@ fn header_names_units_channel_selection_and_rate() {
     assert_eq!(taus, [0.1, 0.4, 1.0]);
 
     // The readable table carries units and the statistic.
-    imutherm()
-        .args(["adev", "--rate", "10"])
-        .arg(&p)
+    cli!["adev", "--rate", "10", &p]
         .assert()
         .success()
         .stdout(predicate::str::contains("oadev [rad/s]").and(predicate::str::contains("tau [s]")));
 }
 
+/// A headerless column of `rows` values `value(i)`, but for the one row
+/// `odd.0`, which reads `odd.1`.
+fn one_column(rows: usize, odd: (usize, &str), value: impl Fn(usize) -> f64) -> String {
+    (0..rows)
+        .map(|i| {
+            if i == odd.0 {
+                format!("{}\n", odd.1)
+            } else {
+                format!("{}\n", value(i))
+            }
+        })
+        .collect()
+}
+
 #[test]
 fn gaps_are_counted_and_reported() {
-    let mut body = String::new();
-    for i in 0..300 {
-        if i == 120 {
-            body.push_str("nan\n");
-        } else {
-            body.push_str(&format!("{}\n", ((i * 31) % 17) as f64));
-        }
-    }
+    let body = one_column(300, (120, "nan"), |i| ((i * 31) % 17) as f64);
     let (_d, p) = file("gap.txt", &body);
     let out = succeed(imutherm().args(["adev", "--json"]).arg(&p));
     let doc = json_of(&out);
@@ -104,9 +109,7 @@ fn bad_input_names_file_line_and_column() {
     cli!["adev", &p].refused(1, "bad.txt:4: column 2: cannot read 'x' as a number");
 
     let (_d, p) = file("empty.txt", "");
-    imutherm()
-        .arg("adev")
-        .arg(&p)
+    cli!["adev", &p]
         .assert()
         .code(1)
         .stderr(predicate::str::contains("empty.txt").and(predicate::str::contains("no data rows")));
@@ -136,8 +139,7 @@ fn usage_errors_and_bad_flag_values_exit_2() {
 
 #[test]
 fn help_has_an_example() {
-    imutherm()
-        .args(["adev", "--help"])
+    cli!["adev", "--help"]
         .assert()
         .success()
         .stdout(predicate::str::contains("Examples:").and(predicate::str::contains("imutherm adev")));
@@ -185,14 +187,7 @@ fn imu_logs_default_to_the_inertial_channels_with_rate_from_metadata() {
 
 #[test]
 fn skip_bad_lines_keeps_time_right_and_truncation_is_dropped() {
-    let mut body = String::new();
-    for i in 0..200 {
-        if i == 77 {
-            body.push_str("oops\n");
-        } else {
-            body.push_str(&format!("{}\n", ((i * 13) % 7) as f64));
-        }
-    }
+    let mut body = one_column(200, (77, "oops"), |i| ((i * 13) % 7) as f64);
     body.push_str("1.2e"); // a logger killed mid-write
     let (_d, p) = file("bad.txt", &body);
     cli!["adev", &p].refused(1, "bad.txt:78: column 1: cannot read 'oops'");

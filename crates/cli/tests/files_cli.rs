@@ -13,7 +13,7 @@ use predicates::prelude::*;
 mod support;
 use support::{
     Refused, Simulation, cli, imutherm, json_of, json_stdout, replaces_only_with_overwrite, scratch_files,
-    stderr_of, tcal_fit,
+    stderr_of, tcal_fit, writing,
 };
 
 /// A temperature run to fit: 20 minutes at 2 Hz.
@@ -60,13 +60,7 @@ fn tcal_never_writes_onto_its_inputs_by_any_name() {
     std::os::unix::fs::symlink(&run, &sym).unwrap();
     let dotted = dir.path().join(".").join("ramp.txt");
     for target in [&run, &hard, &sym, &dotted, &model] {
-        let out = imutherm()
-            .args(["tcal", "apply"])
-            .arg(&model)
-            .arg(&run)
-            .arg("-o")
-            .arg(target)
-            .arg("--overwrite")
+        let out = cli!["tcal", "apply", &model, &run, "-o", target, "--overwrite"]
             .output()
             .unwrap();
         assert_eq!(out.status.code(), Some(1), "{}", target.display());
@@ -78,18 +72,10 @@ fn tcal_never_writes_onto_its_inputs_by_any_name() {
     }
     assert_eq!(std::fs::read(&run).unwrap(), before);
     // Fitting onto a run, and the --kalibr file onto a run, are refused too.
-    imutherm()
-        .args(["tcal", "fit", "--overwrite"])
-        .arg(&run)
-        .arg("-o")
-        .arg(&hard)
+    cli!["tcal", "fit", "--overwrite", &run, "-o", &hard]
         .assert()
         .code(1);
-    imutherm()
-        .args(["noise", "--overwrite"])
-        .arg(&run)
-        .arg("--kalibr")
-        .arg(&sym)
+    cli!["noise", "--overwrite", &run, "--kalibr", &sym]
         .assert()
         .code(1);
     assert_eq!(std::fs::read(&run).unwrap(), before);
@@ -117,8 +103,7 @@ fn tcal_never_writes_onto_its_inputs_by_any_name() {
 
 #[test]
 fn a_full_device_is_named_once_and_exits_1() {
-    let out = imutherm()
-        .args(["simulate", "--duration", "60", "-o", "/dev/full"])
+    let out = cli!["simulate", "--duration", "60", "-o", "/dev/full"]
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
@@ -142,10 +127,7 @@ fn a_full_device_is_named_once_and_exits_1() {
     );
 
     // A missing input: the system's reason once, not twice.
-    let out = imutherm()
-        .args(["info", "/nonexistent/run.txt"])
-        .output()
-        .unwrap();
+    let out = cli!["info", "/nonexistent/run.txt"].output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert_eq!(
         stderr_of(&out).matches("No such file").count(),
@@ -172,9 +154,7 @@ fn a_full_filesystem_keeps_the_old_file() {
     }
     let out = dir.path().join("run.txt");
     std::fs::write(&out, "the old run\n").unwrap();
-    let result = imutherm()
-        .args(["simulate", "--duration", "60", "--overwrite", "-o"])
-        .arg(&out)
+    let result = cli!["simulate", "--duration", "60", "--overwrite", "-o", &out]
         .output()
         .unwrap();
     let kept = std::fs::read_to_string(&out).unwrap();
@@ -246,20 +226,8 @@ fn two_recorders_never_share_one_file() {
 fn standard_input_and_fifos_are_read_once_with_their_trailer() {
     let dir = tempfile::tempdir().unwrap();
     let rec = dir.path().join("rec.txt");
-    imutherm()
-        .args([
-            "record",
-            "--device",
-            "sim",
-            "--rate",
-            "200",
-            "--duration",
-            "1s",
-            "-o",
-        ])
-        .arg(&rec)
-        .assert()
-        .success();
+    let args = ["--device", "sim", "--rate", "200", "--duration", "1s"];
+    writing("record", &args, &rec).assert().success();
     let direct = json_stdout(imutherm().args(["info", "--json"]).arg(&rec));
     let direct = &direct["files"][0];
     assert_eq!(direct["logger"]["samples"], 200, "{direct}");
@@ -382,9 +350,7 @@ fn report_never_replaces_an_input_in_its_directory() {
     assert_eq!(std::fs::read(out.join("notes.txt")).unwrap(), b"mine");
     // It reads each recording several times: a stream is refused, not
     // waited on forever.
-    imutherm()
-        .args(["report", "-", "--out"])
-        .arg(&out)
+    cli!["report", "-", "--out", &out]
         .pipe_stdin(&input)
         .unwrap()
         .assert()
@@ -399,13 +365,7 @@ fn output_directories_replace_only_imutherms_own_files() {
     let out = dir.path().join("rep");
     for _ in 0..2 {
         // Run again into the same directory: its own report is replaced.
-        imutherm()
-            .arg("report")
-            .arg(&run)
-            .arg("--out")
-            .arg(&out)
-            .assert()
-            .success();
+        cli!["report", &run, "--out", &out].assert().success();
     }
     let page = out.join("report.html");
     std::fs::write(&page, "my notes\n").unwrap();
