@@ -206,11 +206,10 @@ pub fn duration(text: &str) -> Result<f64, String> {
     Ok(seconds)
 }
 
-/// `--unit COL=UNIT`, with a unit imutherm converts
-/// ([`imu::units::UnitOverride`], whose reader takes the text again).
-pub fn unit_override(text: &str) -> Result<String, String> {
+/// `--unit COL=UNIT`, with a unit imutherm converts, parsed once here and
+/// passed on as it is to the reader.
+pub fn unit_override(text: &str) -> Result<imu::units::UnitOverride, String> {
     text.parse::<imu::units::UnitOverride>()
-        .map(|_| text.to_string())
         .map_err(|e| e.to_string())
 }
 

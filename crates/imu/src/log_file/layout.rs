@@ -4,7 +4,7 @@
 //! is refused before the body is read.
 
 use super::columns::{ColumnKind, classify_with_sources, names_column};
-use super::reader::{HOST_TIME_COLUMN, RecordingOptions, metadata_rate, parse_metadata};
+use super::reader::{HOST_TIME_COLUMN, RecordingOptions, parse_metadata};
 use super::writer::KEY_RATE;
 use crate::error::{ReadError, ReadErrorKind};
 use crate::header::split_name_unit;
@@ -12,15 +12,11 @@ use crate::names::{is_time_name, quantity_of_name};
 use crate::read_report::{FileFormat, Problem, ProblemKind};
 use crate::recording::Metadata;
 use crate::table::TableReader;
-use crate::units::{Quantity, parse_unit};
+use crate::units::Quantity;
 
 /// What the header and the metadata say about a log's columns.
 pub(super) struct Layout {
     pub meta: Metadata,
-    /// The metadata's sample rate, when it is a positive number of Hz.
-    pub file_rate: Option<f64>,
-    /// The metadata's sample rate when it is not one, as a problem to report.
-    pub bad_rate: Option<Problem>,
     /// The column names as the file writes them.
     pub headers: Vec<String>,
     /// What each column holds, its unit resolved (given, written or assumed).
@@ -33,19 +29,8 @@ impl Layout {
     /// The metadata and header of `reader`, with the units `opts` gives.
     pub fn read(reader: &TableReader, opts: &RecordingOptions) -> Result<Layout, ReadError> {
         let path = reader.path();
-        if let Some((column, unit)) = opts.units.iter().find(|(_, u)| parse_unit(u).is_none()) {
-            return Err(ReadError::new(
-                path,
-                ReadErrorKind::UnknownUnit {
-                    column: column.clone(),
-                    unit: unit.clone(),
-                },
-            ));
-        }
         let mut meta = parse_metadata(reader.comments());
         meta.source = Some(path.to_path_buf());
-        let file_rate = metadata_rate(&meta);
-        let bad_rate = bad_metadata_rate(reader, file_rate);
         let headers: Vec<String> = reader.names().to_vec();
         let from_meta = metadata_units(&meta);
         let kinds: Vec<ColumnKind> = headers
@@ -64,29 +49,23 @@ impl Layout {
         };
         Ok(Layout {
             meta,
-            file_rate,
-            bad_rate,
             headers,
             kinds,
             time_index,
         })
     }
+}
 
-    /// The format of a file with this metadata and these headers: imutherm's
-    /// log says so in its `# format:` line; the thesis's log has its own
-    /// header (its `mpu_gyro_` columns).
-    pub fn format(&self) -> FileFormat {
-        if self
-            .meta
-            .get("format")
-            .is_some_and(|f| f.starts_with("imutherm-log"))
-        {
-            FileFormat::ImuthermLog
-        } else if self.headers.iter().any(|h| h.starts_with("mpu_gyro_")) {
-            FileFormat::ThesisLog
-        } else {
-            FileFormat::Columns
-        }
+/// The format of a file with this metadata and these headers: imutherm's
+/// log says so in its `# format:` line; the thesis's log has its own
+/// header (its `mpu_gyro_` columns).
+pub(super) fn detected_format(meta: &Metadata, headers: &[String]) -> FileFormat {
+    if meta.get("format").is_some_and(|f| f.starts_with("imutherm-log")) {
+        FileFormat::ImuthermLog
+    } else if headers.iter().any(|h| h.starts_with("mpu_gyro_")) {
+        FileFormat::ThesisLog
+    } else {
+        FileFormat::Columns
     }
 }
 
@@ -101,16 +80,16 @@ fn check_units(
     kinds: &[ColumnKind],
 ) -> Result<(), ReadError> {
     let path = reader.path();
-    if let Some((column, _)) = opts.units.iter().find(|(c, _)| {
+    if let Some(o) = opts.units.iter().find(|o| {
         !headers
             .iter()
             .zip(kinds)
-            .any(|(h, k)| names_column(c, h, &k.name))
+            .any(|(h, k)| names_column(&o.column, h, &k.name))
     }) {
         return Err(ReadError::new(
             path,
             ReadErrorKind::NoSuchColumn {
-                wanted: format!("{column} (named by --unit)"),
+                wanted: format!("{} (named by --unit)", o.column),
                 available: headers.join(", "),
             },
         ));
@@ -133,7 +112,7 @@ fn check_units(
 /// A `# sample_rate_hz:` that is not a positive number of Hz, as a problem
 /// naming its line: ignored, it would otherwise leave the rate to a
 /// fallback without a word.
-fn bad_metadata_rate(reader: &TableReader, file_rate: Option<f64>) -> Option<Problem> {
+pub(super) fn bad_metadata_rate(reader: &TableReader, file_rate: Option<f64>) -> Option<Problem> {
     if file_rate.is_some() {
         return None;
     }

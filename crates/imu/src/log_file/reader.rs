@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use super::gaps::{RowLines, into_channels, report_whole_row_gaps};
-use super::layout::Layout;
+use super::layout::{Layout, bad_metadata_rate, detected_format};
 use super::time_axis::{TimeColumn, place_on_time};
 use super::trailer::TRAILER_KEY;
 use super::writer::KEY_RATE;
@@ -12,7 +12,7 @@ use crate::error::ReadError;
 use crate::read_report::{Problem, ReadReport};
 use crate::recording::{Channel, Metadata, Recording};
 use crate::table::{ReadPolicy, TableReader};
-use crate::units::{Quantity, UnitSource};
+use crate::units::{Quantity, UnitOverride, UnitSource};
 
 /// How to read a recording.
 #[derive(Debug, Clone, Default)]
@@ -20,8 +20,8 @@ pub struct RecordingOptions {
     /// Sample rate in Hz; overrides the file's metadata.
     pub rate_hz: Option<f64>,
     /// Unit per column (by header name or imutherm name), overriding the
-    /// header's: `("gyro_x", "deg/s")`.
-    pub units: Vec<(String, String)>,
+    /// header's: `gyro_x=deg/s`, parsed where it was given.
+    pub units: Vec<UnitOverride>,
     /// The time column, by name; `None` looks for one named as
     /// [`crate::names::is_time_name`] says (`t`, `time`, `timestamp`,
     /// `stamp`, `sec`, …, with or without a unit) or with a time unit
@@ -181,29 +181,27 @@ pub fn read_recording_from(
     opts: &RecordingOptions,
 ) -> Result<(Recording, ReadReport), ReadError> {
     let path = reader.path().to_path_buf();
-    let layout = Layout::read(&reader, opts)?;
+    let Layout {
+        mut meta,
+        headers,
+        kinds,
+        time_index,
+    } = Layout::read(&reader, opts)?;
+    let file_rate = metadata_rate(&meta);
+    let bad_rate = bad_metadata_rate(&reader, file_rate);
     let mut table = reader.read_with(
         None,
         &ReadPolicy {
             skip_bad_lines: opts.skip_bad_lines,
         },
     )?;
-    let format = layout.format();
-    let Layout {
-        mut meta,
-        file_rate,
-        bad_rate,
-        headers,
-        kinds,
-        time_index,
-    } = layout;
     // From the stream's tail as it went by: the file is never read twice.
     if let Some(t) = table.trailer.take() {
         meta.set(TRAILER_KEY, t);
     }
     let table_columns = std::mem::take(&mut table.columns);
     let mut report = ReadReport {
-        format,
+        format: detected_format(&meta, &headers),
         lines: table.lines,
         rows: table_columns.first().map_or(0, Vec::len),
         ..ReadReport::default()
