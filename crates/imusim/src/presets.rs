@@ -161,9 +161,16 @@ fn thesis() -> SimConfig {
 }
 
 fn white() -> SimConfig {
-    let w = |n: f64| NoiseTerms {
-        n,
-        ..NoiseTerms::default()
+    // White noise of density `n` on each axis, nothing else.
+    let white_group = |n: f64| GroupConfig {
+        terms: [NoiseTerms {
+            n,
+            ..NoiseTerms::default()
+        }; 3],
+        bias: Default::default(),
+        scale_factor: [0.0; 3],
+        flicker_tau_s: [1.0, 1000.0],
+        noise_scale: Vec::new(),
     };
     SimConfig {
         rate_hz: 100.0,
@@ -176,20 +183,8 @@ fn white() -> SimConfig {
             quantize: false,
             ..SensorConfig::default()
         },
-        gyro: GroupConfig {
-            terms: [w(1.5e-4); 3],
-            bias: Default::default(),
-            scale_factor: [0.0; 3],
-            flicker_tau_s: [1.0, 1000.0],
-            noise_scale: Vec::new(),
-        },
-        accel: GroupConfig {
-            terms: [w(5e-3); 3],
-            bias: Default::default(),
-            scale_factor: [0.0; 3],
-            flicker_tau_s: [1.0, 1000.0],
-            noise_scale: Vec::new(),
-        },
+        gyro: white_group(1.5e-4),
+        accel: white_group(5e-3),
     }
 }
 

@@ -475,6 +475,13 @@ mod tests {
         }
     }
 
+    /// The lines of the figure of `model` at the τ of `pts`.
+    fn lines_at_points(title: &str, pts: &[Point], model: &NoiseModel) -> Vec<Line> {
+        let unit = |_: Term| "u".to_string();
+        let taus: Vec<f64> = pts.iter().map(|p| p.tau).collect();
+        lines(&rad_axis(title, pts, model, &unit), &taus)
+    }
+
     /// `count` octave τ from 10 ms with the deviation `dev(τ)`, `terms`
     /// terms each and `edf_tau / τ` degrees of freedom (at least 4), their
     /// interval ±2/√edf.
@@ -504,10 +511,7 @@ mod tests {
     fn each_kept_line_lies_under_the_curve_and_their_sum_follows_it() {
         let pts = white_and_walk();
         let model = estimate(&pts, 0.95);
-        let unit = |_: Term| "u".to_string();
-        let axis = rad_axis("gyro_x", &pts, &model, &unit);
-        let taus: Vec<f64> = pts.iter().map(|p| p.tau).collect();
-        let ls = lines(&axis, &taus);
+        let ls = lines_at_points("gyro_x", &pts, &model);
         let sum = ls
             .iter()
             .find(|l| l.stroke == Stroke::Model)
@@ -554,10 +558,7 @@ mod tests {
         });
         let model = estimate(&pts, 0.95);
         assert_eq!(model.gauss_markov.len(), 1, "model {}", model.label);
-        let unit = |_: Term| "u".to_string();
-        let axis = rad_axis("gm", &pts, &model, &unit);
-        let taus: Vec<f64> = pts.iter().map(|p| p.tau).collect();
-        let ls = lines(&axis, &taus);
+        let ls = lines_at_points("gm", &pts, &model);
         let gm = ls
             .iter()
             .find(|l| l.label.starts_with("GM: σ = "))
@@ -574,7 +575,11 @@ mod tests {
                 .sum();
             assert!((kept.sqrt() / sum.sigma[i] - 1.0).abs() < 1e-9);
         }
-        let svg = model_plot(Target::Svg, &axis).unwrap().into_svg().unwrap();
+        let unit = |_: Term| "u".to_string();
+        let svg = model_plot(Target::Svg, &rad_axis("gm", &pts, &model, &unit))
+            .unwrap()
+            .into_svg()
+            .unwrap();
         assert!(svg.contains("T = "), "the correlation time is in the legend");
     }
 
