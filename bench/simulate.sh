@@ -3,11 +3,8 @@
 # preset, generated in memory, then written as an imutherm log (to /dev/null
 # and to a file). Prints samples per second.
 #   bench/simulate.sh [SAMPLES]
-set -euo pipefail
-cd "$(dirname "$0")/.."
+source "$(dirname "$0")/lib.sh"
 samples=${1:-10000000}
-target=${CARGO_TARGET_DIR:-target}
-cargo build --release -q -p imutherm
 cargo build --release -q -p imusim --example throughput
 "$target/release/examples/throughput" "$samples"
 duration=$(awk -v n="$samples" 'BEGIN{printf "%.3f", n/100}')

@@ -26,7 +26,7 @@ fuzz_target!(|bytes: &[u8]| {
         // a unit, a named time column and its unit.
         let overrides = RecordingOptions {
             rate_hz: Some(200.0),
-            units: vec![("gyro_x".into(), "deg/s".into()), ("2".into(), "mg".into())],
+            units: vec!["gyro_x=deg/s".parse().unwrap(), "2=mg".parse().unwrap()],
             time_column: Some("t".into()),
             time_unit: Some("ms".into()),
             skip_bad_lines,

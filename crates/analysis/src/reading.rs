@@ -11,7 +11,9 @@ use crate::AnalysisError;
 pub struct ReadingChoices {
     /// The sample rate, Hz, overriding the file's.
     pub rate_hz: Option<f64>,
-    /// `COLUMN=UNIT` pairs, overriding the header's units.
+    /// `COLUMN=UNIT` pairs as typed, overriding the header's units; parsed
+    /// here, once (a caller holding them parsed sets
+    /// [`RecordingOptions::units`] instead).
     pub units: Vec<String>,
     /// The time column's name.
     pub time_column: Option<String>,
@@ -46,7 +48,6 @@ pub fn recording_options(c: &ReadingChoices) -> Result<RecordingOptions, Analysi
         .iter()
         .map(|p| {
             p.parse::<UnitOverride>()
-                .map(|o| (o.column, o.unit_text))
                 .map_err(|e| AnalysisError::Option(format!("--unit {p}: {e}")))
         })
         .collect::<Result<Vec<_>, _>>()?;
@@ -104,9 +105,13 @@ mod tests {
             units: vec![" gyro_x = deg/s".into()],
             ..Default::default()
         };
+        let units = recording_options(&good).unwrap().units;
         assert_eq!(
-            recording_options(&good).unwrap().units,
-            vec![("gyro_x".to_string(), "deg/s".to_string())]
+            units
+                .iter()
+                .map(|o| (o.column.as_str(), o.unit_text.as_str(), o.unit))
+                .collect::<Vec<_>>(),
+            [("gyro_x", "deg/s", parse_unit("deg/s").unwrap())]
         );
     }
 

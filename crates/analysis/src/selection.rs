@@ -428,49 +428,45 @@ impl DeviceIds {
 mod tests {
     use super::*;
 
+    /// Metadata holding these entries, in order.
+    fn meta(entries: &[(&str, &str)]) -> imu::Metadata {
+        let mut meta = imu::Metadata::default();
+        for (k, v) in entries {
+            meta.set(*k, *v);
+        }
+        meta
+    }
+
     #[test]
     fn a_px4_streams_ids_are_its_instances_and_a_text_logs_one_id_stands_for_both() {
+        let ids = |gyro, accel| DeviceIds {
+            gyro: Some(gyro),
+            accel: Some(accel),
+        };
         // As the ULog reader leaves them: every instance's ids, and the one
         // read (instance 1).
-        let mut meta = imu::Metadata::default();
-        meta.set("px4.sensor_accel/0.device_id", "2424842");
-        meta.set("px4.sensor_gyro/0.device_id", "2424586");
-        meta.set("px4.sensor_accel/1.device_id", "3670050");
-        meta.set("px4.sensor_gyro/1.device_id", "3669794");
-        meta.set("instance", "1");
-        meta.set("device_id", "3669794");
-        assert_eq!(
-            DeviceIds::of(&meta),
-            DeviceIds {
-                gyro: Some(3_669_794),
-                accel: Some(3_670_050)
-            }
-        );
-        let mut text = imu::Metadata::default();
-        text.set("device_id", "0x2f0009");
-        assert_eq!(
-            DeviceIds::of(&text),
-            DeviceIds {
-                gyro: Some(0x2f0009),
-                accel: Some(0x2f0009)
-            }
-        );
+        let px4 = meta(&[
+            ("px4.sensor_accel/0.device_id", "2424842"),
+            ("px4.sensor_gyro/0.device_id", "2424586"),
+            ("px4.sensor_accel/1.device_id", "3670050"),
+            ("px4.sensor_gyro/1.device_id", "3669794"),
+            ("instance", "1"),
+            ("device_id", "3669794"),
+        ]);
+        assert_eq!(DeviceIds::of(&px4), ids(3_669_794, 3_670_050));
+        let text = meta(&[("device_id", "0x2f0009")]);
+        assert_eq!(DeviceIds::of(&text), ids(0x2f0009, 0x2f0009));
         assert_eq!(DeviceIds::of(&imu::Metadata::default()), DeviceIds::default());
         // A DataFlash log's PARM ids, as its reader leaves them: IMU 1 is
         // INS_GYR2_ID / INS_ACC2_ID.
-        let mut df = imu::Metadata::default();
-        df.set("ardupilot.INS_GYR_ID", "2490378");
-        df.set("ardupilot.INS_ACC_ID", "2490634");
-        df.set("ardupilot.INS_GYR2_ID", "3407882");
-        df.set("ardupilot.INS_ACC2_ID", "3408138");
-        df.set("instance", "1");
-        df.set("device_id", "3407882");
-        assert_eq!(
-            DeviceIds::of(&df),
-            DeviceIds {
-                gyro: Some(3_407_882),
-                accel: Some(3_408_138)
-            }
-        );
+        let df = meta(&[
+            ("ardupilot.INS_GYR_ID", "2490378"),
+            ("ardupilot.INS_ACC_ID", "2490634"),
+            ("ardupilot.INS_GYR2_ID", "3407882"),
+            ("ardupilot.INS_ACC2_ID", "3408138"),
+            ("instance", "1"),
+            ("device_id", "3407882"),
+        ]);
+        assert_eq!(DeviceIds::of(&df), ids(3_407_882, 3_408_138));
     }
 }

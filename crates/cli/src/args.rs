@@ -722,7 +722,7 @@ pub struct ReadArgs {
     /// Unit of a column, overriding its header, converted to SI on reading:
     /// `--unit gyro_x=deg/s` (repeatable).
     #[arg(long, value_name = "COL=UNIT", value_parser = flags::unit_override)]
-    pub unit: Vec<String>,
+    pub unit: Vec<imu::units::UnitOverride>,
 
     /// The time column (default: one named time, timestamp or t, or with a
     /// time unit in its header).

@@ -75,25 +75,29 @@ fn number(text: &str) -> Result<f64, String> {
         .map_err(|_| format!("'{text}' is not a number"))
 }
 
-/// A positive, finite number (a rate, a width, a length of time).
-pub fn positive(text: &str) -> Result<f64, String> {
+/// A number that `holds`, or the usage error `expected` says why not.
+fn number_where(text: &str, holds: impl Fn(f64) -> bool, expected: &str) -> Result<f64, String> {
     let v = number(text)?;
-    if v.is_finite() && v > 0.0 {
+    if holds(v) {
         Ok(v)
     } else {
-        Err("expected a positive number".to_string())
+        Err(expected.to_string())
     }
+}
+
+/// A positive, finite number (a rate, a width, a length of time).
+pub fn positive(text: &str) -> Result<f64, String> {
+    number_where(text, |v| v.is_finite() && v > 0.0, "expected a positive number")
 }
 
 /// A temperature in °C: finite, not below absolute zero, and below 1000 °C
 /// (far beyond any IMU's survival), so that a typo is a usage error.
 pub fn temperature(text: &str) -> Result<f64, String> {
-    let v = number(text)?;
-    if v.is_finite() && (-273.15..=1000.0).contains(&v) {
-        Ok(v)
-    } else {
-        Err("expected a finite number of °C between absolute zero (-273.15) and 1000".to_string())
-    }
+    number_where(
+        text,
+        |v| v.is_finite() && (-273.15..=1000.0).contains(&v),
+        "expected a finite number of °C between absolute zero (-273.15) and 1000",
+    )
 }
 
 /// A confidence level, returned as a fraction: a fraction strictly between
@@ -202,11 +206,10 @@ pub fn duration(text: &str) -> Result<f64, String> {
     Ok(seconds)
 }
 
-/// `--unit COL=UNIT`, with a unit imutherm converts
-/// ([`imu::units::UnitOverride`], whose reader takes the text again).
-pub fn unit_override(text: &str) -> Result<String, String> {
+/// `--unit COL=UNIT`, with a unit imutherm converts, parsed once here and
+/// passed on as it is to the reader.
+pub fn unit_override(text: &str) -> Result<imu::units::UnitOverride, String> {
     text.parse::<imu::units::UnitOverride>()
-        .map(|_| text.to_string())
         .map_err(|e| e.to_string())
 }
 
@@ -244,58 +247,52 @@ pub fn dlpf() -> Listed<impl TypedValueParser<Value = f64>> {
     })
 }
 
+/// A full scale of the chip that `lookup` knows. The lookups truncate:
+/// only the exact, whole values are full scales.
+fn full_scale<R>(text: &str, lookup: fn(f64) -> Option<R>, expected: &str) -> Result<f64, String> {
+    number_where(text, |v| lookup(v).is_some() && v.fract() == 0.0, expected)
+}
+
 /// `--accel-range`: a full scale of the chip, g.
 pub fn accel_range() -> Listed<impl TypedValueParser<Value = f64>> {
     listed(&["2", "4", "8", "16"], |text| {
-        let g = number(text)?;
-        // from_g truncates: only the exact values are full scales.
-        match AccelRange::from_g(g) {
-            Some(_) if g.fract() == 0.0 => Ok(g),
-            _ => Err("expected 2, 4, 8 or 16".to_string()),
-        }
+        full_scale(text, AccelRange::from_g, "expected 2, 4, 8 or 16")
     })
 }
 
 /// `--gyro-range`: a full scale of the chip, °/s.
 pub fn gyro_range() -> Listed<impl TypedValueParser<Value = f64>> {
     listed(&["250", "500", "1000", "2000"], |text| {
-        let dps = number(text)?;
-        match GyroRange::from_dps(dps) {
-            Some(_) if dps.fract() == 0.0 => Ok(dps),
-            _ => Err("expected 250, 500, 1000 or 2000".to_string()),
-        }
+        full_scale(text, GyroRange::from_dps, "expected 250, 500, 1000 or 2000")
     })
 }
 
 /// `--sim-bus-errors`: a fraction of transfers, from 0 up to (not
 /// including) 1: a bus on which every transfer fails delivers nothing.
 pub fn error_fraction(text: &str) -> Result<f64, String> {
-    let v = number(text)?;
-    if (0.0..1.0).contains(&v) {
-        Ok(v)
-    } else {
-        Err("expected a fraction from 0 to below 1 (0.01 = 1 %)".to_string())
-    }
+    number_where(
+        text,
+        |v| (0.0..1.0).contains(&v),
+        "expected a fraction from 0 to below 1 (0.01 = 1 %)",
+    )
 }
 
 /// `--sim-brownout-at`: seconds into the run.
 pub fn brownout_at(text: &str) -> Result<f64, String> {
-    let v = number(text)?;
-    if (0.0..1e9).contains(&v) {
-        Ok(v)
-    } else {
-        Err("expected seconds from 0 to 1e9".to_string())
-    }
+    number_where(
+        text,
+        |v| (0.0..1e9).contains(&v),
+        "expected seconds from 0 to 1e9",
+    )
 }
 
 /// `--sim-clock-ppm`: a clock error that leaves the clock running forwards.
 pub fn clock_ppm(text: &str) -> Result<f64, String> {
-    let v = number(text)?;
-    if v.is_finite() && v >= -1e6 {
-        Ok(v)
-    } else {
-        Err("a clock cannot run backwards (−1000000 stops it)".to_string())
-    }
+    number_where(
+        text,
+        |v| v.is_finite() && v >= -1e6,
+        "a clock cannot run backwards (−1000000 stops it)",
+    )
 }
 
 /// Where `record` reads from.

@@ -19,33 +19,36 @@ impl ReadArgs {
     }
 
     fn options(&self, all_allowed: bool) -> anyhow::Result<imu::RecordingOptions> {
-        Ok(analysis::reading::recording_options(
-            &analysis::reading::ReadingChoices {
-                rate_hz: self.rate,
-                units: self.unit.clone(),
-                time_column: self.time_column.clone(),
-                time_unit: self.time_unit.clone(),
-                skip_bad_lines: self.skip_bad_lines,
-                stream: imu::StreamChoice {
-                    topic: self.topic.clone(),
-                    instance: match self.instance {
-                        None => None,
-                        Some(Instance::One(n)) => Some(n),
-                        Some(Instance::All) if all_allowed => None,
-                        Some(Instance::All) => {
-                            return Err(anyhow::Error::new(UsageError(
+        let checked = analysis::reading::recording_options(&analysis::reading::ReadingChoices {
+            rate_hz: self.rate,
+            // Parsed by the flag's value parser: passed on below as they are.
+            units: Vec::new(),
+            time_column: self.time_column.clone(),
+            time_unit: self.time_unit.clone(),
+            skip_bad_lines: self.skip_bad_lines,
+            stream: imu::StreamChoice {
+                topic: self.topic.clone(),
+                instance: match self.instance {
+                    None => None,
+                    Some(Instance::One(n)) => Some(n),
+                    Some(Instance::All) if all_allowed => None,
+                    Some(Instance::All) => {
+                        return Err(anyhow::Error::new(UsageError(
                                 "--instance all: only tcal fit and tcal eval take every instance at once; give one number"
                                     .to_string(),
                             )));
-                        }
-                    },
-                    temp_topic: self.temp_topic.clone(),
-                    first_if_several: false,
-                    allow_partial: self.allow_partial,
+                    }
                 },
-                max_grid_factor: self.max_grid_factor.map(|f| f as usize),
+                temp_topic: self.temp_topic.clone(),
+                first_if_several: false,
+                allow_partial: self.allow_partial,
             },
-        )?)
+            max_grid_factor: self.max_grid_factor.map(|f| f as usize),
+        })?;
+        Ok(imu::RecordingOptions {
+            units: self.unit.clone(),
+            ..checked
+        })
     }
 }
 

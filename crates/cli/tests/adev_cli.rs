@@ -3,7 +3,7 @@
 use predicates::prelude::*;
 
 mod support;
-use support::{file, imutherm, json_of, json_stdout, succeed};
+use support::{Refused, cli, file, imutherm, json_of, json_stdout, succeed};
 
 /// NIST SP 1065 Table 30 input.
 const NBS14_10: &str = "892\n809\n823\n798\n671\n644\n883\n903\n677\n";
@@ -73,24 +73,29 @@ fn header_names_units_channel_selection_and_rate() {
     assert_eq!(taus, [0.1, 0.4, 1.0]);
 
     // The readable table carries units and the statistic.
-    imutherm()
-        .args(["adev", "--rate", "10"])
-        .arg(&p)
+    cli!["adev", "--rate", "10", &p]
         .assert()
         .success()
         .stdout(predicate::str::contains("oadev [rad/s]").and(predicate::str::contains("tau [s]")));
 }
 
+/// A headerless column of `rows` values `value(i)`, but for the one row
+/// `odd.0`, which reads `odd.1`.
+fn one_column(rows: usize, odd: (usize, &str), value: impl Fn(usize) -> f64) -> String {
+    (0..rows)
+        .map(|i| {
+            if i == odd.0 {
+                format!("{}\n", odd.1)
+            } else {
+                format!("{}\n", value(i))
+            }
+        })
+        .collect()
+}
+
 #[test]
 fn gaps_are_counted_and_reported() {
-    let mut body = String::new();
-    for i in 0..300 {
-        if i == 120 {
-            body.push_str("nan\n");
-        } else {
-            body.push_str(&format!("{}\n", ((i * 31) % 17) as f64));
-        }
-    }
+    let body = one_column(300, (120, "nan"), |i| ((i * 31) % 17) as f64);
     let (_d, p) = file("gap.txt", &body);
     let out = succeed(imutherm().args(["adev", "--json"]).arg(&p));
     let doc = json_of(&out);
@@ -101,19 +106,10 @@ fn gaps_are_counted_and_reported() {
 #[test]
 fn bad_input_names_file_line_and_column() {
     let (_d, p) = file("bad.txt", "a,b\n1,2\n3,4\n5,x\n");
-    imutherm()
-        .arg("adev")
-        .arg(&p)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains(
-            "bad.txt:4: column 2: cannot read 'x' as a number",
-        ));
+    cli!["adev", &p].refused(1, "bad.txt:4: column 2: cannot read 'x' as a number");
 
     let (_d, p) = file("empty.txt", "");
-    imutherm()
-        .arg("adev")
-        .arg(&p)
+    cli!["adev", &p]
         .assert()
         .code(1)
         .stderr(predicate::str::contains("empty.txt").and(predicate::str::contains("no data rows")));
@@ -126,20 +122,9 @@ fn bad_input_names_file_line_and_column() {
     );
 
     let (_d, p) = file("ragged.txt", "1 2\n3 4\n5\n6 7\n");
-    imutherm()
-        .arg("adev")
-        .arg(&p)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains(
-            "ragged.txt:3: expected 2 fields, found 1",
-        ));
+    cli!["adev", &p].refused(1, "ragged.txt:3: expected 2 fields, found 1");
 
-    imutherm()
-        .args(["adev", "/nonexistent/file.txt"])
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("/nonexistent/file.txt"));
+    cli!["adev", "/nonexistent/file.txt"].refused(1, "/nonexistent/file.txt");
 }
 
 #[test]
@@ -147,30 +132,14 @@ fn usage_errors_and_bad_flag_values_exit_2() {
     imutherm().arg("adev").assert().code(2);
     imutherm().args(["adev", "--bogus", "x"]).assert().code(2);
     let (_d, p) = file("ok.txt", NBS14_10);
-    imutherm()
-        .args(["adev", "--stat", "fastdev"])
-        .arg(&p)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("unknown statistic 'fastdev'"));
-    imutherm()
-        .args(["adev", "--rate", "0"])
-        .arg(&p)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("--rate"));
-    imutherm()
-        .args(["adev", "--channels", "nope"])
-        .arg(&p)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("no column 'nope'"));
+    cli!["adev", "--stat", "fastdev", &p].refused(2, "unknown statistic 'fastdev'");
+    cli!["adev", "--rate", "0", &p].refused(2, "--rate");
+    cli!["adev", "--channels", "nope", &p].refused(1, "no column 'nope'");
 }
 
 #[test]
 fn help_has_an_example() {
-    imutherm()
-        .args(["adev", "--help"])
+    cli!["adev", "--help"]
         .assert()
         .success()
         .stdout(predicate::str::contains("Examples:").and(predicate::str::contains("imutherm adev")));
@@ -213,34 +182,15 @@ fn imu_logs_default_to_the_inertial_channels_with_rate_from_metadata() {
     let ratio = ch[0]["points"][0]["dev"].as_f64().unwrap() / ch[1]["points"][0]["dev"].as_f64().unwrap();
     assert!((ratio - std::f64::consts::PI / 180.0).abs() < 1e-12, "{ratio}");
 
-    imutherm()
-        .args(["adev", "--unit", "gyro_x=furlong"])
-        .arg(&p)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("unknown unit 'furlong'"));
+    cli!["adev", "--unit", "gyro_x=furlong", &p].refused(2, "unknown unit 'furlong'");
 }
 
 #[test]
 fn skip_bad_lines_keeps_time_right_and_truncation_is_dropped() {
-    let mut body = String::new();
-    for i in 0..200 {
-        if i == 77 {
-            body.push_str("oops\n");
-        } else {
-            body.push_str(&format!("{}\n", ((i * 13) % 7) as f64));
-        }
-    }
+    let mut body = one_column(200, (77, "oops"), |i| ((i * 13) % 7) as f64);
     body.push_str("1.2e"); // a logger killed mid-write
     let (_d, p) = file("bad.txt", &body);
-    imutherm()
-        .arg("adev")
-        .arg(&p)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains(
-            "bad.txt:78: column 1: cannot read 'oops'",
-        ));
+    cli!["adev", &p].refused(1, "bad.txt:78: column 1: cannot read 'oops'");
     let out = succeed(imutherm().args(["adev", "--skip-bad-lines", "--json"]).arg(&p));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(

@@ -15,7 +15,7 @@ use std::process::Command as Process;
 
 mod support;
 use support::chromium::{FLAGS, chromium_or_skip, console_errors, screenshots};
-use support::imutherm;
+use support::cli;
 
 #[test]
 fn the_demo_report_renders_in_chromium() {
@@ -24,11 +24,7 @@ fn the_demo_report_renders_in_chromium() {
     };
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("browser-demo");
     let _ = std::fs::remove_dir_all(&out);
-    imutherm()
-        .args(["demo", "--quick", "--out"])
-        .arg(&out)
-        .assert()
-        .success();
+    cli!["demo", "--quick", "--out", &out].assert().success();
     let page = out.join("report.html");
     let url = format!("file://{}", page.display());
     let profile = out.join("chromium-profile");

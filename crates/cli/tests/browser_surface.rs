@@ -12,7 +12,7 @@ use std::process::Command as Process;
 
 mod support;
 use support::chromium::{FLAGS, chromium_or_skip, console_errors, screenshots};
-use support::{Simulation, imutherm};
+use support::{Simulation, cli};
 
 /// Appended to a copy of the page (the report carries no test code): moves
 /// the 3D views to the top, so the screenshot shows them, and writes what
@@ -51,13 +51,18 @@ fn the_3d_views_draw_axes_labelled_in_real_units() {
         .rate("10")
         .seed("3")
         .write(&out, "cooling.txt");
-    imutherm()
-        .args(["report"])
-        .arg(&cooling)
-        .args(["--dyn-window", "5min", "--dyn-step", "30s", "--out"])
-        .arg(out.join("rep"))
-        .assert()
-        .success();
+    cli![
+        "report",
+        &cooling,
+        "--dyn-window",
+        "5min",
+        "--dyn-step",
+        "30s",
+        "--out",
+        out.join("rep")
+    ]
+    .assert()
+    .success();
     let page = std::fs::read_to_string(out.join("rep/report.html")).unwrap();
     let probed = out.join("probed.html");
     std::fs::write(&probed, page.replace("</body>", PROBE)).unwrap();

@@ -3,15 +3,13 @@
 use predicates::prelude::*;
 
 mod support;
-use support::{imutherm, read_json};
+use support::{cli, read_json};
 
 #[test]
 fn quick_demo_writes_a_complete_report() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("demo");
-    imutherm()
-        .args(["demo", "--quick", "--format", "png", "--out"])
-        .arg(&out)
+    cli!["demo", "--quick", "--format", "png", "--out", &out]
         .assert()
         .success()
         .stdout(predicate::str::contains("report: ").and(predicate::str::contains("gyro_z")));

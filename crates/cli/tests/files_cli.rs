@@ -12,8 +12,8 @@ use predicates::prelude::*;
 
 mod support;
 use support::{
-    Simulation, imutherm, json_of, json_stdout, replaces_only_with_overwrite, scratch_files, stderr_of,
-    tcal_fit,
+    Refused, Simulation, cli, imutherm, json_of, json_stdout, replaces_only_with_overwrite, scratch_files,
+    stderr_of, tcal_fit, writing,
 };
 
 /// A temperature run to fit: 20 minutes at 2 Hz.
@@ -60,13 +60,7 @@ fn tcal_never_writes_onto_its_inputs_by_any_name() {
     std::os::unix::fs::symlink(&run, &sym).unwrap();
     let dotted = dir.path().join(".").join("ramp.txt");
     for target in [&run, &hard, &sym, &dotted, &model] {
-        let out = imutherm()
-            .args(["tcal", "apply"])
-            .arg(&model)
-            .arg(&run)
-            .arg("-o")
-            .arg(target)
-            .arg("--overwrite")
+        let out = cli!["tcal", "apply", &model, &run, "-o", target, "--overwrite"]
             .output()
             .unwrap();
         assert_eq!(out.status.code(), Some(1), "{}", target.display());
@@ -78,32 +72,17 @@ fn tcal_never_writes_onto_its_inputs_by_any_name() {
     }
     assert_eq!(std::fs::read(&run).unwrap(), before);
     // Fitting onto a run, and the --kalibr file onto a run, are refused too.
-    imutherm()
-        .args(["tcal", "fit", "--overwrite"])
-        .arg(&run)
-        .arg("-o")
-        .arg(&hard)
+    cli!["tcal", "fit", "--overwrite", &run, "-o", &hard]
         .assert()
         .code(1);
-    imutherm()
-        .args(["noise", "--overwrite"])
-        .arg(&run)
-        .arg("--kalibr")
-        .arg(&sym)
+    cli!["noise", "--overwrite", &run, "--kalibr", &sym]
         .assert()
         .code(1);
     assert_eq!(std::fs::read(&run).unwrap(), before);
 
     // Without --overwrite an existing model stays; with it, it is replaced.
     let old_model = std::fs::read(&model).unwrap();
-    imutherm()
-        .args(["tcal", "fit", "--order", "1"])
-        .arg(&run)
-        .arg("-o")
-        .arg(&model)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("already exists"));
+    cli!["tcal", "fit", "--order", "1", &run, "-o", &model].refused(1, "already exists");
     assert_eq!(std::fs::read(&model).unwrap(), old_model);
     // Reading the input from standard input (`- < ramp.txt`) does not
     // hide it either.
@@ -124,8 +103,7 @@ fn tcal_never_writes_onto_its_inputs_by_any_name() {
 
 #[test]
 fn a_full_device_is_named_once_and_exits_1() {
-    let out = imutherm()
-        .args(["simulate", "--duration", "60", "-o", "/dev/full"])
+    let out = cli!["simulate", "--duration", "60", "-o", "/dev/full"]
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
@@ -149,10 +127,7 @@ fn a_full_device_is_named_once_and_exits_1() {
     );
 
     // A missing input: the system's reason once, not twice.
-    let out = imutherm()
-        .args(["info", "/nonexistent/run.txt"])
-        .output()
-        .unwrap();
+    let out = cli!["info", "/nonexistent/run.txt"].output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert_eq!(
         stderr_of(&out).matches("No such file").count(),
@@ -179,9 +154,7 @@ fn a_full_filesystem_keeps_the_old_file() {
     }
     let out = dir.path().join("run.txt");
     std::fs::write(&out, "the old run\n").unwrap();
-    let result = imutherm()
-        .args(["simulate", "--duration", "60", "--overwrite", "-o"])
-        .arg(&out)
+    let result = cli!["simulate", "--duration", "60", "--overwrite", "-o", &out]
         .output()
         .unwrap();
     let kept = std::fs::read_to_string(&out).unwrap();
@@ -253,20 +226,8 @@ fn two_recorders_never_share_one_file() {
 fn standard_input_and_fifos_are_read_once_with_their_trailer() {
     let dir = tempfile::tempdir().unwrap();
     let rec = dir.path().join("rec.txt");
-    imutherm()
-        .args([
-            "record",
-            "--device",
-            "sim",
-            "--rate",
-            "200",
-            "--duration",
-            "1s",
-            "-o",
-        ])
-        .arg(&rec)
-        .assert()
-        .success();
+    let args = ["--device", "sim", "--rate", "200", "--duration", "1s"];
+    writing("record", &args, &rec).assert().success();
     let direct = json_stdout(imutherm().args(["info", "--json"]).arg(&rec));
     let direct = &direct["files"][0];
     assert_eq!(direct["logger"]["samples"], 200, "{direct}");
@@ -321,14 +282,7 @@ fn a_duplicated_column_name_never_picks_the_wrong_column() {
     let p = dir.path().join("dup.txt");
     std::fs::write(&p, "# sample_rate_hz: 10\ngyro_x,gyro_x\n1,2\n3,4\n").unwrap();
     for channel in ["2", "gyro_x"] {
-        imutherm()
-            .args(["adev", "--channels", channel])
-            .arg(&p)
-            .assert()
-            .code(1)
-            .stderr(predicate::str::contains(
-                "columns 1 and 2 are both named 'gyro_x'",
-            ));
+        cli!["adev", "--channels", channel, &p].refused(1, "columns 1 and 2 are both named 'gyro_x'");
     }
 }
 
@@ -391,21 +345,12 @@ fn report_never_replaces_an_input_in_its_directory() {
     let before = std::fs::read(&input).unwrap();
     let mut stray = std::fs::File::create(out.join("notes.txt")).unwrap();
     stray.write_all(b"mine").unwrap();
-    imutherm()
-        .arg("report")
-        .arg(&input)
-        .arg("--out")
-        .arg(&out)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("destroy the data being read"));
+    cli!["report", &input, "--out", &out].refused(1, "destroy the data being read");
     assert_eq!(std::fs::read(&input).unwrap(), before);
     assert_eq!(std::fs::read(out.join("notes.txt")).unwrap(), b"mine");
     // Read from standard input, the same recording is still not written
     // over the file that happens to hold it.
-    imutherm()
-        .args(["report", "-", "--out"])
-        .arg(&out)
+    cli!["report", "-", "--out", &out]
         .pipe_stdin(&input)
         .unwrap()
         .assert()
@@ -421,24 +366,11 @@ fn output_directories_replace_only_imutherms_own_files() {
     let out = dir.path().join("rep");
     for _ in 0..2 {
         // Run again into the same directory: its own report is replaced.
-        imutherm()
-            .arg("report")
-            .arg(&run)
-            .arg("--out")
-            .arg(&out)
-            .assert()
-            .success();
+        cli!["report", &run, "--out", &out].assert().success();
     }
     let page = out.join("report.html");
     std::fs::write(&page, "my notes\n").unwrap();
-    imutherm()
-        .arg("report")
-        .arg(&run)
-        .arg("--out")
-        .arg(&out)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("was not written by imutherm"));
+    cli!["report", &run, "--out", &out].refused(1, "was not written by imutherm");
     assert_eq!(std::fs::read_to_string(&page).unwrap(), "my notes\n");
 
     // The demo checks all its names before simulating anything.
@@ -446,14 +378,7 @@ fn output_directories_replace_only_imutherms_own_files() {
     std::fs::create_dir(&demo).unwrap();
     std::fs::write(demo.join("run_62C.txt"), "a run of my own\n").unwrap();
     let t0 = std::time::Instant::now();
-    imutherm()
-        .args(["demo", "--quick", "--out"])
-        .arg(&demo)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains(
-            "run_62C.txt exists and was not written by imutherm",
-        ));
+    cli!["demo", "--quick", "--out", &demo].refused(1, "run_62C.txt exists and was not written by imutherm");
     assert!(t0.elapsed().as_secs_f64() < 5.0);
     assert_eq!(std::fs::read_dir(&demo).unwrap().count(), 1);
 }

@@ -6,7 +6,7 @@
 use predicates::prelude::*;
 
 mod support;
-use support::{Simulation, imutherm};
+use support::{Refused, Simulation, cli, imutherm, writing};
 
 const MISSING: &str = "/nonexistent/imutherm-flags.txt";
 
@@ -266,25 +266,16 @@ fn a_dynamic_adev_window_that_is_not_a_duration_or_longer_than_the_run_is_a_usag
         ("--dyn-step", "90 parsecs"),
         ("--dyn-window", "0"),
     ] {
-        imutherm()
-            .args(["report", MISSING, "--out"])
-            .arg(dir.path().join("rep"))
-            .args([flag, value])
-            .assert()
-            .code(2)
-            .stderr(predicate::str::contains(format!("for '{flag} ")));
+        cli!["report", MISSING, "--out", dir.path().join("rep"), flag, value]
+            .refused(2, format!("for '{flag} "));
     }
     // Longer than the quick demo's 1 h cooling run: refused before any
     // simulation.
     let demo = dir.path().join("demo");
-    imutherm()
-        .args(["demo", "--quick", "--dyn-window", "2h", "--out"])
-        .arg(&demo)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains(
-            "--dyn-window 7200 s is longer than the demo's cooling run (3600 s)",
-        ));
+    cli!["demo", "--quick", "--dyn-window", "2h", "--out", &demo].refused(
+        2,
+        "--dyn-window 7200 s is longer than the demo's cooling run (3600 s)",
+    );
     assert!(!demo.join("cooling_100_to_20C.txt").exists());
     // Longer than a report's run whose temperature changes, named.
     let cooling = Simulation::new()
@@ -292,17 +283,20 @@ fn a_dynamic_adev_window_that_is_not_a_duration_or_longer_than_the_run_is_a_usag
         .duration("600")
         .rate("5")
         .write(dir.path(), "cooling.txt");
-    imutherm()
-        .arg("report")
-        .arg(&cooling)
-        .args(["--dyn-window", "15min", "--out"])
-        .arg(dir.path().join("rep"))
-        .assert()
-        .code(2)
-        .stderr(
-            predicate::str::contains("--dyn-window 900 s is longer than")
-                .and(predicate::str::contains("cooling.txt (600.0 s)")),
-        );
+    cli![
+        "report",
+        &cooling,
+        "--dyn-window",
+        "15min",
+        "--out",
+        dir.path().join("rep")
+    ]
+    .assert()
+    .code(2)
+    .stderr(
+        predicate::str::contains("--dyn-window 900 s is longer than")
+            .and(predicate::str::contains("cooling.txt (600.0 s)")),
+    );
 }
 
 #[test]
@@ -394,17 +388,16 @@ fn the_spellings_in_use_keep_working() {
         ("2h", 7200.0),
         ("1.5h", 5400.0),
     ] {
-        let out = imutherm()
-            .args([
-                "simulate",
-                "--print-config",
-                "--rate",
-                "50",
-                "--duration",
-                duration,
-            ])
-            .output()
-            .unwrap();
+        let out = cli![
+            "simulate",
+            "--print-config",
+            "--rate",
+            "50",
+            "--duration",
+            duration
+        ]
+        .output()
+        .unwrap();
         assert!(out.status.success(), "{duration}");
         let cfg: toml::Table = String::from_utf8(out.stdout).unwrap().parse().unwrap();
         assert_eq!(cfg["duration_s"].as_float(), Some(seconds), "{duration}");
@@ -418,15 +411,13 @@ fn the_accepted_values_are_listed_in_help() {
         predicate::str::contains("[possible values: adev, oadev, mdev")
             .and(predicate::str::contains("[possible values: freq, phase]")),
     );
-    imutherm()
-        .args(["record", "--help"])
+    cli!["record", "--help"]
         .assert()
         .success()
         .stdout(predicate::str::contains(
             "[possible values: 184, 92, 41, 20, 10, 5]",
         ));
-    imutherm()
-        .args(["thermal", "--help"])
+    cli!["thermal", "--help"]
         .assert()
         .success()
         .stdout(predicate::str::contains("[possible values: temperature, time]"));
@@ -437,9 +428,7 @@ fn a_simulation_too_large_is_refused_at_once_unless_allowed() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("huge.txt");
     let started = std::time::Instant::now();
-    imutherm()
-        .args(["simulate", "--rate", "1e9", "-o"])
-        .arg(&out)
+    cli!["simulate", "--rate", "1e9", "-o", &out]
         .assert()
         .code(2)
         .stderr(predicate::str::contains("2.520e13 values").and(predicate::str::contains("--allow-large")));
@@ -448,35 +437,29 @@ fn a_simulation_too_large_is_refused_at_once_unless_allowed() {
     // Just past the limit (1e8 values = 14 285 715 samples × 7 columns):
     // refused; just below, or with --allow-large, the size check lets it
     // through (and the missing folder then stops it: exit 1).
-    imutherm()
-        .args(["simulate", "--duration", "142858", "--rate", "100", "-o"])
-        .arg(&out)
+    cli!["simulate", "--duration", "142858", "--rate", "100", "-o", &out]
         .assert()
         .code(2);
-    imutherm()
-        .args([
-            "simulate",
-            "--duration",
-            "142857",
-            "--rate",
-            "100",
-            "-o",
-            "/nonexistent/dir/x.txt",
-        ])
-        .assert()
-        .code(1);
-    imutherm()
-        .args([
-            "simulate",
-            "--rate",
-            "1e9",
-            "--allow-large",
-            "-o",
-            "/nonexistent/dir/x.txt",
-        ])
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("/nonexistent/dir"));
+    cli![
+        "simulate",
+        "--duration",
+        "142857",
+        "--rate",
+        "100",
+        "-o",
+        "/nonexistent/dir/x.txt"
+    ]
+    .assert()
+    .code(1);
+    cli![
+        "simulate",
+        "--rate",
+        "1e9",
+        "--allow-large",
+        "-o",
+        "/nonexistent/dir/x.txt"
+    ]
+    .refused(1, "/nonexistent/dir");
 }
 
 #[test]
@@ -513,14 +496,7 @@ fn absurd_slicings_of_a_recording_are_refused_before_the_analysis() {
     }
     let model = dir.path().join("m.json");
     let started = std::time::Instant::now();
-    imutherm()
-        .args(["tcal", "fit", "--bin-width", "1e-4"])
-        .arg(&run)
-        .arg("-o")
-        .arg(&model)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("at most 1000 are fitted"));
+    cli!["tcal", "fit", "--bin-width", "1e-4", &run, "-o", &model].refused(1, "at most 1000 are fitted");
     assert!(started.elapsed().as_secs_f64() < 5.0);
     assert!(!model.exists());
 }
@@ -544,14 +520,7 @@ fn flags_that_cannot_go_together_are_usage_errors() {
             "less than one sample",
         ),
     ] {
-        imutherm()
-            .arg("record")
-            .args(args)
-            .arg("-o")
-            .arg(&out)
-            .assert()
-            .code(2)
-            .stderr(predicate::str::contains(says));
+        writing("record", args, &out).refused(2, says);
     }
     assert!(!out.exists());
 }

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use predicates::prelude::*;
 
 mod support;
-use support::{file, imutherm, json_stdout};
+use support::{Refused, cli, file, imutherm, json_stdout};
 
 const HEADER: &str = "mpu_accel_1[m/^2], mpu_accel_2[m/^2], mpu_accel_3[m/^2], mpu_gyro_1[rad/s], \
                       mpu_gyro_2[rad/s], mpu_gyro_3[rad/s], temp[degC]\n";
@@ -95,9 +95,7 @@ fn unreadable_files_are_clear_errors() {
         ),
     ] {
         let (_d, p) = file(name, content);
-        imutherm()
-            .arg("info")
-            .arg(&p)
+        cli!["info", &p]
             .assert()
             .code(1)
             .stderr(predicate::str::contains(name).and(predicate::str::contains(expect)));
@@ -106,15 +104,8 @@ fn unreadable_files_are_clear_errors() {
         "bad.txt",
         format!("{HEADER}1,2,3,4,5,6,7\n1,2,3,x,5,6,7\n").as_bytes(),
     );
-    imutherm()
-        .arg("info")
-        .arg(&p)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("bad.txt:3: column 4: cannot read 'x'"));
-    imutherm()
-        .args(["info", "--skip-bad-lines"])
-        .arg(&p)
+    cli!["info", &p].refused(1, "bad.txt:3: column 4: cannot read 'x'");
+    cli!["info", "--skip-bad-lines", &p]
         .assert()
         .success()
         .stdout(predicate::str::contains(
@@ -159,11 +150,7 @@ fn the_adis16405_csv_and_a_phone_export_as_new_users_feed_them() {
     assert!(text.contains("unit ms, guessed from the median step"), "{text}");
     assert!(text.contains("rate         200 Hz"), "{text}");
     // adev repeats what the reader guessed.
-    let out = imutherm()
-        .args(["adev", "--channels", "gyro_x"])
-        .arg(&phone)
-        .output()
-        .unwrap();
+    let out = cli!["adev", "--channels", "gyro_x", &phone].output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
         err.contains("guessed from the median step") && err.contains("0 gaps filled"),

@@ -8,7 +8,7 @@ use predicates::prelude::*;
 use serde_json::Value;
 
 mod support;
-use support::{Simulation, imutherm, json_stdout, tcal_fit};
+use support::{Refused, Simulation, cli, imutherm, json_stdout, tcal_fit};
 
 /// A `true.*` value of a simulated recording.
 fn truth(path: &Path, key: &str) -> f64 {
@@ -141,12 +141,7 @@ fn a_model_navigates_the_compensated_run_beside_the_raw_one() {
         .write(dir.path(), "cooling.txt");
     let model = dir.path().join("model.json");
     tcal_fit(&model, &[], &[&f]);
-    imutherm()
-        .arg("ins")
-        .arg(&f)
-        .arg("--model")
-        .arg(&model)
-        .args(["--horizon", "60", "--every", "20"])
+    cli!["ins", &f, "--model", &model, "--horizon", "60", "--every", "20"]
         .assert()
         .success()
         .stdout(
@@ -279,31 +274,13 @@ fn bad_values_are_usage_errors_and_short_files_runtime_errors() {
     }
     // A plot neither SVG nor PNG is refused before anything is written.
     let pdf = dir.path().join("drift.pdf");
-    imutherm()
-        .arg("ins")
-        .arg(&f)
-        .arg("--plot")
-        .arg(&pdf)
-        .assert()
-        .code(2);
+    cli!["ins", &f, "--plot", &pdf].assert().code(2);
     assert!(!pdf.exists());
     // Past 1/ω_s a flat Earth no longer stands for the real one.
-    imutherm()
-        .arg("ins")
-        .arg(&f)
-        .args(["--horizon", "900"])
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("give the latitude"));
+    cli!["ins", &f, "--horizon", "900"].refused(2, "give the latitude");
     // Sixty seconds cannot hold 10 s of alignment and 120 s of navigation.
-    imutherm()
-        .arg("ins")
-        .arg(&f)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("130.0 s are needed"));
-    imutherm()
-        .args(["ins", "--help"])
+    cli!["ins", &f].refused(1, "130.0 s are needed");
+    cli!["ins", "--help"]
         .assert()
         .success()
         .stdout(predicate::str::contains(

@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use predicates::prelude::*;
 
 mod support;
-use support::{imutherm, json_stdout, succeed};
+use support::{Refused, cli, entry, imutherm, json_stdout, succeed};
 
 const HEADER: &str = "mpu_accel_1[m/^2], mpu_accel_2[m/^2], mpu_accel_3[m/^2], mpu_gyro_1[rad/s], \
                       mpu_gyro_2[rad/s], mpu_gyro_3[rad/s], temp[degC]\n";
@@ -77,10 +77,7 @@ fn terms_tables_json_and_kalibr() {
     assert!(text.contains("≤ not in the selected model"), "{text}");
     assert!(!text.contains("NaN"));
 
-    let out = imutherm()
-        .args(["noise", "--json", "--units", "datasheet", "--kalibr"])
-        .arg(&yaml)
-        .arg(&a)
+    let out = cli!["noise", "--json", "--units", "datasheet", "--kalibr", &yaml, &a]
         .output()
         .unwrap();
     // K is not identifiable in 10 minutes: the yaml is written all the
@@ -95,18 +92,8 @@ fn terms_tables_json_and_kalibr() {
     assert_eq!(doc["schema"], "imutherm.noise/1");
     let f = &doc["files"][0];
     assert_eq!(f["mean_temperature_c"], 34.0);
-    let gx = f["channels"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == "gyro_x")
-        .unwrap();
-    let n_fit = gx["fit"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|t| t["term"] == "N")
-        .unwrap();
+    let gx = entry(&f["channels"], "name", "gyro_x");
+    let n_fit = entry(&gx["fit"], "term", "N");
     assert_eq!(n_fit["identified"], true);
     let n = &n_fit["si"];
     assert_eq!(n["unit"], "rad/√s");
@@ -119,12 +106,7 @@ fn terms_tables_json_and_kalibr() {
     assert_eq!(n_fit["density"]["unit"], "°/s/√Hz");
     let d = n_fit["density"]["value"].as_f64().unwrap();
     assert!((d / n["value"].as_f64().unwrap() - 180.0 / std::f64::consts::PI).abs() < 1e-9);
-    let k_fit = gx["fit"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|t| t["term"] == "K")
-        .unwrap();
+    let k_fit = entry(&gx["fit"], "term", "K");
     assert_eq!(k_fit["identified"], false);
     assert!(
         k_fit["reason"]
@@ -137,12 +119,7 @@ fn terms_tables_json_and_kalibr() {
     assert_eq!(gx["model"]["fits"], true);
     let filters = gx["filters"].as_array().unwrap();
     let px4 = filters.iter().find(|f| f["filter"] == "px4_ekf2").unwrap();
-    let gyr = px4["params"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|p| p["name"] == "EKF2_GYR_NOISE")
-        .unwrap();
+    let gyr = entry(&px4["params"], "name", "EKF2_GYR_NOISE");
     // N/√Δt at EKF2's 10 ms.
     let want = n["value"].as_f64().unwrap() / 0.01f64.sqrt();
     assert!(
@@ -183,10 +160,7 @@ fn the_thesis_sample_rows_give_a_table() {
     std::fs::write(&thesis, format!("{HEADER}{rows}")).unwrap();
     let sim = dir.path().join("sim.txt");
     std::fs::write(&sim, log(120, 2e-3, 0.0, 43.0, 3)).unwrap();
-    imutherm()
-        .args(["noise", "--rate", "50", "--skip-bad-lines"])
-        .arg(&thesis)
-        .arg(&sim)
+    cli!["noise", "--rate", "50", "--skip-bad-lines", &thesis, &sim]
         .assert()
         .success()
         .stdout(
@@ -205,14 +179,8 @@ fn an_unknown_header_is_a_clear_error() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("mystery.csv");
     std::fs::write(&p, "alpha,beta\n1,2\n3,4\n5,6\n").unwrap();
-    imutherm()
-        .args(["noise", "--rate", "1"])
-        .arg(&p)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains(
-            "mystery.csv: no accelerometer or gyroscope column recognised",
-        ));
+    cli!["noise", "--rate", "1", &p]
+        .refused(1, "mystery.csv: no accelerometer or gyroscope column recognised");
 }
 
 /// The four values of a Kalibr yaml.

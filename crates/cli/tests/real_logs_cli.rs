@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 use predicates::prelude::*;
 
 mod support;
-use support::{imutherm, json_stdout, stderr_of, succeed};
+use support::{Refused, cli, imutherm, json_stdout, stderr_of, succeed};
 
 const G: f64 = 9.80665;
 
@@ -166,14 +166,7 @@ fn a_dead_gyro_is_reported_and_noise_refuses_it() {
             "gyro_x is stuck at zero in all 8578 samples",
         )),
     );
-    imutherm()
-        .arg("noise")
-        .arg(&path)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains(
-            "gyro_x is stuck at zero in all 8578 samples",
-        ));
+    cli!["noise", &path].refused(1, "gyro_x is stuck at zero in all 8578 samples");
     // Navigation prints its figures, never without the warning.
     let out = succeed(imutherm().args(["ins", "--horizon", "60"]).arg(&path));
     assert!(stderr_of(&out).contains("warning:") && stderr_of(&out).contains("gyro_z is stuck at zero"));
@@ -373,16 +366,10 @@ fn a_clock_running_backwards_is_refused_with_its_line() {
         .map(|k| format!("{:.2}", 50.0 - k as f64 * 0.01))
         .collect();
     table(&path, "time", &times, &rows);
-    imutherm()
-        .arg("info")
-        .arg(&path)
-        .assert()
-        .code(1)
-        .stdout("")
-        .stderr(
-            predicate::str::contains("backwards_clock.csv:3: column 1")
-                .and(predicate::str::contains("runs backwards")),
-        );
+    cli!["info", &path].assert().code(1).stdout("").stderr(
+        predicate::str::contains("backwards_clock.csv:3: column 1")
+            .and(predicate::str::contains("runs backwards")),
+    );
 }
 
 #[test]

@@ -9,7 +9,7 @@ use std::time::Duration;
 use assert_cmd::cargo::CommandCargoExt;
 
 mod support;
-use support::{imutherm, json_stdout, replaces_only_with_overwrite};
+use support::{Refused, cli, imutherm, json_stdout, replaces_only_with_overwrite, writing};
 
 fn rows(path: &std::path::Path) -> Vec<Vec<f64>> {
     std::fs::read_to_string(path)
@@ -25,13 +25,7 @@ fn rows(path: &std::path::Path) -> Vec<Vec<f64>> {
 fn record(args: &[&str]) -> (tempfile::TempDir, std::path::PathBuf) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("rec.txt");
-    imutherm()
-        .arg("record")
-        .args(args)
-        .arg("-o")
-        .arg(&out)
-        .assert()
-        .success();
+    writing("record", args, &out).assert().success();
     (dir, out)
 }
 
@@ -152,18 +146,8 @@ fn an_existing_recording_is_never_overwritten_unasked() {
 fn a_rate_the_chip_cannot_make_is_named_and_the_real_one_recorded() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("r.txt");
-    imutherm()
-        .args([
-            "record",
-            "--device",
-            "sim",
-            "--rate",
-            "300",
-            "--duration",
-            "0.3s",
-            "-o",
-        ])
-        .arg(&out)
+    let args = ["--device", "sim", "--rate", "300", "--duration", "0.3s"];
+    writing("record", &args, &out)
         .assert()
         .success()
         .stderr(predicates::str::contains(
@@ -198,12 +182,16 @@ fn a_missing_bus_is_a_clear_error() {
         ),
         ("i2c:/dev/i2c-1@68h", 2, "'68h' is not an address like 0x68"),
     ] {
-        imutherm()
-            .args(["record", "--device", device, "--duration", "1", "-o"])
-            .arg(dir.path().join("x.txt"))
-            .assert()
-            .code(status)
-            .stderr(predicates::str::contains(says));
+        cli![
+            "record",
+            "--device",
+            device,
+            "--duration",
+            "1",
+            "-o",
+            dir.path().join("x.txt")
+        ]
+        .refused(status, says);
     }
 }
 

@@ -1,7 +1,7 @@
 //! `imutherm report`: a page for any recordings, with file names shown as text.
 
 mod support;
-use support::{Simulation, imutherm};
+use support::{Refused, Simulation, cli, imutherm};
 
 #[test]
 fn report_escapes_file_names_and_draws_every_figure() {
@@ -22,14 +22,7 @@ fn report_escapes_file_names_and_draws_every_figure() {
             .success();
     }
     let out = dir.path().join("rep");
-    imutherm()
-        .arg("report")
-        .arg(&evil)
-        .arg(&cooling)
-        .arg("--out")
-        .arg(&out)
-        .assert()
-        .success();
+    cli!["report", &evil, &cooling, "--out", &out].assert().success();
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("&lt;script&gt;alert(1)&lt;/script&gt;.txt"));
     // The page carries scripts of its own since its charts became
@@ -70,13 +63,7 @@ fn a_recording_too_short_to_navigate_says_why() {
         .rate("20")
         .write(dir.path(), "short.txt");
     let out = dir.path().join("rep");
-    imutherm()
-        .arg("report")
-        .arg(&short)
-        .arg("--out")
-        .arg(&out)
-        .assert()
-        .success();
+    cli!["report", &short, "--out", &out].assert().success();
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("short.txt: not navigated"), "no reason given");
 }
@@ -136,14 +123,9 @@ fn an_unknown_datasheet_is_a_usage_error() {
         .duration("60")
         .rate("20")
         .write(dir.path(), "run.txt");
-    imutherm()
-        .arg("report")
-        .arg(&run)
-        .args(["--out", "rep", "--datasheet", "no-such-part"])
+    cli!["report", &run, "--out", "rep", "--datasheet", "no-such-part"]
         .current_dir(dir.path())
-        .assert()
-        .code(2)
-        .stderr(predicates::str::contains("MPU-6050"));
+        .refused(2, "MPU-6050");
 }
 
 /// The bias slope across constant-temperature runs: the thesis preset's

@@ -7,7 +7,7 @@ mod support;
 use std::path::{Path, PathBuf};
 
 use serde_json::Value;
-use support::{imutherm, json_stdout, stderr_of};
+use support::{cli, entry, imutherm, json_stdout, stderr_of};
 
 fn fixture(p: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -72,11 +72,7 @@ fn info_on_px4_sample_logs_lists_streams_rates_samples_and_gaps() {
 
 #[test]
 fn several_imu_topics_fail_with_their_list_and_a_topic_chooses() {
-    let out = imutherm()
-        .args(["noise"])
-        .arg(fixture("ros/two_imus.mcap"))
-        .output()
-        .unwrap();
+    let out = cli!["noise", fixture("ros/two_imus.mcap")].output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     let err = stderr_of(&out);
     assert!(
@@ -95,11 +91,7 @@ fn several_imu_topics_fail_with_their_list_and_a_topic_chooses() {
 #[test]
 fn stream_flags_on_a_text_log_are_an_error() {
     let (_d, p) = support::file("g.csv", "gyro_x\n0.1\n0.2\n0.3\n");
-    let out = imutherm()
-        .args(["info", "--instance", "1"])
-        .arg(&p)
-        .output()
-        .unwrap();
+    let out = cli!["info", "--instance", "1", &p].output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(stderr_of(&out).contains("--instance"), "{}", stderr_of(&out));
 }
@@ -112,12 +104,7 @@ fn noise_n(file: &Path) -> Vec<(String, f64)> {
         .unwrap()
         .iter()
         .map(|c| {
-            let n = c["chosen"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .find(|t| t["term"] == "N")
-                .unwrap();
+            let n = entry(&c["chosen"], "term", "N");
             (
                 c["name"].as_str().unwrap().to_string(),
                 n["si"]["value"].as_f64().unwrap(),

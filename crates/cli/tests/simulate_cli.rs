@@ -3,7 +3,7 @@
 use predicates::prelude::*;
 
 mod support;
-use support::{Simulation, imutherm, json_stdout, scratch_files, succeed};
+use support::{Refused, Simulation, cli, imutherm, json_stdout, scratch_files, succeed, writing};
 
 #[test]
 fn writes_a_log_with_its_truth_that_reads_back() {
@@ -48,11 +48,7 @@ fn print_config_round_trips_through_config() {
     let cfg = dir.path().join("white.toml");
     std::fs::write(&cfg, &out.stdout).unwrap();
     let log = dir.path().join("w.txt");
-    imutherm()
-        .args(["simulate", "--duration", "5", "--config"])
-        .arg(&cfg)
-        .arg("-o")
-        .arg(&log)
+    cli!["simulate", "--duration", "5", "--config", &cfg, "-o", &log]
         .assert()
         .success();
     assert!(
@@ -66,28 +62,10 @@ fn print_config_round_trips_through_config() {
 fn bad_configurations_exit_1_with_the_reason() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.txt");
-    imutherm()
-        .args(["simulate", "--preset", "mpu6050-dream", "-o"])
-        .arg(&out)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("unknown preset 'mpu6050-dream'"));
-    imutherm()
-        .args(["simulate", "--rate", "0", "-o"])
-        .arg(&out)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains(
-            "'--rate <HZ>': expected a positive number",
-        ));
-    imutherm()
-        .args(["simulate", "--duration", "ten minutes", "-o"])
-        .arg(&out)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("duration 'ten minutes'"));
-    let printed = imutherm()
-        .args(["simulate", "--preset", "white", "--print-config"])
+    cli!["simulate", "--preset", "mpu6050-dream", "-o", &out].refused(1, "unknown preset 'mpu6050-dream'");
+    cli!["simulate", "--rate", "0", "-o", &out].refused(2, "'--rate <HZ>': expected a positive number");
+    cli!["simulate", "--duration", "ten minutes", "-o", &out].refused(2, "duration 'ten minutes'");
+    let printed = cli!["simulate", "--preset", "white", "--print-config"]
         .output()
         .unwrap();
     let text = String::from_utf8(printed.stdout)
@@ -95,11 +73,7 @@ fn bad_configurations_exit_1_with_the_reason() {
         .replacen("n = 0.00015", "n = -0.00015", 1);
     let cfg = dir.path().join("bad.toml");
     std::fs::write(&cfg, text).unwrap();
-    imutherm()
-        .args(["simulate", "--config"])
-        .arg(&cfg)
-        .arg("-o")
-        .arg(&out)
+    cli!["simulate", "--config", &cfg, "-o", &out]
         .assert()
         .code(1)
         .stderr(predicate::str::contains("gyro.terms[0].n = -0.00015").and(predicate::str::contains("≥ 0")));
@@ -110,8 +84,7 @@ fn bad_configurations_exit_1_with_the_reason() {
 fn a_profile_file_beside_the_configuration() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("chamber.csv"), "time_s, temp_C\n0, 60\n10, 40\n").unwrap();
-    let printed = imutherm()
-        .args(["simulate", "--preset", "white", "--print-config"])
+    let printed = cli!["simulate", "--preset", "white", "--print-config"]
         .output()
         .unwrap();
     let text = String::from_utf8(printed.stdout).unwrap();
@@ -140,12 +113,14 @@ fn a_profile_file_beside_the_configuration() {
     assert!((t["max"].as_f64().unwrap() - 60.0).abs() < 0.01, "{t}");
     assert!(t["min"].as_f64().unwrap() < 42.5, "{t}");
     // And a missing one is an error that names it.
-    imutherm()
-        .args(["simulate", "--profile", "file:no-such-chamber.csv", "-o"])
-        .arg(dir.path().join("x.txt"))
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("no-such-chamber.csv"));
+    cli![
+        "simulate",
+        "--profile",
+        "file:no-such-chamber.csv",
+        "-o",
+        dir.path().join("x.txt")
+    ]
+    .refused(1, "no-such-chamber.csv");
 }
 
 #[test]
@@ -157,10 +132,7 @@ fn help_documents_profiles_and_durations() {
             .and(predicate::str::contains("90m")),
     );
     // A usage error is clap's: exit 2.
-    imutherm()
-        .args(["simulate", "--rate", "fast", "-o", "x.txt"])
-        .assert()
-        .code(2);
+    cli!["simulate", "--rate", "fast", "-o", "x.txt"].assert().code(2);
 }
 
 #[test]
@@ -168,12 +140,7 @@ fn a_log_of_no_samples_is_a_usage_error_and_no_file() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("empty.txt");
     // 1 ms at the thesis preset's 20 Hz rounds to 0 samples.
-    imutherm()
-        .args(["simulate", "--duration", "0.001", "-o"])
-        .arg(&out)
-        .assert()
-        .code(2)
-        .stderr(predicate::str::contains("less than one sample"));
+    cli!["simulate", "--duration", "0.001", "-o", &out].refused(2, "less than one sample");
     assert!(!out.exists());
 }
 
@@ -229,14 +196,7 @@ fn population_flags_are_checked_as_flags() {
         (vec!["--unit", "U", "--scatter", "0.1"], "NOISE,BIAS"),
         (vec!["--unit", "", "--preset", "white"], "empty"),
     ] {
-        imutherm()
-            .arg("simulate")
-            .args(&args)
-            .arg("-o")
-            .arg(&out)
-            .assert()
-            .code(2)
-            .stderr(predicate::str::contains(says));
+        writing("simulate", &args, &out).refused(2, says);
     }
     assert!(!out.exists());
 }

@@ -15,7 +15,8 @@ use serde_json::Value;
 
 mod support;
 use support::{
-    Simulation, imutherm, json_stdout, read_json, replaces_only_with_overwrite, succeed, tcal_fit,
+    Refused, Simulation, cli, imutherm, json_stdout, read_json, replaces_only_with_overwrite, succeed,
+    tcal_fit,
 };
 
 /// The runs here: 2 Hz, long enough for a thermal profile.
@@ -516,24 +517,32 @@ fn tref_outside_the_fitted_range_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let run = simulate(dir.path(), "run.txt", "ramp:25:60:1800", "30m", "61");
     for tref in ["500", "10"] {
-        imutherm()
-            .args(["tcal", "fit", "--tref", tref, "-o"])
-            .arg(dir.path().join("m.json"))
-            .arg(&run)
-            .assert()
-            .code(1)
-            .stderr(predicate::str::contains("outside the fitted range"));
+        cli![
+            "tcal",
+            "fit",
+            "--tref",
+            tref,
+            "-o",
+            dir.path().join("m.json"),
+            &run
+        ]
+        .refused(1, "outside the fitted range");
         assert!(!dir.path().join("m.json").exists());
     }
     // Not a temperature at all: refused when the flags are parsed.
     for tref in ["nan", "inf"] {
-        imutherm()
-            .args(["tcal", "fit", "--tref", tref, "-o"])
-            .arg(dir.path().join("m.json"))
-            .arg(&run)
-            .assert()
-            .code(2)
-            .stderr(predicate::str::contains("'--tref <C>'").and(predicate::str::contains("finite number")));
+        cli![
+            "tcal",
+            "fit",
+            "--tref",
+            tref,
+            "-o",
+            dir.path().join("m.json"),
+            &run
+        ]
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("'--tref <C>'").and(predicate::str::contains("finite number")));
         assert!(!dir.path().join("m.json").exists());
     }
 }
@@ -572,12 +581,7 @@ fn the_rate_term_does_not_amplify_a_temperature_spike() {
     let spiked_path = dir.path().join("spiked.txt");
     std::fs::write(&spiked_path, spiked.join("\n") + "\n").unwrap();
     let out = dir.path().join("comp.txt");
-    imutherm()
-        .args(["tcal", "apply"])
-        .arg(&model)
-        .arg(&spiked_path)
-        .arg("-o")
-        .arg(&out)
+    cli!["tcal", "apply", &model, &spiked_path, "-o", &out]
         .assert()
         .success();
     let raw = read_columns(&spiked_path);
@@ -623,14 +627,7 @@ fn held_out_is_judged_by_the_file_and_a_run_is_fitted_once() {
     std::fs::copy(&cooling, &copy).unwrap();
     let model = dir.path().join("model.json");
     for twice in [dir.path().join(".").join("cool.txt"), copy.clone()] {
-        imutherm()
-            .args(["tcal", "fit", "-o"])
-            .arg(&model)
-            .arg(&cooling)
-            .arg(&twice)
-            .assert()
-            .code(2)
-            .stderr(predicate::str::contains("are the same recording"));
+        cli!["tcal", "fit", "-o", &model, &cooling, &twice].refused(2, "are the same recording");
     }
     tcal_fit(&model, &["--order", "2"], &[&cooling]);
     let doc = eval_json(
@@ -660,9 +657,7 @@ fn eval_without_a_run_is_a_usage_error() {
     let dir = tempfile::tempdir().unwrap();
     let model = dir.path().join("model.json");
     std::fs::write(&model, "{}").unwrap();
-    imutherm()
-        .args(["tcal", "eval"])
-        .arg(&model)
+    cli!["tcal", "eval", &model]
         .assert()
         .code(2)
         .stdout("")

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use predicates::prelude::*;
 
 mod support;
-use support::{imutherm, json_stdout, read_json, succeed};
+use support::{cli, imutherm, json_stdout, read_json, succeed};
 
 /// A cooling run, 24 → 16.7 °C over 2 h at 20 Hz, logged 5 s every 305 s
 /// (the shape of a thermal-vacuum test's log); the gaps left out of the
@@ -82,9 +82,7 @@ fn fits_and_loads(dir: &Path, run: &Path, read: &[&str]) {
 fn a_duty_cycled_log_is_read_with_its_gaps_when_the_grid_limit_is_raised() {
     let dir = tempfile::tempdir().unwrap();
     let run = write_bursts(dir.path(), false);
-    imutherm()
-        .arg("info")
-        .arg(&run)
+    cli!["info", &run]
         .assert()
         .failure()
         .stderr(predicate::str::contains("--max-grid-factor 6"));

@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 
 mod support;
-use support::{imutherm, json_stdout, read_json, tcal_fit};
+use support::{Refused, cli, imutherm, json_stdout, read_json, tcal_fit};
 
 const RATE_HZ: f64 = 25.0;
 const SAMPLES: usize = 20 * 60 * 25;
@@ -365,10 +365,7 @@ fn a_ulog_of_two_imus_gives_one_px4_file_with_each_imus_ids() {
     assert_eq!(m["channels"], instances[0]["channels"]);
 
     let params = dir.path().join("all.params");
-    imutherm()
-        .args(["tcal", "export", "--firmware", "px4", "-o"])
-        .arg(&params)
-        .arg(&model)
+    cli!["tcal", "export", "--firmware", "px4", "-o", &params, &model]
         .assert()
         .success();
     let text = std::fs::read_to_string(&params).unwrap();
@@ -405,31 +402,16 @@ fn a_ulog_of_two_imus_gives_one_px4_file_with_each_imus_ids() {
 
     // `tcal apply` compensates the instance asked for, with its own model.
     let out = dir.path().join("imu1.txt");
-    imutherm()
-        .args(["tcal", "apply", "--instance", "1", "-o"])
-        .arg(&out)
-        .arg(&model)
-        .arg(&cool)
+    cli!["tcal", "apply", "--instance", "1", "-o", &out, &model, &cool]
         .assert()
         .success();
     assert!(out.exists());
-    imutherm()
-        .args(["tcal", "apply", "-o"])
-        .arg(dir.path().join("none.txt"))
-        .arg(&model)
-        .arg(&cool)
-        .assert()
-        .code(2)
-        .stderr(predicates::str::contains("give --instance N"));
+    cli!["tcal", "apply", "-o", dir.path().join("none.txt"), &model, &cool].refused(2, "give --instance N");
     assert!(!dir.path().join("none.txt").exists());
 
     // One slot or id for a model of several is a usage error.
-    imutherm()
-        .args(["tcal", "export", "--firmware", "px4", "--instance", "1"])
-        .arg(&model)
-        .assert()
-        .code(2)
-        .stderr(predicates::str::contains("holds instances [0, 1]"));
+    cli!["tcal", "export", "--firmware", "px4", "--instance", "1", &model]
+        .refused(2, "holds instances [0, 1]");
 }
 
 #[test]
@@ -447,10 +429,7 @@ fn a_dataflash_log_of_two_imus_gives_one_ardupilot_file_in_imu_order() {
         assert_eq!(inst["accel_device_id"], IDS[i].1);
     }
     let params = dir.path().join("all.parm");
-    imutherm()
-        .args(["tcal", "export", "--firmware", "ardupilot", "-o"])
-        .arg(&params)
-        .arg(&model)
+    cli!["tcal", "export", "--firmware", "ardupilot", "-o", &params, &model]
         .assert()
         .success();
     let text = std::fs::read_to_string(&params).unwrap();
@@ -495,18 +474,16 @@ fn instance_all_is_refused_where_it_means_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let text = dir.path().join("run.txt");
     std::fs::write(&text, "time_s,gyro_x,temperature\n0,0.1,20\n1,0.1,21\n").unwrap();
-    imutherm()
-        .args(["tcal", "fit", "--instance", "all", "-o"])
-        .arg(dir.path().join("m.json"))
-        .arg(&text)
-        .assert()
-        .code(2)
-        .stderr(predicates::str::contains("has no IMU instances"));
-    imutherm()
-        .args(["adev", "--instance", "all"])
-        .arg(&text)
-        .assert()
-        .code(2)
-        .stderr(predicates::str::contains("only tcal fit and tcal eval"));
+    cli![
+        "tcal",
+        "fit",
+        "--instance",
+        "all",
+        "-o",
+        dir.path().join("m.json"),
+        &text
+    ]
+    .refused(2, "has no IMU instances");
+    cli!["adev", "--instance", "all", &text].refused(2, "only tcal fit and tcal eval");
     assert!(!dir.path().join("m.json").exists());
 }

@@ -3,7 +3,7 @@
 use predicates::prelude::*;
 
 mod support;
-use support::{Simulation, imutherm, json_stdout, read_json, tcal_fit};
+use support::{Refused, Simulation, cli, imutherm, json_stdout, read_json, tcal_fit};
 
 /// The runs here: 40 minutes at 5 Hz.
 fn simulate(dir: &std::path::Path, name: &str, profile: &str, seed: &str) -> std::path::PathBuf {
@@ -43,19 +43,13 @@ fn fit_apply_eval_and_the_surface() {
         );
         assert!(a < 0.1 * b, "{}: {b} → {a}", r["channel"]);
     }
-    imutherm()
-        .args(["tcal", "eval", "--export", "ardupilot"])
-        .arg(&model)
-        .arg(&heating)
+    cli!["tcal", "eval", "--export", "ardupilot", &model, &heating]
         .assert()
         .success()
         .stdout(
             predicate::str::contains("INS_TCAL1_GYR1_X").and(predicate::str::contains("INS_TCAL1_ACC3_Z")),
         );
-    imutherm()
-        .args(["tcal", "eval", "--export", "px4"])
-        .arg(&model)
-        .arg(&heating)
+    cli!["tcal", "eval", "--export", "px4", &model, &heating]
         .assert()
         .success()
         .stdout(
@@ -64,12 +58,7 @@ fn fit_apply_eval_and_the_surface() {
         );
 
     let comp = dir.path().join("heat_comp.txt");
-    imutherm()
-        .args(["tcal", "apply"])
-        .arg(&model)
-        .arg(&heating)
-        .arg("-o")
-        .arg(&comp)
+    cli!["tcal", "apply", &model, &heating, "-o", &comp]
         .assert()
         .success();
     let text = std::fs::read_to_string(&comp).unwrap();
@@ -84,12 +73,19 @@ fn fit_apply_eval_and_the_surface() {
     let rows = doc["channels"][0]["rows"].as_array().unwrap();
     assert!(rows.len() >= 5, "{} bins", rows.len());
     assert!(rows.iter().all(|r| !r["points"].as_array().unwrap().is_empty()));
-    imutherm()
-        .args(["thermal", "--by", "time", "--window", "300", "--channels", "gyro"])
-        .arg(&cooling)
-        .assert()
-        .success()
-        .stdout(predicate::str::contains("window [s]"));
+    cli![
+        "thermal",
+        "--by",
+        "time",
+        "--window",
+        "300",
+        "--channels",
+        "gyro",
+        &cooling
+    ]
+    .assert()
+    .success()
+    .stdout(predicate::str::contains("window [s]"));
 }
 
 #[test]
@@ -97,41 +93,17 @@ fn degenerate_inputs_exit_1() {
     let dir = tempfile::tempdir().unwrap();
     let flat = simulate(dir.path(), "flat.txt", "constant:34", "3");
     let model = dir.path().join("m.json");
-    imutherm()
-        .args(["tcal", "fit"])
-        .arg(&flat)
-        .arg("-o")
-        .arg(&model)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains("nothing to fit a temperature model to"));
+    cli!["tcal", "fit", &flat, "-o", &model].refused(1, "nothing to fit a temperature model to");
     let narrow = simulate(dir.path(), "narrow.txt", "ramp:30:33.5:2400", "4");
-    imutherm()
-        .args(["tcal", "fit", "--order", "6"])
-        .arg(&narrow)
-        .arg("-o")
-        .arg(&model)
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains(
-            "cannot determine a polynomial of order 6",
-        ));
+    cli!["tcal", "fit", "--order", "6", &narrow, "-o", &model]
+        .refused(1, "cannot determine a polynomial of order 6");
     // A model applied to a file without its channels.
     let warm = simulate(dir.path(), "warm.txt", "ramp:30:60:2400", "5");
     tcal_fit(&model, &["--order", "1"], &[&warm]);
     let other = dir.path().join("other.csv");
     std::fs::write(&other, "temp,pressure[hPa]\n30,1013\n31,1012\n").unwrap();
-    imutherm()
-        .args(["tcal", "apply"])
-        .arg(&model)
-        .arg(&other)
-        .arg("-o")
-        .arg(dir.path().join("o.txt"))
-        .assert()
-        .code(1)
-        .stderr(predicate::str::contains(
-            "the model has channel 'accel_x', the file does not",
-        ));
+    cli!["tcal", "apply", &model, &other, "-o", dir.path().join("o.txt")]
+        .refused(1, "the model has channel 'accel_x', the file does not");
 }
 
 /// A 10 Hz log of one gyro over a linear cooling: its samples lost over

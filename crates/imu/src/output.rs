@@ -518,6 +518,13 @@ pub fn write_file(target: &Path, bytes: &[u8], policy: &OutputPolicy<'_>) -> Res
 mod tests {
     use super::*;
 
+    /// A file `name` in `dir` holding `content`.
+    fn file_in(dir: &tempfile::TempDir, name: &str, content: &[u8]) -> PathBuf {
+        let p = dir.path().join(name);
+        std::fs::write(&p, content).unwrap();
+        p
+    }
+
     #[test]
     fn same_file_is_the_file_under_any_name_and_never_a_copy() {
         let dir = tempfile::tempdir().unwrap();
@@ -565,8 +572,7 @@ mod tests {
     #[test]
     fn an_input_is_never_written_by_any_of_its_names() {
         let dir = tempfile::tempdir().unwrap();
-        let input = dir.path().join("in.txt");
-        std::fs::write(&input, b"data\n").unwrap();
+        let input = file_in(&dir, "in.txt", b"data\n");
         let hard = dir.path().join("hard.txt");
         std::fs::hard_link(&input, &hard).unwrap();
         let sym = dir.path().join("sym.txt");
@@ -587,8 +593,7 @@ mod tests {
     #[test]
     fn a_symlinked_output_replaces_the_file_it_points_to() {
         let dir = tempfile::tempdir().unwrap();
-        let real = dir.path().join("real.txt");
-        std::fs::write(&real, b"old").unwrap();
+        let real = file_in(&dir, "real.txt", b"old");
         let link = dir.path().join("link.txt");
         std::os::unix::fs::symlink(&real, &link).unwrap();
         write_file(&link, b"new", &policy(true, &[])).unwrap();
@@ -599,8 +604,7 @@ mod tests {
     #[test]
     fn an_unfinished_write_leaves_the_old_file() {
         let dir = tempfile::tempdir().unwrap();
-        let p = dir.path().join("out.txt");
-        std::fs::write(&p, b"old").unwrap();
+        let p = file_in(&dir, "out.txt", b"old");
         {
             let mut f = AtomicFile::create(&p, &policy(true, &[])).unwrap();
             f.write_all(b"half of the new").unwrap();
@@ -640,14 +644,12 @@ mod tests {
         let p = dir.path().join("out.txt");
         // The old fixed scratch name, a link under it, and a scratch file
         // left by a killed run: all someone else's, all left as they were.
-        let victim = dir.path().join("victim.txt");
-        std::fs::write(&victim, b"victim").unwrap();
+        let victim = file_in(&dir, "victim.txt", b"victim");
         let old_name = dir.path().join("out.txt.partial");
         std::os::unix::fs::symlink(&victim, &old_name).unwrap();
         let hard = dir.path().join("out.txt.00000000000000ff.partial");
         std::fs::hard_link(&victim, &hard).unwrap();
-        let stale = dir.path().join("out.txt.0123456789abcdef.partial");
-        std::fs::write(&stale, b"left by a killed run").unwrap();
+        let stale = file_in(&dir, "out.txt.0123456789abcdef.partial", b"left by a killed run");
         write_file(&p, b"new", &policy(false, &[])).unwrap();
         assert_eq!(std::fs::read(&p).unwrap(), b"new");
         assert_eq!(std::fs::read(&victim).unwrap(), b"victim");

@@ -7,6 +7,9 @@ use std::path::PathBuf;
 
 use imu::{ProblemKind, ReadReport, Recording, RecordingOptions, read_recording_with_report};
 
+mod common;
+use common::assert_note;
+
 /// Deterministic standard normal deviates (xorshift64* and Box–Muller).
 struct Gauss(u64);
 
@@ -38,6 +41,13 @@ fn read(p: &std::path::Path) -> (Recording, ReadReport) {
     read_recording_with_report(p, &RecordingOptions::default()).unwrap()
 }
 
+/// Fails unless the rate read is `hz` within 0.05 %.
+#[track_caller]
+fn assert_rate(rec: &Recording, hz: f64) {
+    let rate = rec.rate_hz.unwrap();
+    assert!((rate / hz - 1.0).abs() < 5e-4, "{rate} Hz against {hz} Hz");
+}
+
 /// The sequence numbers in slot order, gaps left out.
 fn kept(rec: &Recording) -> Vec<usize> {
     rec.channel("gyro_x")
@@ -59,19 +69,11 @@ fn a_chip_running_0_3_percent_fast_stamped_in_integer_ms() {
         .collect();
     let (_d, p) = write("fast.csv", "timestamp", &rows);
     let (rec, report) = read(&p);
-    assert!(
-        (rec.rate_hz.unwrap() / rate - 1.0).abs() < 5e-4,
-        "{:?}",
-        rec.rate_hz
-    );
+    assert_rate(&rec, rate);
     assert_eq!(kept(&rec), (0..36_108).collect::<Vec<_>>());
     assert_eq!(rec.len(), 36_108, "no gap invented");
     assert_eq!(report.count(ProblemKind::TimeGap), 0);
-    assert!(
-        report.notes.iter().any(|n| n.contains("unit ms")),
-        "{:?}",
-        report.notes
-    );
+    assert_note(&report, "unit ms");
 }
 
 #[test]
@@ -82,11 +84,7 @@ fn gaussian_stamp_jitter_of_0_2_ms_at_200_hz() {
         .collect();
     let (_d, p) = write("jitter.csv", "time", &rows);
     let (rec, report) = read(&p);
-    assert!(
-        (rec.rate_hz.unwrap() / 200.0 - 1.0).abs() < 5e-4,
-        "{:?}",
-        rec.rate_hz
-    );
+    assert_rate(&rec, 200.0);
     assert_eq!(kept(&rec), (0..40_000).collect::<Vec<_>>());
     assert_eq!(rec.len(), 40_000);
     let jitter = report.timing.as_ref().unwrap().jitter_s;
@@ -109,11 +107,7 @@ fn unix_epoch_stamps_in_ns_with_a_2_5_s_gap_and_duplicated_lines() {
     }
     let (_d, p) = write("epoch.csv", "stamp", &rows);
     let (rec, report) = read(&p);
-    assert!(
-        (rec.rate_hz.unwrap() / 100.0 - 1.0).abs() < 5e-4,
-        "{:?}",
-        rec.rate_hz
-    );
+    assert_rate(&rec, 100.0);
     assert_eq!(kept(&rec), (0..10_000).collect::<Vec<_>>());
     // 2.5 s more than one period: 250 missing samples, at line 3002.
     let gap = report
@@ -125,11 +119,7 @@ fn unix_epoch_stamps_in_ns_with_a_2_5_s_gap_and_duplicated_lines() {
     assert_eq!(rec.len(), 10_250);
     assert_eq!(report.count(ProblemKind::DuplicateTime), 2);
     assert_eq!(report.dropped_samples, 2);
-    assert!(
-        report.notes.iter().any(|n| n.contains("epoch")),
-        "{:?}",
-        report.notes
-    );
+    assert_note(&report, "epoch");
 }
 
 #[test]
@@ -148,9 +138,5 @@ fn duplicate_stamps_on_distinct_samples_are_kept() {
     assert_eq!(rec.len(), 5000);
     assert_eq!(report.count(ProblemKind::DuplicateTime), 50);
     assert_eq!(report.count(ProblemKind::TimeGap), 0, "{:?}", report.problems);
-    assert!(
-        (rec.rate_hz.unwrap() / 1000.0 - 1.0).abs() < 5e-4,
-        "{:?}",
-        rec.rate_hz
-    );
+    assert_rate(&rec, 1000.0);
 }

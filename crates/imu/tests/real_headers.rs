@@ -7,6 +7,9 @@ use std::path::PathBuf;
 
 use imu::{Quantity, RecordingOptions, UnitSource, read_recording, read_recording_with_report};
 
+mod common;
+use common::{assert_no_note, assert_note};
+
 fn file(dir: &tempfile::TempDir, name: &str, text: &str) -> PathBuf {
     let p = dir.path().join(name);
     std::fs::write(&p, text).unwrap();
@@ -151,11 +154,7 @@ fn adis16405_csv_from_smac_imudata() {
     assert_eq!(rec.inertial().len(), 6);
     assert!((rec.channel("gyro_x").unwrap().data[0] - 0.1 * PI / 180.0).abs() < 1e-15);
     assert!((rec.channel("accel_z").unwrap().data[0] - 9.80665).abs() < 1e-12);
-    assert!(
-        report.notes.iter().all(|n| !n.contains("looks like")),
-        "{:?}",
-        report.notes
-    );
+    assert_no_note(&report, "looks like");
 }
 
 #[test]
@@ -165,18 +164,10 @@ fn an_accelerometer_in_g_without_a_unit_is_flagged() {
     let p = file(&dir, "phone.csv", "ax,ay,az\n0.01,0.02,0.99\n0.01,0.02,1.01\n");
     let (rec, report) = read_recording_with_report(&p, &RecordingOptions::default()).unwrap();
     assert_eq!(rec.channel("accel_z").unwrap().unit_source, UnitSource::Assumed);
-    assert!(
-        report.notes.iter().any(|n| n.contains("looks like g")),
-        "{:?}",
-        report.notes
-    );
+    assert_note(&report, "looks like g");
     let p = file(&dir, "mg.csv", "ax,ay,az\n10,20,990\n10,20,1010\n");
     let (_, report) = read_recording_with_report(&p, &RecordingOptions::default()).unwrap();
-    assert!(
-        report.notes.iter().any(|n| n.contains("looks like mg")),
-        "{:?}",
-        report.notes
-    );
+    assert_note(&report, "looks like mg");
 }
 
 #[test]
@@ -192,13 +183,13 @@ fn unknown_units_and_missing_columns_are_errors() {
     let rec = read_recording(&p, &RecordingOptions::default()).unwrap();
     assert_eq!(rec.channel("pressure").unwrap().quantity, Quantity::Other);
     let opts = RecordingOptions {
-        units: vec![("gyro_q".into(), "deg/s".into())],
+        units: vec!["gyro_q=deg/s".parse().unwrap()],
         ..RecordingOptions::default()
     };
     let e = read_recording(&p, &opts).unwrap_err().to_string();
     assert!(e.contains("gyro_q"), "{e}");
     let opts = RecordingOptions {
-        units: vec![("gx".into(), "deg/s".into())],
+        units: vec!["gx=deg/s".parse().unwrap()],
         ..RecordingOptions::default()
     };
     let rec = read_recording(&p, &opts).unwrap();

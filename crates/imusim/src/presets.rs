@@ -126,11 +126,7 @@ fn thesis() -> SimConfig {
         seed: 1,
         t_ref_c: 34.0,
         sensor_lag_s: 120.0,
-        profile: Profile::Constant {
-            temp_c: 34.0,
-            fluctuation_c: 0.05,
-            fluctuation_tau_s: 60.0,
-        },
+        profile: Profile::constant(34.0, 0.05),
         sensor: SensorConfig {
             gyro_range_dps: 500.0,
             accel_range_g: 8.0,
@@ -165,9 +161,16 @@ fn thesis() -> SimConfig {
 }
 
 fn white() -> SimConfig {
-    let w = |n: f64| NoiseTerms {
-        n,
-        ..NoiseTerms::default()
+    // White noise of density `n` on each axis, nothing else.
+    let white_group = |n: f64| GroupConfig {
+        terms: [NoiseTerms {
+            n,
+            ..NoiseTerms::default()
+        }; 3],
+        bias: Default::default(),
+        scale_factor: [0.0; 3],
+        flicker_tau_s: [1.0, 1000.0],
+        noise_scale: Vec::new(),
     };
     SimConfig {
         rate_hz: 100.0,
@@ -175,29 +178,13 @@ fn white() -> SimConfig {
         seed: 1,
         t_ref_c: 25.0,
         sensor_lag_s: 0.0,
-        profile: Profile::Constant {
-            temp_c: 25.0,
-            fluctuation_c: 0.0,
-            fluctuation_tau_s: 60.0,
-        },
+        profile: Profile::constant(25.0, 0.0),
         sensor: SensorConfig {
             quantize: false,
             ..SensorConfig::default()
         },
-        gyro: GroupConfig {
-            terms: [w(1.5e-4); 3],
-            bias: Default::default(),
-            scale_factor: [0.0; 3],
-            flicker_tau_s: [1.0, 1000.0],
-            noise_scale: Vec::new(),
-        },
-        accel: GroupConfig {
-            terms: [w(5e-3); 3],
-            bias: Default::default(),
-            scale_factor: [0.0; 3],
-            flicker_tau_s: [1.0, 1000.0],
-            noise_scale: Vec::new(),
-        },
+        gyro: white_group(1.5e-4),
+        accel: white_group(5e-3),
     }
 }
 

@@ -79,6 +79,16 @@ fn default_heater_tau() -> f64 {
 }
 
 impl Profile {
+    /// Held at `temp_c` with a fluctuation of standard deviation
+    /// `fluctuation_c`, of the default correlation time.
+    pub fn constant(temp_c: f64, fluctuation_c: f64) -> Profile {
+        Profile::Constant {
+            temp_c,
+            fluctuation_c,
+            fluctuation_tau_s: default_fluctuation_tau(),
+        }
+    }
+
     /// Parses the command line's short form: `constant:34[:0.05]`,
     /// `cooling:100:20:1800`, `ramp:20:80:3600`, `steps:30,45,60:1200`,
     /// `file:PATH`.

@@ -17,6 +17,15 @@ use imusim::{Simulator, presets, sensor};
 /// would miss four points of every curve.
 const CONFIDENCE: f64 = 0.999;
 
+/// No noise at all: the other terms of a test of one term.
+const SILENT: NoiseTerms = NoiseTerms {
+    q: 0.0,
+    n: 0.0,
+    b: 0.0,
+    k: 0.0,
+    r: 0.0,
+};
+
 /// The gyro x channel of a 2 h, 10 Hz recording whose only error is
 /// `terms` (no bias, no output quantization, constant temperature).
 fn one_term(terms: NoiseTerms, seed: u64) -> Vec<f64> {
@@ -99,28 +108,19 @@ fn follows_theory(terms: NoiseTerms, seed: u64, taus: impl Fn(f64) -> bool, slac
 
 #[test]
 fn white_noise_alone() {
-    let t = NoiseTerms {
-        n: 2e-3,
-        ..NoiseTerms::default()
-    };
+    let t = NoiseTerms { n: 2e-3, ..SILENT };
     follows_theory(t, 3, |_| true, 1.0);
 }
 
 #[test]
 fn quantization_noise_alone() {
-    let t = NoiseTerms {
-        q: 1e-4,
-        ..NoiseTerms::default()
-    };
+    let t = NoiseTerms { q: 1e-4, ..SILENT };
     follows_theory(t, 4, |_| true, 1.0);
 }
 
 #[test]
 fn rate_random_walk_alone() {
-    let t = NoiseTerms {
-        k: 1e-4,
-        ..NoiseTerms::default()
-    };
+    let t = NoiseTerms { k: 1e-4, ..SILENT };
     follows_theory(t, 5, |_| true, 1.0);
 }
 
@@ -128,19 +128,13 @@ fn rate_random_walk_alone() {
 fn bias_instability_alone_is_flat_over_its_range() {
     // Flat over the configured [1, 2000] s, within the ±5 % the bank
     // promises (its exact curve is checked in the flicker module).
-    let t = NoiseTerms {
-        b: 1e-3,
-        ..NoiseTerms::default()
-    };
+    let t = NoiseTerms { b: 1e-3, ..SILENT };
     follows_theory(t, 6, |tau| (1.0..=2000.0).contains(&tau), 1.05);
 }
 
 #[test]
 fn rate_ramp_alone_is_exact() {
-    let t = NoiseTerms {
-        r: 1e-6,
-        ..NoiseTerms::default()
-    };
+    let t = NoiseTerms { r: 1e-6, ..SILENT };
     let y = one_term(t, 7);
     for p in oadev(&y, 10.0) {
         let theory = t.allan_variance(p.tau).sqrt();
@@ -308,10 +302,7 @@ fn cooling_run_bias_follows_its_polynomial() {
     // Only white noise, so that "within the noise" is a sharp statement.
     for g in [&mut cfg.gyro, &mut cfg.accel] {
         for t in &mut g.terms {
-            *t = NoiseTerms {
-                n: t.n,
-                ..NoiseTerms::default()
-            };
+            *t = NoiseTerms { n: t.n, ..SILENT };
         }
     }
     let sim = Simulator::new(cfg.clone()).unwrap();

@@ -79,11 +79,7 @@ pub fn monte_carlo(
         seed: setup.seed,
         t_ref_c: 25.0,
         sensor_lag_s: 0.0,
-        profile: Profile::Constant {
-            temp_c: 25.0,
-            fluctuation_c: 0.0,
-            fluctuation_tau_s: 60.0,
-        },
+        profile: Profile::constant(25.0, 0.0),
         sensor: SensorConfig {
             quantize: false,
             roll_deg: setup.roll_deg,

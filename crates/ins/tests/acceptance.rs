@@ -6,7 +6,7 @@ use imusim::config::SensorConfig;
 use imusim::terms::NoiseTerms;
 use imusim::{SimConfig, Simulator, presets};
 
-use ins::drift::{drift_over_windows, report_times};
+use ins::drift::{CurvePoint, drift_over_windows, report_times};
 use ins::monte_carlo::{MonteCarloSetup, monte_carlo};
 use ins::prediction::{AxisNoise, NoiseModel, PredictionSetup, predict};
 use ins::strapdown::{ImuData, NavOptions};
@@ -31,6 +31,34 @@ fn white(duration_s: f64, seed: u64) -> [Vec<f64>; 7] {
         ..Default::default()
     }; 3];
     columns(cfg)
+}
+
+/// The noise model of [`white`]'s recordings: white noise only.
+fn white_model() -> NoiseModel {
+    NoiseModel {
+        gyro: [AxisNoise {
+            n: N_GYRO,
+            ..Default::default()
+        }; 3],
+        accel: [AxisNoise {
+            n: N_ACCEL,
+            ..Default::default()
+        }; 3],
+    }
+}
+
+/// Holds the horizontal position RMS of each point within `tol`
+/// (relative) of `want(t)`.
+fn rms_follows(curve: &[CurvePoint], tol: f64, want: impl Fn(f64) -> f64, case: &str) {
+    for p in curve {
+        let want = want(p.t_s);
+        let got = p.horizontal_position_m.rms;
+        assert!(
+            (got / want - 1.0).abs() < tol,
+            "{case}t = {} s: RMS {got:.3} m against {want:.3} m",
+            p.t_s
+        );
+    }
 }
 
 fn columns(cfg: SimConfig) -> [Vec<f64>; 7] {
@@ -75,30 +103,18 @@ fn white_noise_drift_matches_the_closed_form_within_15_percent() {
         };
         let d = drift_over_windows(&imu(&c), &opts, 70.0, &times).unwrap();
         assert_eq!(d.windows, 120);
-        for p in &d.curve {
-            let want = closed_form(p.t_s, 10.0, removed);
-            let got = p.horizontal_position_m.rms;
-            assert!(
-                (got / want - 1.0).abs() < 0.15,
-                "gyro mean removed {removed}, t = {} s: RMS {got:.3} m, closed form {want:.3} m",
-                p.t_s
-            );
-        }
+        rms_follows(
+            &d.curve,
+            0.15,
+            |t| closed_form(t, 10.0, removed),
+            &format!("gyro mean removed {removed}, "),
+        );
     }
 }
 
 #[test]
 fn the_prediction_module_gives_the_closed_form() {
-    let model = NoiseModel {
-        gyro: [AxisNoise {
-            n: N_GYRO,
-            ..Default::default()
-        }; 3],
-        accel: [AxisNoise {
-            n: N_ACCEL,
-            ..Default::default()
-        }; 3],
-    };
+    let model = white_model();
     for removed in [false, true] {
         let setup = PredictionSetup::level(G, 10.0, removed);
         for t in [1.0, 10.0, 30.0, 60.0, 120.0] {
@@ -125,15 +141,7 @@ fn a_gyro_bias_after_alignment_drifts_g_eps_t3_over_6() {
         *v = eps;
     }
     let d = drift_over_windows(&imu(&c), &NavOptions::default(), 10.0, &[10.0, 60.0, 120.0]).unwrap();
-    for p in &d.curve {
-        let want = G * eps * p.t_s.powi(3) / 6.0;
-        let got = p.horizontal_position_m.rms;
-        assert!(
-            (got / want - 1.0).abs() < 0.02,
-            "t = {}: {got} m against {want} m",
-            p.t_s
-        );
-    }
+    rms_follows(&d.curve, 0.02, |t| G * eps * t.powi(3) / 6.0, "");
 }
 
 #[test]
@@ -214,16 +222,7 @@ fn with_the_latitude_the_rotating_earth_leaves_no_drift() {
 
 #[test]
 fn the_monte_carlo_of_the_model_agrees_with_its_prediction() {
-    let model = NoiseModel {
-        gyro: [AxisNoise {
-            n: N_GYRO,
-            ..Default::default()
-        }; 3],
-        accel: [AxisNoise {
-            n: N_ACCEL,
-            ..Default::default()
-        }; 3],
-    };
+    let model = white_model();
     let opts = NavOptions::default();
     let setup = MonteCarloSetup {
         rate_hz: RATE,
@@ -233,15 +232,7 @@ fn the_monte_carlo_of_the_model_agrees_with_its_prediction() {
         pitch_deg: 0.0,
     };
     let mc = monte_carlo(&model, &opts, &setup, &[30.0, 60.0]).unwrap();
-    for p in &mc.curve {
-        let want = closed_form(p.t_s, 10.0, true);
-        let got = p.horizontal_position_m.rms;
-        assert!(
-            (got / want - 1.0).abs() < 0.15,
-            "t = {}: {got} against {want}",
-            p.t_s
-        );
-    }
+    rms_follows(&mc.curve, 0.15, |t| closed_form(t, 10.0, true), "");
     // The interval holds the rms, and is as wide as 1.96/(2·√runs) says
     // (the squared distance of an isotropic 2-D error is exponential: its
     // relative standard deviation is 1).
@@ -318,16 +309,7 @@ fn windows_across_a_gap_are_left_out_and_counted() {
 /// within 10 % of the Monte Carlo at every time it prints.
 #[test]
 fn an_hour_with_the_latitude_is_predicted_within_ten_percent() {
-    let model = NoiseModel {
-        gyro: [AxisNoise {
-            n: N_GYRO,
-            ..Default::default()
-        }; 3],
-        accel: [AxisNoise {
-            n: N_ACCEL,
-            ..Default::default()
-        }; 3],
-    };
+    let model = white_model();
     let latitude = 48.0;
     let opts = NavOptions {
         latitude_deg: Some(latitude),

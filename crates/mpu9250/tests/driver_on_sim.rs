@@ -4,6 +4,13 @@ use mpu9250::config::{AccelRange, Config, GyroRange};
 use mpu9250::driver::{Chip, Error, FifoRead, I2cBus, Mpu9250, SpiBus};
 use mpu9250::sim::{ADDRESS, SimChip, SimDelay, SimError, SimStats, imu_on_i2c, imu_on_spi};
 
+/// The driver on I2C, configured with `cfg`, over a [`counting`] chip.
+fn configured(cfg: Config) -> Mpu9250<I2cBus<SimChip>, SimDelay> {
+    let mut imu = imu_on_i2c(counting(cfg), ADDRESS).unwrap();
+    imu.configure(cfg).unwrap();
+    imu
+}
+
 /// Sample k reads k LSB on every axis and on the temperature: a frame whose
 /// seven fields differ was decoded from misaligned bytes.
 fn counting(cfg: Config) -> SimChip {
@@ -40,8 +47,7 @@ fn probes_the_family_and_refuses_strangers() {
 #[test]
 fn ten_seconds_at_200_hz_are_2000_aligned_frames() {
     let cfg = Config::default();
-    let mut imu = imu_on_i2c(counting(cfg), ADDRESS).unwrap();
-    imu.configure(cfg).unwrap();
+    let mut imu = configured(cfg);
     let mut frames = Vec::new();
     for _ in 0..200 {
         imu.bus_mut().inner_mut().advance(0.05);
@@ -125,8 +131,7 @@ fn full_scale_sets_the_quantization_step() {
 #[test]
 fn an_overflow_is_reported_and_the_stream_resumes_aligned() {
     let cfg = Config::default();
-    let mut imu = imu_on_i2c(counting(cfg), ADDRESS).unwrap();
-    imu.configure(cfg).unwrap();
+    let mut imu = configured(cfg);
     let mut frames = Vec::new();
     imu.bus_mut().inner_mut().advance(0.05);
     imu.read_fifo(&mut frames).unwrap();
@@ -225,8 +230,7 @@ fn injected_bus_errors_are_retried_and_part_reads_resynchronise() {
 #[test]
 fn a_nack_loses_nothing_but_a_part_read_costs_a_resync() {
     let cfg = Config::default();
-    let mut imu = imu_on_i2c(counting(cfg), ADDRESS).unwrap();
-    imu.configure(cfg).unwrap();
+    let mut imu = configured(cfg);
     let mut frames = Vec::new();
     fn chip(imu: &mut Mpu9250<I2cBus<SimChip>, SimDelay>) -> &mut SimChip {
         imu.bus_mut().inner_mut()
@@ -382,8 +386,7 @@ fn a_brown_out_during_a_failed_read_is_configured_again_not_read_at_defaults() {
         accel_range: AccelRange::G16,
         ..Config::default()
     };
-    let mut imu = imu_on_i2c(counting(cfg), ADDRESS).unwrap();
-    imu.configure(cfg).unwrap();
+    let mut imu = configured(cfg);
     let mut frames = Vec::new();
     imu.bus_mut().inner_mut().advance(0.1);
     // A supply dip breaks off a burst and resets the chip.
@@ -450,8 +453,7 @@ fn after_a_reset_the_chip_answers_only_once_its_start_up_time_has_passed() {
     assert_eq!(id[0], regs::ID_MPU9250);
     // The driver waits it out, on I2C and on SPI…
     let cfg = Config::default();
-    let mut imu = imu_on_i2c(counting(cfg), ADDRESS).unwrap();
-    imu.configure(cfg).unwrap();
+    let mut imu = configured(cfg);
     imu.bus_mut().inner_mut().advance(0.05);
     let mut frames = Vec::new();
     assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(10));

@@ -454,17 +454,49 @@ mod tests {
     /// curve while their sum follows it.
     fn white_and_walk() -> Vec<Point> {
         let (n, k) = (1.5e-4f64, 2e-6f64);
-        (0..16)
+        octave_points(16, 1_440_000, 1.4e6, |tau| {
+            (n * n / tau + k * k * tau / 3.0).sqrt()
+        })
+    }
+
+    /// The figure of `model` fitted to `pts`, in rad/s.
+    fn rad_axis<'a>(
+        title: &str,
+        pts: &'a [Point],
+        model: &'a NoiseModel,
+        term_unit: &'a dyn Fn(Term) -> String,
+    ) -> ModelAxis<'a> {
+        ModelAxis {
+            title: title.into(),
+            unit: "rad/s".into(),
+            points: pts,
+            model,
+            term_unit,
+        }
+    }
+
+    /// The lines of the figure of `model` at the τ of `pts`.
+    fn lines_at_points(title: &str, pts: &[Point], model: &NoiseModel) -> Vec<Line> {
+        let unit = |_: Term| "u".to_string();
+        let taus: Vec<f64> = pts.iter().map(|p| p.tau).collect();
+        lines(&rad_axis(title, pts, model, &unit), &taus)
+    }
+
+    /// `count` octave τ from 10 ms with the deviation `dev(τ)`, `terms`
+    /// terms each and `edf_tau / τ` degrees of freedom (at least 4), their
+    /// interval ±2/√edf.
+    fn octave_points(count: i32, terms: usize, edf_tau: f64, dev: impl Fn(f64) -> f64) -> Vec<Point> {
+        (0..count)
             .map(|j| {
                 let tau = 0.01 * 2f64.powi(j);
-                let dev = (n * n / tau + k * k * tau / 3.0).sqrt();
-                let edf = (1.4e6 / tau).max(4.0);
+                let dev = dev(tau);
+                let edf = (edf_tau / tau).max(4.0);
                 let half = 2.0 / edf.sqrt();
                 Point {
                     tau,
                     m: 1 << j,
                     dev,
-                    n: 1_440_000,
+                    n: terms,
                     edf,
                     dev_lo: dev * (1.0 - half),
                     dev_hi: dev * (1.0 + half),
@@ -479,16 +511,7 @@ mod tests {
     fn each_kept_line_lies_under_the_curve_and_their_sum_follows_it() {
         let pts = white_and_walk();
         let model = estimate(&pts, 0.95);
-        let unit = |_: Term| "u".to_string();
-        let axis = ModelAxis {
-            title: "gyro_x".into(),
-            unit: "rad/s".into(),
-            points: &pts,
-            model: &model,
-            term_unit: &unit,
-        };
-        let taus: Vec<f64> = pts.iter().map(|p| p.tau).collect();
-        let ls = lines(&axis, &taus);
+        let ls = lines_at_points("gyro_x", &pts, &model);
         let sum = ls
             .iter()
             .find(|l| l.stroke == Stroke::Model)
@@ -530,37 +553,12 @@ mod tests {
         // White noise N plus one Gauss–Markov process (σ, T = 100 s), its
         // exact Allan variance (process::gauss_markov), at octave τ.
         let (n, s, tc) = (1e-4f64, 3e-5f64, 100.0);
-        let pts: Vec<Point> = (0..18)
-            .map(|j| {
-                let tau = 0.01 * 2f64.powi(j);
-                let dev = (n * n / tau + s * s * process::gauss_markov(tau, tc)).sqrt();
-                let edf = (2e6 / tau).max(4.0);
-                let half = 2.0 / edf.sqrt();
-                Point {
-                    tau,
-                    m: 1 << j,
-                    dev,
-                    n: 2_000_000,
-                    edf,
-                    dev_lo: dev * (1.0 - half),
-                    dev_hi: dev * (1.0 + half),
-                    alpha: 0,
-                    noise_id: allan::NoiseIdMethod::Assumed,
-                }
-            })
-            .collect();
+        let pts = octave_points(18, 2_000_000, 2e6, |tau| {
+            (n * n / tau + s * s * process::gauss_markov(tau, tc)).sqrt()
+        });
         let model = estimate(&pts, 0.95);
         assert_eq!(model.gauss_markov.len(), 1, "model {}", model.label);
-        let unit = |_: Term| "u".to_string();
-        let axis = ModelAxis {
-            title: "gm".into(),
-            unit: "rad/s".into(),
-            points: &pts,
-            model: &model,
-            term_unit: &unit,
-        };
-        let taus: Vec<f64> = pts.iter().map(|p| p.tau).collect();
-        let ls = lines(&axis, &taus);
+        let ls = lines_at_points("gm", &pts, &model);
         let gm = ls
             .iter()
             .find(|l| l.label.starts_with("GM: σ = "))
@@ -577,7 +575,11 @@ mod tests {
                 .sum();
             assert!((kept.sqrt() / sum.sigma[i] - 1.0).abs() < 1e-9);
         }
-        let svg = model_plot(Target::Svg, &axis).unwrap().into_svg().unwrap();
+        let unit = |_: Term| "u".to_string();
+        let svg = model_plot(Target::Svg, &rad_axis("gm", &pts, &model, &unit))
+            .unwrap()
+            .into_svg()
+            .unwrap();
         assert!(svg.contains("T = "), "the correlation time is in the legend");
     }
 
@@ -586,13 +588,7 @@ mod tests {
         let pts = white_and_walk();
         let model = estimate(&pts, 0.95);
         let unit = |t: Term| format!("unit-of-{}", t.symbol());
-        let axis = ModelAxis {
-            title: "gyro_x at 34 °C".into(),
-            unit: "rad/s".into(),
-            points: &pts,
-            model: &model,
-            term_unit: &unit,
-        };
+        let axis = rad_axis("gyro_x at 34 °C", &pts, &model, &unit);
         let svg = model_plot(Target::Svg, &axis).unwrap().into_svg().unwrap();
         for text in [
             "gyro_x at 34 °C",
@@ -630,13 +626,7 @@ mod tests {
             .collect();
         let model = estimate(&pts, 0.95);
         let unit = |_: Term| String::new();
-        let axis = ModelAxis {
-            title: "bump".into(),
-            unit: "rad/s".into(),
-            points: &pts,
-            model: &model,
-            term_unit: &unit,
-        };
+        let axis = rad_axis("bump", &pts, &model, &unit);
         let ls = lines(&axis, &[1.0]);
         if model.quality.is_some() && !model.fits {
             assert!(ls.iter().all(|l| l.stroke != Stroke::Kept), "{ls:?}");
@@ -660,13 +650,7 @@ mod tests {
         pts.truncate(1);
         let model = estimate(&pts, 0.95);
         let unit = |_: Term| String::new();
-        let axis = ModelAxis {
-            title: "short".into(),
-            unit: "rad/s".into(),
-            points: &pts,
-            model: &model,
-            term_unit: &unit,
-        };
+        let axis = rad_axis("short", &pts, &model, &unit);
         assert!(residuals(&pts, &model).is_empty());
         let svg = model_plot(Target::Svg, &axis).unwrap().into_svg().unwrap();
         assert!(svg.contains("no candidate model fits"), "{svg}");

@@ -108,11 +108,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     let mut runs: Vec<PathBuf> = Vec::new();
     for (i, t) in TEMPERATURES.iter().enumerate() {
         let p = file(&runs_named[i]);
-        let profile = Profile::Constant {
-            temp_c: *t,
-            fluctuation_c: 0.05,
-            fluctuation_tau_s: 60.0,
-        };
+        let profile = Profile::constant(*t, 0.05);
         simulate(&p, profile, 10 + i as u64, rate, constant_s, &bar)?;
         runs.push(p);
     }

@@ -457,22 +457,14 @@ fn write_text(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<
                 writeln!(
                     out,
                     "  the model's curve leaves the measured interval at τ = {} s",
-                    m.outside
-                        .iter()
-                        .map(|t| format!("{t:.4}"))
-                        .collect::<Vec<_>>()
-                        .join(", ")
+                    taus_text(&m.outside)
                 )?;
             }
             if !m.left_out.is_empty() {
                 writeln!(
                     out,
                     "  left out of the fit, as no candidate process (a bump, a tone): τ = {} s",
-                    m.left_out
-                        .iter()
-                        .map(|t| format!("{t:.4}"))
-                        .collect::<Vec<_>>()
-                        .join(", ")
+                    taus_text(&m.left_out)
                 )?;
             }
             for term in Term::ALL {
@@ -559,6 +551,14 @@ fn write_text(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<
         write_thesis_tables(out, analysis, units)?;
     }
     Ok(())
+}
+
+/// Averaging times in seconds, as the text report lists them.
+fn taus_text(taus: &[f64]) -> String {
+    taus.iter()
+        .map(|t| format!("{t:.4}"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// The thesis's layout: one table per term, rows = axes, columns = the

@@ -31,6 +31,40 @@ pub fn imutherm() -> Command {
     Command::cargo_bin("imutherm").unwrap()
 }
 
+/// `imutherm COMMAND ARGS -o OUT`.
+pub fn writing(command: &str, args: &[&str], out: &Path) -> Command {
+    let mut cmd = imutherm();
+    cmd.arg(command).args(args).arg("-o").arg(out);
+    cmd
+}
+
+/// `imutherm` with these arguments, words and paths alike, in order.
+#[allow(unused_macros)]
+macro_rules! cli {
+    ($($arg:expr),* $(,)?) => {{
+        let mut cmd = $crate::support::imutherm();
+        $(cmd.arg($arg);)*
+        cmd
+    }};
+}
+#[allow(unused_imports)]
+pub(crate) use cli;
+
+/// A command that must be refused.
+pub trait Refused {
+    /// Runs the command, which must exit with `code` and say `says` on
+    /// standard error.
+    fn refused(&mut self, code: i32, says: impl Into<String>) -> Assert;
+}
+
+impl Refused for Command {
+    fn refused(&mut self, code: i32, says: impl Into<String>) -> Assert {
+        self.assert()
+            .code(code)
+            .stderr(predicates::str::contains(says.into()))
+    }
+}
+
 /// An `imutherm simulate` run: the profile, duration, rate and seed a test
 /// names, anything else as extra arguments; the rest stays at the
 /// simulator's defaults.
@@ -133,6 +167,16 @@ pub fn json_stdout(cmd: &mut Command) -> Value {
 /// The standard output of a finished command, read as JSON.
 pub fn json_of(out: &Output) -> Value {
     serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// The element of the JSON array `list` whose `key` is `value`, which must
+/// be there.
+pub fn entry<'a>(list: &'a Value, key: &str, value: &str) -> &'a Value {
+    list.as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e[key] == value)
+        .unwrap_or_else(|| panic!("no {key} {value:?} in {list}"))
 }
 
 /// A JSON file.

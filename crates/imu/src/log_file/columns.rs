@@ -4,7 +4,7 @@
 use crate::header::{split_name_unit, split_unit_suffix};
 use crate::names::quantity_of_name;
 use crate::recording::{Axis, standard_name};
-use crate::units::{Quantity, Unit, UnitSource, parse_unit};
+use crate::units::{Quantity, Unit, UnitOverride, UnitSource, parse_unit};
 
 /// What a column is, judged from its header.
 #[derive(Debug, Clone, PartialEq)]
@@ -35,10 +35,10 @@ pub fn classify_header(header: &str, unit_override: Option<&str>) -> ColumnKind 
     classify(header, unit_override.map(|u| (u, UnitSource::Flag)))
 }
 
-/// [`classify_header`] with the unit from `overrides` (`(column, unit)`
-/// pairs) when one names this column by its header, its header without the
-/// unit, or its imutherm name (`gyro_x`).
-pub fn classify_with_overrides(header: &str, overrides: &[(String, String)]) -> ColumnKind {
+/// [`classify_header`] with the unit from `overrides` when one names this
+/// column by its header, its header without the unit, or its imutherm name
+/// (`gyro_x`).
+pub fn classify_with_overrides(header: &str, overrides: &[UnitOverride]) -> ColumnKind {
     classify_with_sources(header, overrides, &[])
 }
 
@@ -46,20 +46,21 @@ pub fn classify_with_overrides(header: &str, overrides: &[(String, String)]) -> 
 /// (`# unit.gyro_x: deg/s`) below those of the command line.
 pub fn classify_with_sources(
     header: &str,
-    flags: &[(String, String)],
+    overrides: &[UnitOverride],
     metadata: &[(String, String)],
 ) -> ColumnKind {
     let plain = classify(header, None);
-    let find = |list: &[(String, String)]| {
-        list.iter()
-            .find(|(c, _)| names_column(c, header, &plain.name))
-            .map(|(_, u)| u.clone())
-    };
-    if let Some(u) = find(flags) {
-        return classify(header, Some((&u, UnitSource::Flag)));
+    if let Some(o) = overrides
+        .iter()
+        .find(|o| names_column(&o.column, header, &plain.name))
+    {
+        return classify(header, Some((&o.unit_text, UnitSource::Flag)));
     }
-    if let Some(u) = find(metadata) {
-        return classify(header, Some((&u, UnitSource::Metadata)));
+    if let Some((_, u)) = metadata
+        .iter()
+        .find(|(c, _)| names_column(c, header, &plain.name))
+    {
+        return classify(header, Some((u, UnitSource::Metadata)));
     }
     plain
 }

@@ -10,10 +10,15 @@
 //!
 //! [`writer`] writes both; [`columns`] classifies a header's columns;
 //! [`reader`] reads either (or any numeric table with a header) and says
-//! which it found; [`trailer`] finds the recorder's closing line.
+//! which it found, in stages: `layout` (the header, units and time column),
+//! `gaps` (the channels and their gaps), `time_axis` (the time column and
+//! rate); [`trailer`] finds the recorder's closing line.
 
 pub mod columns;
+mod gaps;
+mod layout;
 pub mod reader;
+mod time_axis;
 pub mod trailer;
 pub mod writer;
 
@@ -158,16 +163,21 @@ mod tests {
         assert!(report.timing.is_some());
     }
 
+    /// An imutherm log at 100 Hz of these rows.
+    fn imutherm_log_of(rows: impl IntoIterator<Item = [f64; 7]>) -> Vec<u8> {
+        let mut w =
+            LogWriter::new(Vec::new(), LogFormat::Imutherm, &Metadata::default(), Some(100.0)).unwrap();
+        for row in rows {
+            w.write_row(&row).unwrap();
+        }
+        w.into_inner()
+    }
+
     #[test]
     fn a_gap_after_a_bad_line_is_still_reported() {
         let dir = tempfile::tempdir().unwrap();
         let p = dir.path().join("bad_then_gap.txt");
-        let mut w =
-            LogWriter::new(Vec::new(), LogFormat::Imutherm, &Metadata::default(), Some(100.0)).unwrap();
-        for _ in 0..3 {
-            w.write_row(&[1.0; 7]).unwrap();
-        }
-        let mut text = w.into_inner();
+        let mut text = imutherm_log_of([[1.0; 7]; 3]);
         text.extend_from_slice(b"1, 2, garbled\n");
         let mut w = LogWriter::new(Vec::new(), LogFormat::Thesis, &Metadata::default(), None).unwrap();
         w.write_comment("gap", "5 samples lost").unwrap();
@@ -202,13 +212,8 @@ mod tests {
     fn many_logger_gaps_are_each_listed_once() {
         let dir = tempfile::tempdir().unwrap();
         let p = dir.path().join("gaps.txt");
-        let mut w =
-            LogWriter::new(Vec::new(), LogFormat::Imutherm, &Metadata::default(), Some(100.0)).unwrap();
-        for i in 0..600 {
-            let v = if i % 3 == 1 { f64::NAN } else { 1.0 };
-            w.write_row(&[v; 7]).unwrap();
-        }
-        std::fs::write(&p, w.into_inner()).unwrap();
+        let rows = (0..600).map(|i| [if i % 3 == 1 { f64::NAN } else { 1.0 }; 7]);
+        std::fs::write(&p, imutherm_log_of(rows)).unwrap();
         let (_, report) = read_recording_with_report(&p, &RecordingOptions::default()).unwrap();
         assert_eq!(report.count(ProblemKind::NanRun), 200);
         assert_eq!(report.unlisted, 0);
@@ -226,7 +231,7 @@ mod tests {
         let p = dir.path().join("g.csv");
         std::fs::write(&p, "gyro_x[deg/s],acc_z[g],gyro_y,pressure[hPa]\n180,1,90,1013\n").unwrap();
         let opts = RecordingOptions {
-            units: vec![("gyro_y".into(), "deg/s".into())],
+            units: vec!["gyro_y=deg/s".parse().unwrap()],
             ..RecordingOptions::default()
         };
         let rec = read_recording(&p, &opts).unwrap();
@@ -235,11 +240,8 @@ mod tests {
         assert!((rec.channel("gyro_y").unwrap().data[0] - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
         let p_ch = rec.channel("pressure").unwrap();
         assert_eq!((p_ch.quantity, p_ch.unit.as_str()), (Quantity::Other, "hPa"));
-        let bad = RecordingOptions {
-            units: vec![("gyro_y".into(), "parsec".into())],
-            ..RecordingOptions::default()
-        };
-        let e = read_recording(&p, &bad).unwrap_err();
+        // A unit imutherm does not convert cannot be given at all.
+        let e = "gyro_y=parsec".parse::<crate::units::UnitOverride>().unwrap_err();
         assert!(e.to_string().contains("parsec"), "{e}");
     }
 

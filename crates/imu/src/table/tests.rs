@@ -1,6 +1,12 @@
 use super::*;
 use std::io::Write;
 
+/// Every column of a file holding `content`.
+fn read_all(content: &[u8]) -> Result<Table, ReadError> {
+    let f = file(content);
+    TableReader::open(f.path()).unwrap().read(None)
+}
+
 fn file(content: &[u8]) -> tempfile::NamedTempFile {
     let mut f = tempfile::NamedTempFile::new().unwrap();
     f.write_all(content).unwrap();
@@ -9,8 +15,7 @@ fn file(content: &[u8]) -> tempfile::NamedTempFile {
 
 #[test]
 fn reads_headerless_whitespace_columns() {
-    let f = file(b"# x\n1 2\n\n3\t4\n# mid comment\n5 6\n");
-    let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+    let t = read_all(b"# x\n1 2\n\n3\t4\n# mid comment\n5 6\n").unwrap();
     assert_eq!(t.names, ["col1", "col2"]);
     assert!(!t.has_header);
     assert_eq!(t.columns, vec![vec![1.0, 3.0, 5.0], vec![2.0, 4.0, 6.0]]);
@@ -36,13 +41,11 @@ fn reads_thesis_style_header_and_selects() {
 
 #[test]
 fn errors_name_line_and_column() {
-    let f = file(b"a,b\n1,2\n3,x7\n");
-    let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
+    let e = read_all(b"a,b\n1,2\n3,x7\n").unwrap_err();
     assert_eq!((e.line, e.column), (Some(3), Some(2)));
     assert!(e.to_string().contains(":3: column 2: cannot read 'x7'"), "{e}");
 
-    let f = file(b"1,2\n3\n");
-    let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
+    let e = read_all(b"1,2\n3\n").unwrap_err();
     assert_eq!(e.line, Some(2));
     assert!(matches!(
         e.kind,
@@ -52,8 +55,7 @@ fn errors_name_line_and_column() {
         }
     ));
 
-    let f = file(b"1,2\n3,4\n5");
-    let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+    let t = read_all(b"1,2\n3,4\n5").unwrap();
     assert_eq!(t.columns[0], vec![1.0, 3.0]);
     assert_eq!(t.problems.len(), 1);
     assert_eq!(t.problems[0].line, Some(3));
@@ -61,15 +63,13 @@ fn errors_name_line_and_column() {
         t.problems[0].kind,
         ReadErrorKind::TruncatedLastLine { .. }
     ));
-    let f = file(b"1,2\n3,4\n5,-");
-    let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+    let t = read_all(b"1,2\n3,4\n5,-").unwrap();
     assert_eq!((t.rows(), t.problems.len()), (2, 1));
 
     let f = file(b"");
     let e = TableReader::open(f.path()).unwrap_err();
     assert!(matches!(e.kind, ReadErrorKind::NoData));
-    let f = file(b"# only\nname\n");
-    let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
+    let e = read_all(b"# only\nname\n").unwrap_err();
     assert!(matches!(e.kind, ReadErrorKind::NoData));
 }
 
@@ -78,15 +78,12 @@ fn one_column_rows_leave_the_quick_loop_where_they_must() {
     // Plain decimals run through the one-column loop; an exponent, a
     // leading blank, CRLF, a blank line and a comment each leave it and
     // come back; the bad cell is still named by its line.
-    let f = file(b"1.5\n2e-3\n\n# c\n 3\n4\r\n-0.25\n5\n");
-    let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+    let t = read_all(b"1.5\n2e-3\n\n# c\n 3\n4\r\n-0.25\n5\n").unwrap();
     assert_eq!(t.columns[0], vec![1.5, 2e-3, 3.0, 4.0, -0.25, 5.0]);
     assert_eq!(t.line_of_row(4), 7);
-    let f = file(b"1.5\n2.5\n3.5x\n4\n");
-    let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
+    let e = read_all(b"1.5\n2.5\n3.5x\n4\n").unwrap_err();
     assert_eq!((e.line, e.column), (Some(3), Some(1)));
-    let f = file(b"1.5\n2.5\n3.5");
-    let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+    let t = read_all(b"1.5\n2.5\n3.5").unwrap();
     assert_eq!(
         (t.columns[0].clone(), t.problems[0].line),
         (vec![1.5, 2.5], Some(3))
@@ -101,11 +98,9 @@ fn odd_but_valid_cells_take_the_careful_path() {
     let r = TableReader::open(f.path()).unwrap();
     let t = r.read(Some(&[1])).unwrap();
     assert_eq!(t.columns[0], vec![1.5e-3, -2.0]);
-    let f = file(b"1  2\n3 4e\n");
-    let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
+    let e = read_all(b"1  2\n3 4e\n").unwrap_err();
     assert_eq!((e.line, e.column), (Some(2), Some(2)));
-    let f = file(b"1,2\n3,,\n");
-    let e = TableReader::open(f.path()).unwrap().read(None).unwrap_err();
+    let e = read_all(b"1,2\n3,,\n").unwrap_err();
     assert!(
         matches!(
             e.kind,
@@ -188,8 +183,7 @@ fn a_last_line_without_newline_is_cut_even_when_it_reads() {
         }
     }
     // A comment or a blank last line without newline loses nothing.
-    let f = file(b"1,2\n3,4\n# end");
-    let t = TableReader::open(f.path()).unwrap().read(None).unwrap();
+    let t = read_all(b"1,2\n3,4\n# end").unwrap();
     assert_eq!((t.rows(), t.problems.len()), (2, 0));
 }
 
