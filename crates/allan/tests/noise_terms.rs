@@ -1,7 +1,8 @@
 //! The noise model against curves and series with known terms, and the
 //! rules no result may break.
 
-use allan::noise_model::{MIN_POINTS, SHOW_SHARE, estimate};
+use allan::confidence::chi2_interval;
+use allan::noise_model::{CEILING_CONFIDENCE, MIN_EDF, MIN_POINTS, SHOW_SHARE, estimate};
 use allan::noise_terms::{Term, TermEstimate, analyze_terms, slope_method};
 use allan::{NoiseIdMethod, Options, Point, analyze};
 
@@ -186,6 +187,52 @@ fn no_term_exceeds_its_ceiling_or_rests_on_too_few_points() {
                     .filter(|p| v.value.powi(2) * t.variance_basis(p.tau) >= SHOW_SHARE * m.avar(p.tau))
                     .count();
                 assert!(shows >= MIN_POINTS, "seed {seed}: {t:?} shows at {shows} points");
+            }
+        }
+    }
+}
+
+/// The rule of the bounds, against the intervals every output prints: a
+/// term's line (its value, or its bound where the model leaves it out)
+/// stays under the upper end of each supported point's 99 % interval taken
+/// with the point's own EDF (`chi2_interval`, as the printed intervals
+/// are), not under one set with the fit's more cautious weights. White
+/// noise with a random walk of a few sizes, records from 6000 to 144 000
+/// samples: the long τ of each, a few degrees of freedom, is where the
+/// fit's weights and the printed EDF part.
+#[test]
+fn no_term_or_bound_exceeds_the_printed_99_percent_interval() {
+    for seed in 0..8u64 {
+        let mut g = Gauss(900 + seed);
+        let samples = [6000usize, 36_000, 144_000][seed as usize % 3];
+        let k = [1e-5, 1e-4, 3e-4, 0.0][seed as usize % 4];
+        let mut walk = 0.0;
+        let y: Vec<f64> = (0..samples)
+            .map(|_| {
+                walk += k * 0.1f64.sqrt() * g.normal();
+                1e-3 * 10f64.sqrt() * g.normal() + walk
+            })
+            .collect();
+        let (pts, terms) = analyze_terms(&y, 10.0, 0.95).unwrap();
+        let m = &terms.model;
+        let supported: Vec<&Point> = pts.iter().filter(|p| p.edf >= MIN_EDF).collect();
+        assert!(!supported.is_empty());
+        for t in Term::ALL {
+            let line = match (m.get(t), m.bound(t)) {
+                (TermEstimate::Value(v), _) => v.value,
+                (TermEstimate::NotIdentifiable(_), Some(b)) => b,
+                (TermEstimate::NotIdentifiable(_), None) => continue,
+            };
+            for p in &supported {
+                let upper = chi2_interval(p.dev, p.edf, CEILING_CONFIDENCE).1;
+                let own = line * t.variance_basis(p.tau).sqrt();
+                assert!(
+                    own <= upper * (1.0 + 1e-12),
+                    "seed {seed}: {t:?} {line:.4e} is {:.4} of the 99 % upper end at τ = {} s (EDF {:.1})",
+                    own / upper,
+                    p.tau,
+                    p.edf
+                );
             }
         }
     }

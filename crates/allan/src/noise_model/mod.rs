@@ -20,23 +20,26 @@
 //! - a term enters a model only where it carries at least [`SHOW_SHARE`]
 //!   of the model's variance at [`MIN_POINTS`] points or more, holding
 //!   [`MIN_TERM_EDF`] degrees of freedom between them;
-//! - no term's own Allan variance exceeds, at any point with
+//! - no term's own Allan variance exceeds, at any measured point with
 //!   [`MIN_EDF`] degrees of freedom, the upper end of the measured
-//!   variance's [`CEILING_CONFIDENCE`] interval (the ceiling);
+//!   variance's [`CEILING_CONFIDENCE`] interval (the [`ceiling`]), taken
+//!   with the point's own EDF, the one its printed interval has;
 //! - a term the criterion leaves out, or one no point can show, is given as
 //!   an upper bound (the smallest ceiling along its own line), never as a
 //!   value; so is every term when no candidate fits (p below
 //!   [`FIT_P_VALUE`]).
 
+pub mod ceiling;
 pub mod covariance;
 pub mod lm;
 pub mod process;
 mod select;
 
-use statrs::distribution::{ChiSquared, ContinuousCDF, StudentsT};
+use statrs::distribution::{ContinuousCDF, StudentsT};
 
 use crate::Point;
 use crate::noise_terms::{PerTerm, Term, TermEstimate, TermValue};
+use ceiling::Ceiling;
 use lm::{Component, Data, model_avar};
 use nalgebra::DMatrix;
 pub use select::Candidate;
@@ -168,29 +171,6 @@ impl NoiseModel {
     }
 }
 
-/// The upper end of a point's measured variance at [`CEILING_CONFIDENCE`]:
-/// σ̂²·ν/χ²_ν((1 − c)/2).
-fn ceiling(p: &Point) -> f64 {
-    let nu = p.edf.min(MAX_FIT_EDF);
-    let q = ChiSquared::new(nu)
-        .map(|d| d.inverse_cdf((1.0 - CEILING_CONFIDENCE) / 2.0))
-        .unwrap_or(f64::NAN);
-    p.dev * p.dev * nu / q
-}
-
-/// The smallest ceiling along a term's own line: no larger term fits under
-/// the curve. Points with fewer than [`MIN_EDF`] degrees of freedom count
-/// only when no point has that many (a record too short for any).
-fn term_bound(term: Term, pts: &[Point], ceilings: &[f64]) -> Option<f64> {
-    let supported = pts.iter().any(|p| p.edf >= MIN_EDF);
-    pts.iter()
-        .zip(ceilings)
-        .filter(|(p, c)| (!supported || p.edf >= MIN_EDF) && c.is_finite())
-        .map(|(p, c)| (c / lm::power_basis(term, p.tau)).sqrt())
-        .filter(|v| v.is_finite())
-        .min_by(f64::total_cmp)
-}
-
 /// The selected noise model of an overlapping ADEV curve of rate data
 /// (octave taus are best: nearly independent points), intervals at
 /// `confidence`.
@@ -200,10 +180,14 @@ pub fn estimate(points: &[Point], confidence: f64) -> NoiseModel {
         .copied()
         .filter(|p| p.dev.is_finite() && p.dev > 0.0 && p.edf.is_finite() && p.edf > 0.0 && p.tau > 0.0)
         .collect();
+    // Every measured point bounds the terms, the left-out ones too: a
+    // point the model cannot describe is still a deviation no term may
+    // exceed.
+    let ceilings = ceiling::ceilings(&pts);
     let mut left_out = Vec::new();
     let budget = pts.len() / 4;
     loop {
-        let (used, sel) = select_reweighed(&pts);
+        let (used, sel) = select_reweighed(&pts, &ceilings);
         if let Some(best) = &sel.best
             && !fits(best.quality.p_value)
             && left_out.len() < budget
@@ -215,7 +199,7 @@ pub fn estimate(points: &[Point], confidence: f64) -> NoiseModel {
             continue;
         }
         left_out.sort_unstable_by(f64::total_cmp);
-        return build(&used, sel, confidence, left_out);
+        return build(&used, &ceilings, sel, confidence, left_out);
     }
 }
 
@@ -289,19 +273,19 @@ fn efficient(best: &select::Best, pts: &[Point]) -> Option<(Vec<Point>, DMatrix<
 /// alone): the two-step GMWM, whose second step fits with the efficient
 /// weights of the first step's model. Returns the points as last weighted
 /// and the selection.
-fn select_reweighed(pts: &[Point]) -> (Vec<Point>, select::Selection) {
+fn select_reweighed(pts: &[Point], ceilings: &[Ceiling]) -> (Vec<Point>, select::Selection) {
     let mut used = cautious(pts);
-    let mut sel = select::select(&used, None);
+    let mut sel = select::select(&used, None, ceilings);
     for _ in 0..MODEL_PASSES {
         let Some(best) = &sel.best else { break };
         let next = match efficient(best, pts) {
             Some((next_used, corr)) => {
-                let next = select::select(&next_used, Some(&corr));
+                let next = select::select(&next_used, Some(&corr), ceilings);
                 (next_used, next)
             }
             None => {
                 let next_used = best.reweigh(pts);
-                let next = select::select(&next_used, None);
+                let next = select::select(&next_used, None, ceilings);
                 (next_used, next)
             }
         };
@@ -319,9 +303,14 @@ fn fits(p: f64) -> bool {
     p >= FIT_P_VALUE
 }
 
-fn build(pts: &[Point], sel: select::Selection, confidence: f64, left_out: Vec<f64>) -> NoiseModel {
-    let ceilings: Vec<f64> = pts.iter().map(ceiling).collect();
-    let bounds = PerTerm::from_fn(|t| term_bound(t, pts, &ceilings));
+fn build(
+    pts: &[Point],
+    ceilings: &[Ceiling],
+    sel: select::Selection,
+    confidence: f64,
+    left_out: Vec<f64>,
+) -> NoiseModel {
+    let bounds = PerTerm::from_fn(|t| ceiling::bound(ceilings, |tau| lm::power_basis(t, tau)));
     let Some(best) = sel.best else {
         let why = if pts.len() < 2 {
             "not identifiable: fewer than 2 points on the curve".to_string()

@@ -6,8 +6,9 @@
 use nalgebra::DMatrix;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
+use super::ceiling::{self, Ceiling};
 use super::lm::{self, Component, Data, TcRange, model_avar};
-use super::{MIN_EDF, MIN_POINTS, MIN_TERM_EDF, Quality, SHOW_SHARE, ceiling, data_of};
+use super::{MIN_POINTS, MIN_TERM_EDF, Quality, SHOW_SHARE, data_of};
 use crate::Point;
 use crate::noise_terms::Term;
 
@@ -206,8 +207,8 @@ fn starts(comps: &[Component], data: &Data) -> Vec<Vec<f64>> {
 
 /// Whether every process of a fitted model shows ([`SHOW_SHARE`] of the
 /// variance at [`MIN_POINTS`] points holding [`MIN_TERM_EDF`]) and stays
-/// under every supported point's ceiling.
-fn admissible(comps: &[Component], theta: &[f64], pts: &[Point], ceilings: &[f64]) -> bool {
+/// under the measured curve's ceiling ([`ceiling`]).
+fn admissible(comps: &[Component], theta: &[f64], pts: &[Point], ceilings: &[Ceiling]) -> bool {
     let mut at = 0;
     comps.iter().all(|c| {
         let own = &theta[at..at + c.arity()];
@@ -220,10 +221,7 @@ fn admissible(comps: &[Component], theta: &[f64], pts: &[Point], ceilings: &[f64
                 edf += p.edf;
             }
         }
-        let under = pts
-            .iter()
-            .zip(ceilings)
-            .all(|(p, cap)| p.edf < MIN_EDF || c.avar(own, p.tau) <= *cap);
+        let under = ceiling::under(ceilings, |tau| c.avar(own, tau));
         count >= MIN_POINTS && edf >= MIN_TERM_EDF && under
     })
 }
@@ -243,8 +241,8 @@ struct Scored {
 }
 
 /// Fits every candidate to `pts`, correlated as `corr` says (independent
-/// without it), and selects.
-pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>) -> Selection {
+/// without it), and selects among those under `ceilings`.
+pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>, ceilings: &[Ceiling]) -> Selection {
     let n = pts.len();
     let none = Selection {
         best: None,
@@ -262,7 +260,6 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>) -> Selection {
         None => data_of(pts),
     };
     let correlated = data.whiten.is_some();
-    let ceilings: Vec<f64> = pts.iter().map(ceiling).collect();
     let tc = TcRange {
         lo: data.tau[0].ln(),
         hi: data.tau[n - 1].ln(),
@@ -293,7 +290,7 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>) -> Selection {
         .into_iter()
         .filter_map(|s| {
             let fit = lm::fit(&data, &s.comps, s.fit.theta, tc, FULL_ITERATIONS)?;
-            admissible(&s.comps, &fit.theta, pts, &ceilings).then(|| score(s.comps, fit))
+            admissible(&s.comps, &fit.theta, pts, ceilings).then(|| score(s.comps, fit))
         })
         .take(REFINED)
         .collect();

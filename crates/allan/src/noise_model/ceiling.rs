@@ -1,0 +1,126 @@
+//! The ceiling of the measured curve: at each point, the upper end of the
+//! measured Allan variance's [`CEILING_CONFIDENCE`] interval, with the
+//! point's own degrees of freedom and by the same χ² interval
+//! ([`crate::confidence::chi2_interval`]) that gives the intervals every
+//! output prints. No term may exceed it, and a term's bound is the smallest
+//! ceiling along its line.
+//!
+//! The fit weighs the points differently (the most cautious EDF before it
+//! has a model, the model's own covariance after; [`super::estimate`]):
+//! those weights say how much a point should pull the fit, not what the
+//! curve the reader sees allows. A ceiling set under a smaller EDF than the
+//! printed one lies above the printed interval's upper end, and a bound
+//! from it can stand above the deviation it came from.
+
+use super::{CEILING_CONFIDENCE, MIN_EDF};
+use crate::Point;
+use crate::confidence::chi2_interval;
+
+/// One point's ceiling on the Allan variance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ceiling {
+    /// τ of the point, s.
+    pub tau: f64,
+    /// The upper end of the measured variance's interval.
+    pub avar: f64,
+}
+
+/// The upper end of the measured deviation's [`CEILING_CONFIDENCE`]
+/// interval at `p`, with `p`'s own EDF.
+pub fn upper_dev(p: &Point) -> f64 {
+    chi2_interval(p.dev, p.edf, CEILING_CONFIDENCE).1
+}
+
+/// The ceilings of the measured points that bound a term: those with at
+/// least [`MIN_EDF`] degrees of freedom, or every point when none has that
+/// many (a record too short for any still bounds its terms).
+pub fn ceilings(measured: &[Point]) -> Vec<Ceiling> {
+    let supported = measured.iter().any(|p| p.edf >= MIN_EDF);
+    measured
+        .iter()
+        .filter(|p| !supported || p.edf >= MIN_EDF)
+        .map(|p| Ceiling {
+            tau: p.tau,
+            avar: upper_dev(p).powi(2),
+        })
+        .filter(|c| c.avar.is_finite())
+        .collect()
+}
+
+/// The smallest ceiling along the line of a process whose Allan variance
+/// at τ is `basis(τ)` times its size²: the largest size (σ-like, the
+/// square root) that stays under every ceiling.
+pub fn bound(ceilings: &[Ceiling], basis: impl Fn(f64) -> f64) -> Option<f64> {
+    ceilings
+        .iter()
+        .map(|c| (c.avar / basis(c.tau)).sqrt())
+        .filter(|v| v.is_finite())
+        .min_by(f64::total_cmp)
+}
+
+/// Whether a process whose Allan variance at τ is `avar(τ)` stays under
+/// every ceiling.
+pub fn under(ceilings: &[Ceiling], avar: impl Fn(f64) -> f64) -> bool {
+    ceilings.iter().all(|c| avar(c.tau) <= c.avar)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(tau: f64, dev: f64, edf: f64) -> Point {
+        let (lo, hi) = chi2_interval(dev, edf, 0.95);
+        Point {
+            tau,
+            m: 1,
+            n: 100,
+            dev,
+            dev_lo: lo,
+            dev_hi: hi,
+            edf,
+            alpha: 0,
+            noise_id: crate::NoiseIdMethod::Assumed,
+        }
+    }
+
+    /// The ceiling is the printed interval's upper end at the ceiling's
+    /// confidence: the same EDF, the same quantile, bit for bit.
+    #[test]
+    fn the_ceiling_is_the_printed_interval_at_its_confidence() {
+        for edf in [2.5, 10.0, 37.0, 1e3, 5e5] {
+            let p = point(1.0, 2e-3, edf);
+            assert_eq!(upper_dev(&p), chi2_interval(2e-3, edf, CEILING_CONFIDENCE).1);
+            assert!(
+                upper_dev(&p) > p.dev_hi,
+                "99 % end inside the 95 % one at EDF {edf}"
+            );
+        }
+    }
+
+    /// A bound is no larger than any supported point allows, and equals
+    /// the tightest one.
+    #[test]
+    fn a_bound_is_the_tightest_ceiling_along_the_line() {
+        let pts = [
+            point(1.0, 1.0, 100.0),
+            point(2.0, 0.6, 50.0),
+            point(4.0, 0.5, 3.0),
+        ];
+        let c = ceilings(&pts);
+        assert_eq!(c.len(), 2, "the 3-EDF point bounds nothing beside supported ones");
+        let white = |tau: f64| 1.0 / tau;
+        let b = bound(&c, white).unwrap();
+        assert!(under(&c, |tau| b * b * white(tau) * (1.0 - 1e-12)));
+        assert!(!under(&c, |tau| b * b * white(tau) * (1.0 + 1e-9)));
+        let at_2 = upper_dev(&pts[1]) * 2f64.sqrt();
+        assert!((b / at_2 - 1.0).abs() < 1e-12, "{b} vs {at_2}");
+    }
+
+    /// A record whose every point is short of [`MIN_EDF`] is bounded by all
+    /// of them.
+    #[test]
+    fn without_supported_points_every_point_bounds() {
+        let pts = [point(1.0, 1.0, 3.0), point(2.0, 0.7, 1.5)];
+        assert_eq!(ceilings(&pts).len(), 2);
+    }
+}
