@@ -1,16 +1,17 @@
 //! The ceiling of the measured curve: at each point, the upper end of the
-//! measured Allan variance's [`CEILING_CONFIDENCE`] interval, with the
-//! point's own degrees of freedom and by the same χ² interval
-//! ([`crate::confidence::chi2_interval`]) that gives the intervals every
-//! output prints. No term may exceed it, and a term's bound is the smallest
-//! ceiling along its line.
+//! measured Allan variance's [`CEILING_CONFIDENCE`] interval, by the same
+//! χ² interval ([`crate::confidence::chi2_interval`]) that gives the
+//! intervals every output prints. No kept term may exceed it, and a left-out
+//! term's bound is the smallest ceiling along its line.
 //!
-//! The fit weighs the points differently (the most cautious EDF before it
-//! has a model, the model's own covariance after; [`super::estimate`]):
-//! those weights say how much a point should pull the fit, not what the
-//! curve the reader sees allows. A ceiling set under a smaller EDF than the
-//! printed one lies above the printed interval's upper end, and a bound
-//! from it can stand above the deviation it came from.
+//! The bounds take each point with its own EDF, the one its printed
+//! interval has: a ceiling set under a smaller EDF (the most cautious
+//! power-law one, or the model's) lies above the printed interval's upper
+//! end, and a bound from it stood up to 10 % above the deviation it came
+//! from on real recordings. A kept term is held under the points as the fit
+//! weighs them (`select`): the points' own noise identification reads one α
+//! at a time and can overstate a point's EDF many times in a mixture, which
+//! would rule out true processes.
 
 use super::{CEILING_CONFIDENCE, MIN_EDF};
 use crate::Point;
@@ -21,6 +22,8 @@ use crate::confidence::chi2_interval;
 pub struct Ceiling {
     /// τ of the point, s.
     pub tau: f64,
+    /// The measured deviation there.
+    pub dev: f64,
     /// The upper end of the measured variance's interval.
     pub avar: f64,
 }
@@ -41,6 +44,7 @@ pub fn ceilings(measured: &[Point]) -> Vec<Ceiling> {
         .filter(|p| !supported || p.edf >= MIN_EDF)
         .map(|p| Ceiling {
             tau: p.tau,
+            dev: p.dev,
             avar: upper_dev(p).powi(2),
         })
         .filter(|c| c.avar.is_finite())
@@ -58,10 +62,15 @@ pub fn bound(ceilings: &[Ceiling], basis: impl Fn(f64) -> f64) -> Option<f64> {
         .min_by(f64::total_cmp)
 }
 
-/// Whether a process whose Allan variance at τ is `avar(τ)` stays under
-/// every ceiling.
-pub fn under(ceilings: &[Ceiling], avar: impl Fn(f64) -> f64) -> bool {
-    ceilings.iter().all(|c| avar(c.tau) <= c.avar)
+/// The ceiling a process whose Allan variance at τ is `avar(τ)` exceeds
+/// by the largest factor, if it exceeds any.
+pub fn worst_breach(ceilings: &[Ceiling], avar: impl Fn(f64) -> f64) -> Option<&Ceiling> {
+    ceilings
+        .iter()
+        .map(|c| (avar(c.tau) / c.avar, c))
+        .filter(|(r, _)| *r > 1.0)
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, c)| c)
 }
 
 #[cfg(test)]
@@ -110,8 +119,13 @@ mod tests {
         assert_eq!(c.len(), 2, "the 3-EDF point bounds nothing beside supported ones");
         let white = |tau: f64| 1.0 / tau;
         let b = bound(&c, white).unwrap();
-        assert!(under(&c, |tau| b * b * white(tau) * (1.0 - 1e-12)));
-        assert!(!under(&c, |tau| b * b * white(tau) * (1.0 + 1e-9)));
+        assert!(worst_breach(&c, |tau| b * b * white(tau) * (1.0 - 1e-12)).is_none());
+        let over = worst_breach(&c, |tau| b * b * white(tau) * (1.0 + 1e-9));
+        assert_eq!(
+            over.map(|o| o.tau),
+            Some(2.0),
+            "the tightest point is the one broken"
+        );
         let at_2 = upper_dev(&pts[1]) * 2f64.sqrt();
         assert!((b / at_2 - 1.0).abs() < 1e-12, "{b} vs {at_2}");
     }

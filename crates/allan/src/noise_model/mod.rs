@@ -20,14 +20,17 @@
 //! - a term enters a model only where it carries at least [`SHOW_SHARE`]
 //!   of the model's variance at [`MIN_POINTS`] points or more, holding
 //!   [`MIN_TERM_EDF`] degrees of freedom between them;
-//! - no term's own Allan variance exceeds, at any measured point with
+//! - no kept term's own Allan variance exceeds, at any point with
 //!   [`MIN_EDF`] degrees of freedom, the upper end of the measured
-//!   variance's [`CEILING_CONFIDENCE`] interval (the [`ceiling`]), taken
-//!   with the point's own EDF, the one its printed interval has;
+//!   variance's [`CEILING_CONFIDENCE`] interval (the [`ceiling`]) with the
+//!   point weighed as the fit weighs it;
 //! - a term the criterion leaves out, or one no point can show, is given as
-//!   an upper bound (the smallest ceiling along its own line), never as a
-//!   value; so is every term when no candidate fits (p below
-//!   [`FIT_P_VALUE`]).
+//!   an upper bound, never as a value: the smallest ceiling along its own
+//!   line, each point's ceiling taken with the point's own EDF, the one its
+//!   printed interval has, so that no bound stands above a printed
+//!   deviation's 99 % end; so is every term when no candidate fits (p below
+//!   [`FIT_P_VALUE`]), and [`NoiseModel::defeat`] says where the best
+//!   candidate parts from the curve.
 
 pub mod ceiling;
 pub mod covariance;
@@ -96,6 +99,63 @@ pub struct Quality {
     pub criterion: f64,
 }
 
+/// Where the best candidate parts from the measured curve, when no
+/// candidate fits it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Defeat {
+    /// The candidate ("N + K"): the selected model where one was selected
+    /// and does not fit (p below [`FIT_P_VALUE`]); where none keeps the
+    /// rules, the one of lowest criterion that the ceiling rules out.
+    pub candidate: String,
+    /// The process whose own line exceeds the measured ceiling at `tau`
+    /// ("K"); `None` where it is the candidate's whole curve that misses
+    /// the point.
+    pub process: Option<String>,
+    /// τ of that point, s.
+    pub tau: f64,
+    /// The measured deviation over the candidate's curve there (over the
+    /// process's own line where `process` is given): below 1 where the
+    /// candidate stands above the curve.
+    pub ratio: f64,
+    /// The miss in the point's own standard deviations of ln σ̂², as the
+    /// fit weighs it (a misfit only).
+    pub sigmas: Option<f64>,
+}
+
+impl Defeat {
+    /// One sentence saying where the candidate parts from the curve.
+    pub fn describe(&self) -> String {
+        match (&self.process, self.sigmas) {
+            (Some(p), _) => format!(
+                "the best candidate, {}, has {p} above the measured deviation's {:.0} % upper end at τ = {} s \
+                 (measured/{p} = {:.3})",
+                self.candidate,
+                100.0 * CEILING_CONFIDENCE,
+                tau_text(self.tau),
+                self.ratio
+            ),
+            (None, s) => format!(
+                "{} misses the curve most at τ = {} s (measured/model = {:.3}{})",
+                self.candidate,
+                tau_text(self.tau),
+                self.ratio,
+                s.map(|s| format!(", {s:.1} standard deviations"))
+                    .unwrap_or_default()
+            ),
+        }
+    }
+}
+
+/// τ in seconds, its decimals to 0.1 ms, trailing zeros dropped; in
+/// scientific notation below a millisecond.
+fn tau_text(tau: f64) -> String {
+    if tau < 1e-3 {
+        return format!("{tau:.3e}");
+    }
+    let s = format!("{tau:.4}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
 /// The selected noise model of one curve.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NoiseModel {
@@ -131,6 +191,8 @@ pub struct NoiseModel {
     pub evidence: Vec<(String, f64)>,
     /// The best admissible candidates, best first.
     pub candidates: Vec<Candidate>,
+    /// Where no candidate fits: where the best one parts from the curve.
+    pub defeat: Option<Defeat>,
     components: Vec<Component>,
     theta: Vec<f64>,
 }
@@ -180,14 +242,14 @@ pub fn estimate(points: &[Point], confidence: f64) -> NoiseModel {
         .copied()
         .filter(|p| p.dev.is_finite() && p.dev > 0.0 && p.edf.is_finite() && p.edf > 0.0 && p.tau > 0.0)
         .collect();
-    // Every measured point bounds the terms, the left-out ones too: a
-    // point the model cannot describe is still a deviation no term may
-    // exceed.
+    // Every measured point bounds the terms the model leaves out, the
+    // left-out points too: a point the model cannot describe is still a
+    // deviation no bound may exceed.
     let ceilings = ceiling::ceilings(&pts);
     let mut left_out = Vec::new();
     let budget = pts.len() / 4;
     loop {
-        let (used, sel) = select_reweighed(&pts, &ceilings);
+        let (used, sel) = select_reweighed(&pts);
         if let Some(best) = &sel.best
             && !fits(best.quality.p_value)
             && left_out.len() < budget
@@ -273,19 +335,19 @@ fn efficient(best: &select::Best, pts: &[Point]) -> Option<(Vec<Point>, DMatrix<
 /// alone): the two-step GMWM, whose second step fits with the efficient
 /// weights of the first step's model. Returns the points as last weighted
 /// and the selection.
-fn select_reweighed(pts: &[Point], ceilings: &[Ceiling]) -> (Vec<Point>, select::Selection) {
+fn select_reweighed(pts: &[Point]) -> (Vec<Point>, select::Selection) {
     let mut used = cautious(pts);
-    let mut sel = select::select(&used, None, ceilings);
+    let mut sel = select::select(&used, None);
     for _ in 0..MODEL_PASSES {
         let Some(best) = &sel.best else { break };
         let next = match efficient(best, pts) {
             Some((next_used, corr)) => {
-                let next = select::select(&next_used, Some(&corr), ceilings);
+                let next = select::select(&next_used, Some(&corr));
                 (next_used, next)
             }
             None => {
                 let next_used = best.reweigh(pts);
-                let next = select::select(&next_used, None, ceilings);
+                let next = select::select(&next_used, None);
                 (next_used, next)
             }
         };
@@ -317,7 +379,11 @@ fn build(
         } else {
             format!(
                 "no candidate model fits the curve: none keeps the rules (each term shown at \
-                 {MIN_POINTS} points with {MIN_TERM_EDF} degrees of freedom, none above the measured ceiling)"
+                 {MIN_POINTS} points with {MIN_TERM_EDF} degrees of freedom, none above the measured ceiling){}",
+                sel.defeated
+                    .as_ref()
+                    .map(|d| format!("; {}", d.describe()))
+                    .unwrap_or_default()
             )
         };
         return NoiseModel {
@@ -334,12 +400,14 @@ fn build(
             outside: Vec::new(),
             evidence: Vec::new(),
             candidates: sel.ranked,
+            defeat: sel.defeated,
             components: Vec::new(),
             theta: Vec::new(),
         };
     };
     let q = best.quality;
     let ok = fits(q.p_value);
+    let defeat = (!ok).then(|| misfit(&best, pts)).flatten();
     // Student's t on the fit's degrees of freedom: the spreads rest on the
     // fit's own residual scatter where that exceeds the points' EDF.
     let z = StudentsT::new(0.0, 1.0, q.dof as f64)
@@ -400,8 +468,14 @@ fn build(
     let terms = PerTerm::from_fn(|t| {
         if !ok {
             return TermEstimate::NotIdentifiable(format!(
-                "no candidate model fits the curve (best {}: χ²/dof = {:.2}, p = {:.2e})",
-                best.label, q.chi2_reduced, q.p_value
+                "no candidate model fits the curve (best {}: χ²/dof = {:.2}, p = {:.2e}){}",
+                best.label,
+                q.chi2_reduced,
+                q.p_value,
+                defeat
+                    .as_ref()
+                    .map(|d| format!("; {}", d.describe()))
+                    .unwrap_or_default()
             ));
         }
         match found.iter().find(|(ft, _)| *ft == t) {
@@ -434,9 +508,28 @@ fn build(
         outside,
         evidence: sel.evidence,
         candidates: sel.ranked,
+        defeat,
         components: best.components.clone(),
         theta: best.theta.clone(),
     }
+}
+
+/// Where a selected model that does not fit misses the curve most: the
+/// point of largest standardised residual.
+fn misfit(best: &select::Best, pts: &[Point]) -> Option<Defeat> {
+    let (i, r) = best
+        .resid
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?;
+    let p = pts.get(i)?;
+    Some(Defeat {
+        candidate: best.label.clone(),
+        process: None,
+        tau: p.tau,
+        ratio: p.dev / model_avar(&best.components, &best.theta, p.tau).sqrt(),
+        sigmas: Some(r.abs()),
+    })
 }
 
 /// The data of the fit: each point's (τ, σ̂², ν) with ν capped at
