@@ -128,6 +128,11 @@ fn check(file: &str, axis: &str, unit: &str, points: &[Point], m: &NoiseModel) -
     } else {
         ("none fits".to_string(), "no curve; said".to_string())
     };
+    // Where no candidate fits, where the output says the best one fails.
+    let model = match &m.defeat {
+        Some(d) => format!("{model}; {}", d.describe()),
+        None => model,
+    };
     let row = format!(
         "| {file} | {axis} [{unit}] | {model} | {} | {} | {leaves} |",
         if kept.is_empty() {
