@@ -11,9 +11,8 @@
 //!   largest ratio is printed and must not exceed 1;
 //! - each bound (a term the model does not hold) against the measured
 //!   99 % upper end (`allan::noise_model::CEILING_CONFIDENCE`, the level
-//!   the bounds are defined at): likewise at most 1 (where it is not, the
-//!   ratio with each point's most cautious EDF, the weighting the bounds
-//!   are set under, is printed beside it);
+//!   the bounds are defined at), with each point's own EDF, the one its
+//!   printed interval has: likewise at most 1;
 //! - the model's curve against the measured 95 % interval at each fitted
 //!   point: the τ it leaves, and whether the model says so itself
 //!   (`NoiseModel::outside`, or "no candidate fits").
@@ -25,29 +24,17 @@
 use std::path::Path;
 
 use allan::Point;
-use allan::noise_model::{CEILING_CONFIDENCE, MAX_FIT_EDF, MIN_EDF, NoiseModel, lm::power_basis, process};
+use allan::confidence::chi2_interval;
+use allan::noise_model::{CEILING_CONFIDENCE, MIN_EDF, NoiseModel, lm::power_basis, process};
 use allan::noise_terms::{Term, TermEstimate};
 use analysis::noise::analyse_run;
 use imu::RecordingOptions;
-use statrs::distribution::{ChiSquared, ContinuousCDF};
 
-/// The measured variance's upper end at `confidence`: σ̂²·ν/χ²_ν((1 − c)/2).
+/// The measured deviation's upper end at `confidence`, with the point's own
+/// EDF and by the interval every output prints
+/// (`allan::confidence::chi2_interval`).
 fn upper(p: &Point, confidence: f64) -> f64 {
-    let nu = p.edf.min(MAX_FIT_EDF);
-    let q = ChiSquared::new(nu).map_or(f64::NAN, |d| d.inverse_cdf((1.0 - confidence) / 2.0));
-    (p.dev * p.dev * nu / q).sqrt()
-}
-
-/// The point with the smallest EDF any power-law noise gives it: the
-/// weighting the estimator starts from before it has a model, under which
-/// its bounds are set.
-fn cautious(p: &Point) -> Point {
-    let n_phase = p.n + 2 * p.m;
-    let edf = [2, 1, 0, -1, -2]
-        .iter()
-        .filter_map(|&a| allan::edf::edf_for(allan::Stat::Oadev, a, p.m, n_phase))
-        .fold(p.edf, f64::min);
-    Point { edf, ..*p }
+    chi2_interval(p.dev, p.edf, confidence).1
 }
 
 /// The largest ratio of a term's own σ(τ) to the measured upper end, over
@@ -82,13 +69,9 @@ fn check(file: &str, axis: &str, unit: &str, points: &[Point], m: &NoiseModel) -
                 if let Some(b) = m.bound(t) {
                     let line = |tau: f64| b * power_basis(t, tau).sqrt();
                     let (r, at) = worst(points, line, |p| upper(p, CEILING_CONFIDENCE));
-                    let (rc, _) = worst(points, line, |p| upper(&cautious(p), CEILING_CONFIDENCE));
                     broken |= r > 1.0 + 1e-9;
                     bounds.push(if r > 1.0 + 1e-9 {
-                        format!(
-                            "{} ≤ {b:.3e} ({r:.2} at {at:.3} s; {rc:.2} at cautious EDF)",
-                            t.symbol()
-                        )
+                        format!("{} ≤ {b:.3e} ({r:.2} at {at:.3} s)", t.symbol())
                     } else {
                         format!("{} ≤ {b:.3e} ({r:.2})", t.symbol())
                     });
@@ -144,6 +127,11 @@ fn check(file: &str, axis: &str, unit: &str, points: &[Point], m: &NoiseModel) -
         )
     } else {
         ("none fits".to_string(), "no curve; said".to_string())
+    };
+    // Where no candidate fits, where the output says the best one fails.
+    let model = match &m.defeat {
+        Some(d) => format!("{model}; {}", d.describe()),
+        None => model,
     };
     let row = format!(
         "| {file} | {axis} [{unit}] | {model} | {} | {} | {leaves} |",

@@ -1,7 +1,8 @@
 //! The noise model against curves and series with known terms, and the
 //! rules no result may break.
 
-use allan::noise_model::{MIN_POINTS, SHOW_SHARE, estimate};
+use allan::confidence::chi2_interval;
+use allan::noise_model::{CEILING_CONFIDENCE, MIN_EDF, MIN_POINTS, SHOW_SHARE, estimate};
 use allan::noise_terms::{Term, TermEstimate, analyze_terms, slope_method};
 use allan::{NoiseIdMethod, Options, Point, analyze};
 
@@ -191,6 +192,58 @@ fn no_term_exceeds_its_ceiling_or_rests_on_too_few_points() {
     }
 }
 
+/// The rule of the bounds, against the intervals every output prints: the
+/// line of each term the model leaves out, at its bound, stays under the
+/// upper end of each supported point's 99 % interval taken with the
+/// point's own EDF (`chi2_interval`, as the printed intervals are), not
+/// under one set with the fit's more cautious weights. White noise with a
+/// random walk of a few sizes, records from 6000 to 144 000 samples: the
+/// long τ of each, a few degrees of freedom, is where the fit's weights and
+/// the printed EDF part. (A kept term is held under the points as the fit
+/// weighs them: a point's own noise identification can give a long-τ point
+/// of white noise ten times its EDF.)
+#[test]
+fn no_bound_exceeds_the_printed_99_percent_interval() {
+    for seed in 0..8u64 {
+        let mut g = Gauss(900 + seed);
+        let samples = [6000usize, 36_000, 144_000][seed as usize % 3];
+        let k = [1e-5, 1e-4, 3e-4, 0.0][seed as usize % 4];
+        let mut walk = 0.0;
+        let y: Vec<f64> = (0..samples)
+            .map(|_| {
+                walk += k * 0.1f64.sqrt() * g.normal();
+                1e-3 * 10f64.sqrt() * g.normal() + walk
+            })
+            .collect();
+        let (pts, terms) = analyze_terms(&y, 10.0, 0.95).unwrap();
+        let m = &terms.model;
+        let supported: Vec<&Point> = pts.iter().filter(|p| p.edf >= MIN_EDF).collect();
+        assert!(!supported.is_empty());
+        assert_eq!(
+            m.fits,
+            m.defeat.is_none(),
+            "seed {seed}: a defeat is named where, and only where, nothing fits"
+        );
+        for t in Term::ALL {
+            let line = match (m.get(t), m.bound(t)) {
+                (TermEstimate::NotIdentifiable(_), Some(b)) => b,
+                _ => continue,
+            };
+            for p in &supported {
+                let upper = chi2_interval(p.dev, p.edf, CEILING_CONFIDENCE).1;
+                let own = line * t.variance_basis(p.tau).sqrt();
+                assert!(
+                    own <= upper * (1.0 + 1e-12),
+                    "seed {seed}: {t:?} {line:.4e} is {:.4} of the 99 % upper end at τ = {} s (EDF {:.1})",
+                    own / upper,
+                    p.tau,
+                    p.edf
+                );
+            }
+        }
+    }
+}
+
 /// Ten samples: two or three deviation points hold no bias instability;
 /// every term the record cannot show is a bound.
 #[test]
@@ -212,7 +265,7 @@ fn a_curve_no_candidate_fits_gives_no_terms() {
     let y: Vec<f64> = (0..60_000)
         .map(|i| 1e-3 * g.normal() + 0.05 * (2.0 * std::f64::consts::PI * 0.7 * i as f64 / rate).sin())
         .collect();
-    let (_, terms) = analyze_terms(&y, rate, 0.95).unwrap();
+    let (pts, terms) = analyze_terms(&y, rate, 0.95).unwrap();
     let m = &terms.model;
     if !m.fits {
         for t in Term::ALL {
@@ -222,6 +275,24 @@ fn a_curve_no_candidate_fits_gives_no_terms() {
             );
         }
         assert!(m.gauss_markov.is_empty());
+        // …and names where the best candidate parts from the curve: a
+        // measured point, the measured deviation over the model's there.
+        let d = m.defeat.as_ref().expect("where no candidate fits");
+        let p = pts
+            .iter()
+            .find(|p| (p.tau / d.tau - 1.0).abs() < 1e-12)
+            .expect("the defeat is at a measured τ");
+        assert!(d.ratio.is_finite() && d.ratio > 0.0, "{d:?}");
+        match &d.process {
+            // A process above the measured 99 % upper end: the measured
+            // deviation is below its line there.
+            Some(_) => assert!(d.ratio < 1.0, "{d:?}"),
+            None => assert_eq!(d.ratio, p.dev / m.avar(p.tau).sqrt(), "{d:?}"),
+        }
+        let TermEstimate::NotIdentifiable(why) = m.get(Term::WhiteNoise) else {
+            panic!("N printed without a fitting model")
+        };
+        assert!(why.contains(&d.describe()), "{why}");
     } else {
         // Were a candidate to fit, its curve must lie within the measured
         // intervals, or the points where it does not are named.

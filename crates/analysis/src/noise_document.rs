@@ -168,6 +168,24 @@ pub struct CandidateEntry {
     pub parameters: usize,
 }
 
+/// Where the best candidate parts from the curve, when no candidate fits.
+#[derive(Debug, Serialize)]
+pub struct DefeatEntry {
+    /// The candidate ("N + K").
+    pub candidate: String,
+    /// The process whose own line exceeds the measured deviation's 99 %
+    /// upper end ("K"); null where the candidate's whole curve misses.
+    pub process: Option<String>,
+    /// τ of the point, s.
+    pub tau: f64,
+    /// The measured deviation over the candidate's (or the process's) there.
+    pub ratio: f64,
+    /// The miss in the point's standard deviations (a misfit only).
+    pub sigmas: Option<f64>,
+    /// The same in one sentence.
+    pub text: String,
+}
+
 /// The selected noise model.
 #[derive(Debug, Serialize)]
 pub struct ModelEntry {
@@ -199,6 +217,9 @@ pub struct ModelEntry {
     pub gauss_markov: Vec<GaussMarkovEntry>,
     /// Each term's upper bound in SI (null: no point to set one).
     pub bounds: Vec<(String, Option<f64>)>,
+    /// Where no candidate fits: where the best one parts from the curve
+    /// (null where the model fits).
+    pub defeat: Option<DefeatEntry>,
 }
 
 /// One channel.
@@ -348,6 +369,14 @@ pub fn model_entry(m: &NoiseModel, unit: &str) -> ModelEntry {
             .iter()
             .map(|&t| (t.symbol().to_string(), m.bound(t)))
             .collect(),
+        defeat: m.defeat.as_ref().map(|d| DefeatEntry {
+            candidate: d.candidate.clone(),
+            process: d.process.clone(),
+            tau: d.tau,
+            ratio: d.ratio,
+            sigmas: d.sigmas,
+            text: d.describe(),
+        }),
     }
 }
 

@@ -19,7 +19,9 @@ use serde::Serialize;
 struct Details {
     model: ModelEntry,
     /// "fits", "does_not_fit" (a model, p below 0.01) or
-    /// "no_candidate_fits" (no candidate keeps the rules).
+    /// "no_candidate_fits" (no candidate keeps the rules); where it is not
+    /// "fits", `model.defeat` says where the best candidate parts from the
+    /// curve.
     verdict: &'static str,
     state_space: Vec<StateSpaceTerm>,
     filters: Option<Vec<FilterParams>>,

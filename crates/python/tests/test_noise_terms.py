@@ -79,6 +79,7 @@ def test_the_model_and_the_filters_are_the_command_lines(gyro, tmp_path):
     assert mine["filters"] == channel["filters"]
     assert [f["filter"] for f in mine["filters"]] == ["px4_ekf2", "ardupilot_ekf3"]
     assert mine["verdict"] == "fits" and mine["model"]["label"] == "N"
+    assert mine["model"]["defeat"] is None
 
 
 def test_kalibr_values_are_the_yamls(gyro, tmp_path):
@@ -112,6 +113,20 @@ def test_a_record_no_candidate_fits_says_so_and_holds_no_term():
     assert t["verdict"] == "no_candidate_fits"
     assert t["model"]["label"] == "none" and t["model"]["p_value"] is None
     assert not any(term["kept"] for term in t["terms"].values())
+
+
+def test_where_no_candidate_fits_the_verdict_names_the_tau():
+    # A strong tone over white noise: no sum of noise processes describes it.
+    rng = np.random.default_rng(11)
+    k = np.arange(60_000)
+    y = 1e-3 * rng.standard_normal(k.size) + 0.05 * np.sin(2 * np.pi * 0.7 * k / 100.0)
+    t = imutherm.noise_terms(y, rate=100.0)
+    d = t["model"]["defeat"]
+    if t["verdict"] == "fits":
+        assert d is None
+        return
+    assert d["tau"] > 0 and d["ratio"] > 0
+    assert d["candidate"] and str(d["text"]).startswith(("the best candidate", d["candidate"]))
 
 
 def test_an_unknown_sensor_is_refused(gyro):

@@ -20,23 +20,29 @@
 //! - a term enters a model only where it carries at least [`SHOW_SHARE`]
 //!   of the model's variance at [`MIN_POINTS`] points or more, holding
 //!   [`MIN_TERM_EDF`] degrees of freedom between them;
-//! - no term's own Allan variance exceeds, at any point with
+//! - no kept term's own Allan variance exceeds, at any point with
 //!   [`MIN_EDF`] degrees of freedom, the upper end of the measured
-//!   variance's [`CEILING_CONFIDENCE`] interval (the ceiling);
+//!   variance's [`CEILING_CONFIDENCE`] interval (the [`ceiling`]) with the
+//!   point weighed as the fit weighs it;
 //! - a term the criterion leaves out, or one no point can show, is given as
-//!   an upper bound (the smallest ceiling along its own line), never as a
-//!   value; so is every term when no candidate fits (p below
-//!   [`FIT_P_VALUE`]).
+//!   an upper bound, never as a value: the smallest ceiling along its own
+//!   line, each point's ceiling taken with the point's own EDF, the one its
+//!   printed interval has, so that no bound stands above a printed
+//!   deviation's 99 % end; so is every term when no candidate fits (p below
+//!   [`FIT_P_VALUE`]), and [`NoiseModel::defeat`] says where the best
+//!   candidate parts from the curve.
 
+pub mod ceiling;
 pub mod covariance;
 pub mod lm;
 pub mod process;
 mod select;
 
-use statrs::distribution::{ChiSquared, ContinuousCDF, StudentsT};
+use statrs::distribution::{ContinuousCDF, StudentsT};
 
 use crate::Point;
 use crate::noise_terms::{PerTerm, Term, TermEstimate, TermValue};
+use ceiling::Ceiling;
 use lm::{Component, Data, model_avar};
 use nalgebra::DMatrix;
 pub use select::Candidate;
@@ -93,6 +99,63 @@ pub struct Quality {
     pub criterion: f64,
 }
 
+/// Where the best candidate parts from the measured curve, when no
+/// candidate fits it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Defeat {
+    /// The candidate ("N + K"): the selected model where one was selected
+    /// and does not fit (p below [`FIT_P_VALUE`]); where none keeps the
+    /// rules, the one of lowest criterion that the ceiling rules out.
+    pub candidate: String,
+    /// The process whose own line exceeds the measured ceiling at `tau`
+    /// ("K"); `None` where it is the candidate's whole curve that misses
+    /// the point.
+    pub process: Option<String>,
+    /// τ of that point, s.
+    pub tau: f64,
+    /// The measured deviation over the candidate's curve there (over the
+    /// process's own line where `process` is given): below 1 where the
+    /// candidate stands above the curve.
+    pub ratio: f64,
+    /// The miss in the point's own standard deviations of ln σ̂², as the
+    /// fit weighs it (a misfit only).
+    pub sigmas: Option<f64>,
+}
+
+impl Defeat {
+    /// One sentence saying where the candidate parts from the curve.
+    pub fn describe(&self) -> String {
+        match (&self.process, self.sigmas) {
+            (Some(p), _) => format!(
+                "the best candidate, {}, has {p} above the measured deviation's {:.0} % upper end at τ = {} s \
+                 (measured/{p} = {:.3})",
+                self.candidate,
+                100.0 * CEILING_CONFIDENCE,
+                tau_text(self.tau),
+                self.ratio
+            ),
+            (None, s) => format!(
+                "{} misses the curve most at τ = {} s (measured/model = {:.3}{})",
+                self.candidate,
+                tau_text(self.tau),
+                self.ratio,
+                s.map(|s| format!(", {s:.1} standard deviations"))
+                    .unwrap_or_default()
+            ),
+        }
+    }
+}
+
+/// τ in seconds, its decimals to 0.1 ms, trailing zeros dropped; in
+/// scientific notation below a millisecond.
+fn tau_text(tau: f64) -> String {
+    if tau < 1e-3 {
+        return format!("{tau:.3e}");
+    }
+    let s = format!("{tau:.4}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
 /// The selected noise model of one curve.
 #[derive(Debug, Clone, PartialEq)]
 pub struct NoiseModel {
@@ -128,6 +191,8 @@ pub struct NoiseModel {
     pub evidence: Vec<(String, f64)>,
     /// The best admissible candidates, best first.
     pub candidates: Vec<Candidate>,
+    /// Where no candidate fits: where the best one parts from the curve.
+    pub defeat: Option<Defeat>,
     components: Vec<Component>,
     theta: Vec<f64>,
 }
@@ -168,29 +233,6 @@ impl NoiseModel {
     }
 }
 
-/// The upper end of a point's measured variance at [`CEILING_CONFIDENCE`]:
-/// σ̂²·ν/χ²_ν((1 − c)/2).
-fn ceiling(p: &Point) -> f64 {
-    let nu = p.edf.min(MAX_FIT_EDF);
-    let q = ChiSquared::new(nu)
-        .map(|d| d.inverse_cdf((1.0 - CEILING_CONFIDENCE) / 2.0))
-        .unwrap_or(f64::NAN);
-    p.dev * p.dev * nu / q
-}
-
-/// The smallest ceiling along a term's own line: no larger term fits under
-/// the curve. Points with fewer than [`MIN_EDF`] degrees of freedom count
-/// only when no point has that many (a record too short for any).
-fn term_bound(term: Term, pts: &[Point], ceilings: &[f64]) -> Option<f64> {
-    let supported = pts.iter().any(|p| p.edf >= MIN_EDF);
-    pts.iter()
-        .zip(ceilings)
-        .filter(|(p, c)| (!supported || p.edf >= MIN_EDF) && c.is_finite())
-        .map(|(p, c)| (c / lm::power_basis(term, p.tau)).sqrt())
-        .filter(|v| v.is_finite())
-        .min_by(f64::total_cmp)
-}
-
 /// The selected noise model of an overlapping ADEV curve of rate data
 /// (octave taus are best: nearly independent points), intervals at
 /// `confidence`.
@@ -200,6 +242,10 @@ pub fn estimate(points: &[Point], confidence: f64) -> NoiseModel {
         .copied()
         .filter(|p| p.dev.is_finite() && p.dev > 0.0 && p.edf.is_finite() && p.edf > 0.0 && p.tau > 0.0)
         .collect();
+    // Every measured point bounds the terms the model leaves out, the
+    // left-out points too: a point the model cannot describe is still a
+    // deviation no bound may exceed.
+    let ceilings = ceiling::ceilings(&pts);
     let mut left_out = Vec::new();
     let budget = pts.len() / 4;
     loop {
@@ -215,7 +261,7 @@ pub fn estimate(points: &[Point], confidence: f64) -> NoiseModel {
             continue;
         }
         left_out.sort_unstable_by(f64::total_cmp);
-        return build(&used, sel, confidence, left_out);
+        return build(&used, &ceilings, sel, confidence, left_out);
     }
 }
 
@@ -319,16 +365,25 @@ fn fits(p: f64) -> bool {
     p >= FIT_P_VALUE
 }
 
-fn build(pts: &[Point], sel: select::Selection, confidence: f64, left_out: Vec<f64>) -> NoiseModel {
-    let ceilings: Vec<f64> = pts.iter().map(ceiling).collect();
-    let bounds = PerTerm::from_fn(|t| term_bound(t, pts, &ceilings));
+fn build(
+    pts: &[Point],
+    ceilings: &[Ceiling],
+    sel: select::Selection,
+    confidence: f64,
+    left_out: Vec<f64>,
+) -> NoiseModel {
+    let bounds = PerTerm::from_fn(|t| ceiling::bound(ceilings, |tau| lm::power_basis(t, tau)));
     let Some(best) = sel.best else {
         let why = if pts.len() < 2 {
             "not identifiable: fewer than 2 points on the curve".to_string()
         } else {
             format!(
                 "no candidate model fits the curve: none keeps the rules (each term shown at \
-                 {MIN_POINTS} points with {MIN_TERM_EDF} degrees of freedom, none above the measured ceiling)"
+                 {MIN_POINTS} points with {MIN_TERM_EDF} degrees of freedom, none above the measured ceiling){}",
+                sel.defeated
+                    .as_ref()
+                    .map(|d| format!("; {}", d.describe()))
+                    .unwrap_or_default()
             )
         };
         return NoiseModel {
@@ -345,12 +400,14 @@ fn build(pts: &[Point], sel: select::Selection, confidence: f64, left_out: Vec<f
             outside: Vec::new(),
             evidence: Vec::new(),
             candidates: sel.ranked,
+            defeat: sel.defeated,
             components: Vec::new(),
             theta: Vec::new(),
         };
     };
     let q = best.quality;
     let ok = fits(q.p_value);
+    let defeat = (!ok).then(|| misfit(&best, pts)).flatten();
     // Student's t on the fit's degrees of freedom: the spreads rest on the
     // fit's own residual scatter where that exceeds the points' EDF.
     let z = StudentsT::new(0.0, 1.0, q.dof as f64)
@@ -411,8 +468,14 @@ fn build(pts: &[Point], sel: select::Selection, confidence: f64, left_out: Vec<f
     let terms = PerTerm::from_fn(|t| {
         if !ok {
             return TermEstimate::NotIdentifiable(format!(
-                "no candidate model fits the curve (best {}: χ²/dof = {:.2}, p = {:.2e})",
-                best.label, q.chi2_reduced, q.p_value
+                "no candidate model fits the curve (best {}: χ²/dof = {:.2}, p = {:.2e}){}",
+                best.label,
+                q.chi2_reduced,
+                q.p_value,
+                defeat
+                    .as_ref()
+                    .map(|d| format!("; {}", d.describe()))
+                    .unwrap_or_default()
             ));
         }
         match found.iter().find(|(ft, _)| *ft == t) {
@@ -445,9 +508,28 @@ fn build(pts: &[Point], sel: select::Selection, confidence: f64, left_out: Vec<f
         outside,
         evidence: sel.evidence,
         candidates: sel.ranked,
+        defeat,
         components: best.components.clone(),
         theta: best.theta.clone(),
     }
+}
+
+/// Where a selected model that does not fit misses the curve most: the
+/// point of largest standardised residual.
+fn misfit(best: &select::Best, pts: &[Point]) -> Option<Defeat> {
+    let (i, r) = best
+        .resid
+        .iter()
+        .enumerate()
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?;
+    let p = pts.get(i)?;
+    Some(Defeat {
+        candidate: best.label.clone(),
+        process: None,
+        tau: p.tau,
+        ratio: p.dev / model_avar(&best.components, &best.theta, p.tau).sqrt(),
+        sigmas: Some(r.abs()),
+    })
 }
 
 /// The data of the fit: each point's (τ, σ̂², ν) with ν capped at

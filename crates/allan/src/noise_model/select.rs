@@ -6,8 +6,9 @@
 use nalgebra::DMatrix;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
+use super::ceiling::{self, Ceiling};
 use super::lm::{self, Component, Data, TcRange, model_avar};
-use super::{MIN_EDF, MIN_POINTS, MIN_TERM_EDF, Quality, SHOW_SHARE, ceiling, data_of};
+use super::{Defeat, MAX_FIT_EDF, MIN_POINTS, MIN_TERM_EDF, Quality, SHOW_SHARE, data_of};
 use crate::Point;
 use crate::noise_terms::Term;
 
@@ -75,6 +76,9 @@ pub(super) struct Selection {
     pub best: Option<Best>,
     pub ranked: Vec<Candidate>,
     pub evidence: Vec<(String, f64)>,
+    /// Among the candidates a ceiling rules out, where the one of lowest
+    /// criterion breaks it.
+    pub defeated: Option<Defeat>,
 }
 
 impl Best {
@@ -204,12 +208,24 @@ fn starts(comps: &[Component], data: &Data) -> Vec<Vec<f64>> {
         .collect()
 }
 
+/// Why a fitted candidate is set aside.
+enum Breach {
+    /// A process shows at too few points, or on too few degrees of freedom.
+    Unshown,
+    /// The process at this index exceeds the measured ceiling, most at
+    /// this point.
+    Above(usize, Ceiling),
+}
+
 /// Whether every process of a fitted model shows ([`SHOW_SHARE`] of the
 /// variance at [`MIN_POINTS`] points holding [`MIN_TERM_EDF`]) and stays
-/// under every supported point's ceiling.
-fn admissible(comps: &[Component], theta: &[f64], pts: &[Point], ceilings: &[f64]) -> bool {
+/// under the measured curve's ceiling ([`ceiling`]); if not, the first rule
+/// it breaks.
+fn admissible(comps: &[Component], theta: &[f64], pts: &[Point], ceilings: &[Ceiling]) -> Result<(), Breach> {
     let mut at = 0;
-    comps.iter().all(|c| {
+    let mut above: Option<(f64, usize, Ceiling)> = None;
+    let mut unshown = false;
+    for (k, c) in comps.iter().enumerate() {
         let own = &theta[at..at + c.arity()];
         at += c.arity();
         let (mut count, mut edf) = (0usize, 0.0);
@@ -220,12 +236,34 @@ fn admissible(comps: &[Component], theta: &[f64], pts: &[Point], ceilings: &[f64
                 edf += p.edf;
             }
         }
-        let under = pts
-            .iter()
-            .zip(ceilings)
-            .all(|(p, cap)| p.edf < MIN_EDF || c.avar(own, p.tau) <= *cap);
-        count >= MIN_POINTS && edf >= MIN_TERM_EDF && under
-    })
+        unshown |= count < MIN_POINTS || edf < MIN_TERM_EDF;
+        if let Some(worst) = ceiling::worst_breach(ceilings, |tau| c.avar(own, tau)) {
+            let factor = c.avar(own, worst.tau) / worst.avar;
+            if above.is_none_or(|(f, _, _)| factor > f) {
+                above = Some((factor, k, *worst));
+            }
+        }
+    }
+    match (above, unshown) {
+        (Some((_, k, worst)), _) => Err(Breach::Above(k, worst)),
+        (None, true) => Err(Breach::Unshown),
+        (None, false) => Ok(()),
+    }
+}
+
+/// The defeat of a candidate a ceiling rules out: the process and the
+/// point, with the measured deviation over the process's own there.
+fn above_defeat(comps: &[Component], theta: &[f64], process: usize, at: &Ceiling) -> Defeat {
+    let start: usize = comps[..process].iter().map(|c| c.arity()).sum();
+    let c = comps[process];
+    let own = c.avar(&theta[start..start + c.arity()], at.tau);
+    Defeat {
+        candidate: labels(comps).join(" + "),
+        process: labels(comps).into_iter().nth(process),
+        tau: at.tau,
+        ratio: at.dev / own.sqrt(),
+        sigmas: None,
+    }
 }
 
 /// Steps of the first round.
@@ -246,23 +284,37 @@ struct Scored {
 /// without it), and selects.
 pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>) -> Selection {
     let n = pts.len();
-    let none = Selection {
+    let none = || Selection {
         best: None,
         ranked: Vec::new(),
         evidence: Vec::new(),
+        defeated: None,
     };
     if n < 2 {
-        return none;
+        return none();
     }
     let data = match corr {
         Some(c) => match data_of(pts).correlated(c) {
             Some(d) => d,
-            None => return none,
+            None => return none(),
         },
         None => data_of(pts),
     };
     let correlated = data.whiten.is_some();
-    let ceilings: Vec<f64> = pts.iter().map(ceiling).collect();
+    // A kept process is held under the points as this fit weighs them: the
+    // model's own account of each point's spread (or, before a model, the
+    // most cautious power-law one), which the points' one-α-at-a-time
+    // noise identification can overstate many times in a mixture (see
+    // `Best::reweigh`). The bounds of the processes left out are set
+    // against the curve as measured and printed (`super::build`).
+    let weighed: Vec<Point> = pts
+        .iter()
+        .map(|p| Point {
+            edf: p.edf.min(MAX_FIT_EDF),
+            ..*p
+        })
+        .collect();
+    let ceilings = ceiling::ceilings(&weighed);
     let tc = TcRange {
         lo: data.tau[0].ln(),
         hi: data.tau[n - 1].ln(),
@@ -289,17 +341,29 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>) -> Selection {
         })
         .collect();
     rough.sort_by(|a, b| a.criterion.total_cmp(&b.criterion));
+    let mut defeated: Option<(f64, Defeat)> = None;
     let mut scored: Vec<Scored> = rough
         .into_iter()
         .filter_map(|s| {
             let fit = lm::fit(&data, &s.comps, s.fit.theta, tc, FULL_ITERATIONS)?;
-            admissible(&s.comps, &fit.theta, pts, &ceilings).then(|| score(s.comps, fit))
+            match admissible(&s.comps, &fit.theta, pts, &ceilings) {
+                Ok(()) => Some(score(s.comps, fit)),
+                Err(Breach::Above(k, at)) => {
+                    let criterion = fit.chi2 + fit.theta.len() as f64 * penalty;
+                    if defeated.as_ref().is_none_or(|(c, _)| criterion < *c) {
+                        defeated = Some((criterion, above_defeat(&s.comps, &fit.theta, k, &at)));
+                    }
+                    None
+                }
+                Err(Breach::Unshown) => None,
+            }
         })
         .take(REFINED)
         .collect();
     scored.sort_by(|a, b| a.criterion.total_cmp(&b.criterion));
+    let defeated = defeated.map(|(_, d)| d);
     let Some(top) = scored.first() else {
-        return none;
+        return Selection { defeated, ..none() };
     };
     let label_of = |comps: &[Component]| labels(comps).join(" + ");
     let ranked = scored
@@ -352,6 +416,7 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>) -> Selection {
         best: Some(best),
         ranked,
         evidence,
+        defeated,
     }
 }
 

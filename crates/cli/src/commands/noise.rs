@@ -115,7 +115,7 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
         let m = &r.terms.model;
         if !m.fits {
             eprintln!(
-                "warning: {}: {}: no candidate noise model fits the curve{}; its terms are given as upper bounds",
+                "warning: {}: {}: no candidate noise model fits the curve{}; its terms are given as upper bounds{}",
                 r.channel.file.display(),
                 r.channel.name,
                 m.quality
@@ -123,6 +123,10 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
                         " (best {}: χ²/dof {:.2}, p = {:.1e})",
                         m.label, q.chi2_reduced, q.p_value
                     ))
+                    .unwrap_or_default(),
+                m.defeat
+                    .as_ref()
+                    .map(|d| format!("; {}", d.describe()))
                     .unwrap_or_default()
             );
         }
@@ -295,9 +299,15 @@ fn write_compact(out: &mut impl Write, analysis: Analysis, units: Units) -> Resu
                     |q| format!("χ²/dof {:.2}, p = {:.2}", q.chi2_reduced, q.p_value),
                 );
                 let verdict = if m.fits {
-                    ""
+                    String::new()
                 } else {
-                    " — does not fit: terms are bounds"
+                    format!(
+                        " — does not fit: terms are bounds{}",
+                        m.defeat
+                            .as_ref()
+                            .map(|d| format!("; {}", d.describe()))
+                            .unwrap_or_default()
+                    )
                 };
                 let gm: Vec<String> = m
                     .gauss_markov
@@ -425,6 +435,9 @@ fn write_text(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<
                     }
                 )?,
                 None => writeln!(out, "  model: none admissible on {} points", m.points)?,
+            }
+            if let Some(d) = &m.defeat {
+                writeln!(out, "  where no candidate fits: {}", d.describe())?;
             }
             if !m.evidence.is_empty() {
                 writeln!(

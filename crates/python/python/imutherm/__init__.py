@@ -134,7 +134,12 @@ def noise_terms(y, rate=1.0, confidence=0.95, quantity=None):
       ``gauss_markov`` terms (``sigma`` and ``tau_c`` with intervals) and
       each term's ``bounds``;
     * ``"verdict"`` -- "fits", "does_not_fit" (p below 0.01) or
-      "no_candidate_fits" (then every term is a bound, none a value);
+      "no_candidate_fits" (then every term is a bound, none a value); where
+      it is not "fits", ``model["defeat"]`` names where the best candidate
+      parts from the curve: ``candidate``, ``process`` (the one whose line
+      exceeds the measured deviation, or None for a misfit), ``tau``,
+      ``ratio`` (measured over the model's deviation there), ``sigmas`` and
+      ``text``; None where the model fits;
     * ``"state_space"`` -- the model as white noise, random-walk and
       first-order Gauss-Markov states;
     * with ``quantity`` "angular_rate" (``y`` in rad/s) or "acceleration"

@@ -107,6 +107,15 @@ class _Model(TypedDict):
     candidates: list[_Candidate]
     gauss_markov: list[_GaussMarkov]
     bounds: list[list[Any]]
+    defeat: _Defeat | None
+
+class _Defeat(TypedDict):
+    candidate: str
+    process: str | None
+    tau: float
+    ratio: float
+    sigmas: float | None
+    text: str
 
 class _StateSpaceTerm(TypedDict):
     kind: str
