@@ -109,8 +109,8 @@ pub fn htotdev_with_progress(phase: &[f64], m: usize, tau0: f64, progress: &dyn 
 mod tests {
     use super::*;
     use crate::stats::mtotdev::tests::{
-        integrate, matches_printed, nbs14_10_phase, nbs14_10_phase_table30, nbs14_1000_freq, phase_dat, rel,
-        walk,
+        check_folded_against_direct, check_phase_dat, integrate, matches_printed, nbs14_10_phase,
+        nbs14_10_phase_table30, nbs14_1000_freq, phase_dat, rel, walk,
     };
 
     /// SP 1065 eq. 29 as written, on rate values: build the 9m-point
@@ -198,12 +198,7 @@ mod tests {
 
     #[test]
     fn phase_dat_against_allantools() {
-        let x = phase_dat();
-        for (m, want, n) in ALLANTOOLS_PHASE_DAT {
-            let e = htotdev(&x, m, 1.0).unwrap();
-            assert!(rel(e.dev, want) < 1e-9, "m={m}: {} vs {want}", e.dev);
-            assert_eq!(e.n, n, "m={m}");
-        }
+        check_phase_dat(htotdev, &ALLANTOOLS_PHASE_DAT);
     }
 
     #[test]
@@ -269,21 +264,13 @@ mod tests {
 
     #[test]
     fn folded_sum_equals_direct_definition() {
-        for (len, seed) in [(41, 1), (62, 2), (98, 3)] {
-            let x = walk(len, seed);
-            for m in 2..=(len - 1) / 3 {
-                let want = htotvar_direct(&x, m, 0.25).sqrt();
-                let got = htotdev(&x, m, 0.25).unwrap().dev;
-                assert!(rel(got, want) < 1e-11, "len={len} m={m}: {got} vs {want}");
-            }
-        }
-        // Several blocks of windows, the last one partial.
-        let x = walk(700, 4);
-        for m in [2, 3, 5, 8, 33, 150, 233] {
-            let want = htotvar_direct(&x, m, 0.25).sqrt();
-            let got = htotdev(&x, m, 0.25).unwrap().dev;
-            assert!(rel(got, want) < 1e-11, "m={m}: {got} vs {want}");
-        }
+        check_folded_against_direct(
+            (htotdev, htotvar_direct),
+            [(41, 1), (62, 2), (98, 3)],
+            |len| 2..=(len - 1) / 3,
+            &[2, 3, 5, 8, 33, 150, 233],
+            0.25,
+        );
     }
 
     proptest::proptest! {

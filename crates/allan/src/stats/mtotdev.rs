@@ -463,6 +463,50 @@ pub(crate) mod tests {
             .collect()
     }
 
+    /// A deviation as each statistic's function computes it.
+    pub(crate) type Deviation = fn(&[f64], usize, f64) -> Option<Estimate>;
+
+    /// A variance built out from its definition, the reference of a folded sum.
+    pub(crate) type Direct = fn(&[f64], usize, f64) -> f64;
+
+    /// Checks `stat` on PHASE.DAT against AllanTools' rows (m, deviation,
+    /// count): the deviation to 1e-9 relative, the count exactly.
+    pub(crate) fn check_phase_dat(stat: Deviation, rows: &[(usize, f64, usize)]) {
+        let x = phase_dat();
+        for &(m, want, n) in rows {
+            let e = stat(&x, m, 1.0).unwrap();
+            assert!(rel(e.dev, want) < 1e-9, "m={m}: {} vs {want}", e.dev);
+            assert_eq!(e.n, n, "m={m}");
+        }
+    }
+
+    /// Checks a folded statistic against its definition built out in full
+    /// (`direct`, a variance) to 1e-11 relative: at every factor `factors`
+    /// gives for each short walk, then at the factors `ms` on a 700-point
+    /// walk, several blocks of windows with the last one partial.
+    pub(crate) fn check_folded_against_direct(
+        (stat, direct): (Deviation, Direct),
+        short: [(usize, u64); 3],
+        factors: fn(usize) -> std::ops::RangeInclusive<usize>,
+        ms: &[usize],
+        tau0: f64,
+    ) {
+        for (len, seed) in short {
+            let x = walk(len, seed);
+            for m in factors(len) {
+                let want = direct(&x, m, tau0).sqrt();
+                let got = stat(&x, m, tau0).unwrap().dev;
+                assert!(rel(got, want) < 1e-11, "len={len} m={m}: {got} vs {want}");
+            }
+        }
+        let x = walk(700, 4);
+        for &m in ms {
+            let want = direct(&x, m, tau0).sqrt();
+            let got = stat(&x, m, tau0).unwrap().dev;
+            assert!(rel(got, want) < 1e-11, "m={m}: {got} vs {want}");
+        }
+    }
+
     /// SP 1065 eq. 27 as written: build the 9m-point extension of each
     /// detrended subsequence and sum all 6m squared differences of m-point
     /// means. O(N·m²); the reference for the folded computation.
@@ -559,15 +603,16 @@ pub(crate) mod tests {
 
     #[test]
     fn phase_dat_against_allantools() {
-        let x = phase_dat();
-        for (m, md, td, n) in ALLANTOOLS_PHASE_DAT {
-            let e = mtotdev(&x, m, 1.0).unwrap();
-            assert!(rel(e.dev, md) < 1e-9, "m={m}: {} vs {md}", e.dev);
-            assert_eq!(e.n, n, "m={m}");
-            let t = ttotdev(&x, m, 1.0).unwrap();
-            assert!(rel(t.dev, td) < 1e-9, "m={m}: {} vs {td}", t.dev);
-            assert_eq!(t.n, n, "m={m}");
-        }
+        let mtot: Vec<_> = ALLANTOOLS_PHASE_DAT
+            .iter()
+            .map(|&(m, md, _, n)| (m, md, n))
+            .collect();
+        let ttot: Vec<_> = ALLANTOOLS_PHASE_DAT
+            .iter()
+            .map(|&(m, _, td, n)| (m, td, n))
+            .collect();
+        check_phase_dat(mtotdev, &mtot);
+        check_phase_dat(ttotdev, &ttot);
     }
 
     #[test]
@@ -618,21 +663,13 @@ pub(crate) mod tests {
 
     #[test]
     fn folded_sum_equals_direct_definition() {
-        for (len, seed) in [(40, 1), (61, 2), (97, 3)] {
-            let x = walk(len, seed);
-            for m in 1..=len / 3 {
-                let want = mtotvar_direct(&x, m, 0.5).sqrt();
-                let got = mtotdev(&x, m, 0.5).unwrap().dev;
-                assert!(rel(got, want) < 1e-11, "len={len} m={m}: {got} vs {want}");
-            }
-        }
-        // Several blocks of windows, the last one partial.
-        let x = walk(700, 4);
-        for m in [1, 2, 3, 5, 8, 33, 150, 233] {
-            let want = mtotvar_direct(&x, m, 0.5).sqrt();
-            let got = mtotdev(&x, m, 0.5).unwrap().dev;
-            assert!(rel(got, want) < 1e-11, "m={m}: {got} vs {want}");
-        }
+        check_folded_against_direct(
+            (mtotdev, mtotvar_direct),
+            [(40, 1), (61, 2), (97, 3)],
+            |len| 1..=len / 3,
+            &[1, 2, 3, 5, 8, 33, 150, 233],
+            0.5,
+        );
     }
 
     proptest::proptest! {
