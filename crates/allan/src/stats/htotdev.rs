@@ -109,33 +109,15 @@ pub fn htotdev_with_progress(phase: &[f64], m: usize, tau0: f64, progress: &dyn 
 mod tests {
     use super::*;
     use crate::stats::mtotdev::tests::{
-        check_folded_against_direct, check_phase_dat, integrate, matches_printed, nbs14_10_phase,
-        nbs14_10_phase_table30, nbs14_1000_freq, phase_dat, rel, walk,
+        check_folded_against_direct, check_phase_dat, extended_windows_direct, integrate, matches_printed,
+        nbs14_10_phase, nbs14_10_phase_table30, nbs14_1000_freq, phase_dat, rel, walk,
     };
 
-    /// SP 1065 eq. 29 as written, on rate values: build the 9m-point
-    /// extension of each detrended subsequence and sum all 6m squared
-    /// differences of m-point means. O(N·m²); the reference for the folded
-    /// computation (m ≥ 2).
+    /// SP 1065 eq. 29 as written, on rate values. The reference for the
+    /// folded computation (m ≥ 2).
     fn htotvar_direct(x: &[f64], m: usize, tau0: f64) -> f64 {
         let y: Vec<f64> = x.windows(2).map(|w| (w[1] - w[0]) / tau0).collect();
-        let l = 3 * m;
-        let terms = y.len() - l + 1;
-        let mut total = 0.0;
-        for ys in y.windows(l) {
-            let h1 = l / 2;
-            let h2 = l - h1;
-            let mean1 = ys[..h1].iter().sum::<f64>() / h1 as f64;
-            let mean2 = ys[h2..].iter().sum::<f64>() / h1 as f64;
-            let slope = (mean2 - mean1) / h2 as f64;
-            let d: Vec<f64> = ys.iter().enumerate().map(|(k, v)| v - slope * k as f64).collect();
-            let ext: Vec<f64> = d.iter().rev().chain(&d).chain(d.iter().rev()).copied().collect();
-            let mean = |i: usize| ext[i..i + m].iter().sum::<f64>() / m as f64;
-            let inner: f64 = (0..6 * m)
-                .map(|i| (mean(i + 2 * m) - 2.0 * mean(i + m) + mean(i)).powi(2))
-                .sum();
-            total += inner / (6.0 * m as f64);
-        }
+        let (total, terms) = extended_windows_direct(&y, m);
         total / (6.0 * terms as f64)
     }
 

@@ -507,14 +507,15 @@ pub(crate) mod tests {
         }
     }
 
-    /// SP 1065 eq. 27 as written: build the 9m-point extension of each
-    /// detrended subsequence and sum all 6m squared differences of m-point
-    /// means. O(N·m²); the reference for the folded computation.
-    fn mtotvar_direct(x: &[f64], m: usize, tau0: f64) -> f64 {
+    /// The inner sums of SP 1065 eqs. 27 and 29 as written, over every
+    /// 3m-point subsequence of `s`: build the 9m-point extension of each
+    /// detrended subsequence and sum all 6m squared second differences of
+    /// m-point means, each subsequence's divided by 6m. O(N·m²); returns
+    /// the total and the number of subsequences.
+    pub(crate) fn extended_windows_direct(s: &[f64], m: usize) -> (f64, usize) {
         let l = 3 * m;
-        let terms = x.len() - l + 1;
         let mut total = 0.0;
-        for xs in x.windows(l) {
+        for xs in s.windows(l) {
             let h1 = l / 2;
             let h2 = l - h1;
             let mean1 = xs[..h1].iter().sum::<f64>() / h1 as f64;
@@ -528,6 +529,13 @@ pub(crate) mod tests {
                 .sum();
             total += inner / (6.0 * m as f64);
         }
+        (total, s.len() - l + 1)
+    }
+
+    /// SP 1065 eq. 27 as written, on the phase. The reference for the
+    /// folded computation.
+    fn mtotvar_direct(x: &[f64], m: usize, tau0: f64) -> f64 {
+        let (total, terms) = extended_windows_direct(x, m);
         let tau = m as f64 * tau0;
         total / (2.0 * tau * tau * terms as f64)
     }
