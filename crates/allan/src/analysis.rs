@@ -46,8 +46,9 @@ impl Default for Options {
     }
 }
 
-/// One point of a stability curve.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// One point of a stability curve. Serialized as a point of the
+/// `imutherm.adev/1` document, whose field order this is.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Point {
     /// τ in seconds.
     pub tau: f64,

@@ -107,6 +107,13 @@ impl NoiseIdMethod {
     }
 }
 
+/// Written as its [`NoiseIdMethod::name`].
+impl serde::Serialize for NoiseIdMethod {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.name())
+    }
+}
+
 impl fmt::Display for NoiseIdMethod {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())

@@ -3,7 +3,7 @@
 //! identification. Field names, nesting and order are the schema's: it
 //! only gains fields.
 
-use allan::{Curve, Options};
+use allan::{Curve, Options, Point};
 use serde::Serialize;
 
 use crate::selection::SelectedChannel;
@@ -50,30 +50,7 @@ pub struct AdevChannel {
     /// NaN samples treated as gaps.
     pub nan_samples: usize,
     /// The curve.
-    pub points: Vec<AdevPoint>,
-}
-
-/// One τ of a curve.
-#[derive(Debug, Serialize)]
-pub struct AdevPoint {
-    /// τ, s.
-    pub tau: f64,
-    /// τ in samples.
-    pub m: usize,
-    /// The deviation.
-    pub dev: f64,
-    /// Terms averaged.
-    pub n: usize,
-    /// Equivalent degrees of freedom.
-    pub edf: f64,
-    /// Lower end of the interval.
-    pub dev_lo: f64,
-    /// Upper end of the interval.
-    pub dev_hi: f64,
-    /// The power-law noise's α identified.
-    pub alpha: i32,
-    /// Its name.
-    pub noise_id: &'static str,
+    pub points: Vec<Point>,
 }
 
 impl AdevDocument {
@@ -112,21 +89,7 @@ impl AdevChannel {
             rate_hz: c.rate_hz,
             samples: c.samples,
             nan_samples: c.nan_samples,
-            points: c
-                .points
-                .iter()
-                .map(|p| AdevPoint {
-                    tau: p.tau,
-                    m: p.m,
-                    dev: p.dev,
-                    n: p.n,
-                    edf: p.edf,
-                    dev_lo: p.dev_lo,
-                    dev_hi: p.dev_hi,
-                    alpha: p.alpha,
-                    noise_id: p.noise_id.name(),
-                })
-                .collect(),
+            points: c.points.clone(),
         }
     }
 }
