@@ -61,62 +61,66 @@ class dev_realtime:
         return self.dev
 
 
-class oadev_realtime(dev_realtime):
+class _overlapped_realtime(dev_realtime):
+    """An overlapping deviation of a stream on the differences of order
+    ``span - 1``: S accumulates each new difference squared and the
+    deviation is sqrt(S / (norm (m tau0)^2 (N - span m)))."""
+
+    span = 0
+    norm = 0.0
+
+    def __init__(self, afs=[1], tau0=1.0, auto_afs=False, pts_per_decade=4):  # noqa: B006
+        super().__init__(afs=afs, tau0=tau0, auto_afs=auto_afs, pts_per_decade=pts_per_decade)
+        self.S = np.zeros(len(self.afs))
+
+    def add_phase(self, xnew):
+        """Adds a phase sample (seconds)."""
+        self.x.append(xnew)
+        for idx, af in enumerate(self.afs):
+            if len(self.x) >= self.span * af + 1:
+                self.update_S(idx)
+        if self.auto_afs:
+            self.update_af()
+
+    def difference(self, i, af):
+        """The difference that ends at sample ``i``, at factor ``af``."""
+        raise NotImplementedError
+
+    def update_S(self, idx):
+        af = int(self.afs[idx])
+        i = len(self.x) - 1
+        self.S[idx] += self.difference(i, af) ** 2
+        terms = i + 1 - self.span * af
+        self.dev[idx] = np.sqrt(self.S[idx] / (self.norm * (af * self.tau0) ** 2 * terms))
+
+    def add_af(self):
+        self.S = np.append(self.S, 0.0)
+
+
+class oadev_realtime(_overlapped_realtime):
     """Overlapping Allan deviation of a stream (Dobrogowski & Kasznia 2007,
     eq. 9): S accumulates (x_i - 2 x_{i-m} + x_{i-2m})^2 and
     OADEV = sqrt(S / (2 (m tau0)^2 (N - 2m)))."""
 
-    def __init__(self, afs=[1], tau0=1.0, auto_afs=False, pts_per_decade=4):  # noqa: B006
-        super().__init__(afs=afs, tau0=tau0, auto_afs=auto_afs, pts_per_decade=pts_per_decade)
-        self.S = np.zeros(len(self.afs))
+    span = 2
+    norm = 2.0
 
-    def add_phase(self, xnew):
-        """Adds a phase sample (seconds)."""
-        self.x.append(xnew)
-        for idx, af in enumerate(self.afs):
-            if len(self.x) >= 2 * af + 1:
-                self.update_S(idx)
-        if self.auto_afs:
-            self.update_af()
-
-    def update_S(self, idx):
-        af = int(self.afs[idx])
-        x, i = self.x, len(self.x) - 1
-        self.S[idx] += (x[i] - 2 * x[i - af] + x[i - 2 * af]) ** 2
-        terms = i + 1 - 2 * af
-        self.dev[idx] = np.sqrt(self.S[idx] / (2.0 * (af * self.tau0) ** 2 * terms))
-
-    def add_af(self):
-        self.S = np.append(self.S, 0.0)
+    def difference(self, i, af):
+        x = self.x
+        return x[i] - 2 * x[i - af] + x[i - 2 * af]
 
 
-class ohdev_realtime(dev_realtime):
+class ohdev_realtime(_overlapped_realtime):
     """Overlapping Hadamard deviation of a stream: S accumulates the third
     differences (x_i - 3 x_{i-m} + 3 x_{i-2m} - x_{i-3m})^2 and
     OHDEV = sqrt(S / (6 (m tau0)^2 (N - 3m))) (NIST SP 1065 eq. 20)."""
 
-    def __init__(self, afs=[1], tau0=1.0, auto_afs=False, pts_per_decade=4):  # noqa: B006
-        super().__init__(afs=afs, tau0=tau0, auto_afs=auto_afs, pts_per_decade=pts_per_decade)
-        self.S = np.zeros(len(self.afs))
+    span = 3
+    norm = 6.0
 
-    def add_af(self):
-        self.S = np.append(self.S, 0.0)
-
-    def add_phase(self, xnew):
-        """Adds a phase sample (seconds)."""
-        self.x.append(xnew)
-        for idx, af in enumerate(self.afs):
-            if len(self.x) >= 3 * af + 1:
-                self.update_S(idx)
-        if self.auto_afs:
-            self.update_af()
-
-    def update_S(self, idx):
-        af = int(self.afs[idx])
-        x, i = self.x, len(self.x) - 1
-        self.S[idx] += (x[i] - 3 * x[i - af] + 3 * x[i - 2 * af] - x[i - 3 * af]) ** 2
-        terms = i + 1 - 3 * af
-        self.dev[idx] = np.sqrt(self.S[idx] / (6.0 * (af * self.tau0) ** 2 * terms))
+    def difference(self, i, af):
+        x = self.x
+        return x[i] - 3 * x[i - af] + 3 * x[i - 2 * af] - x[i - 3 * af]
 
 
 class tdev_realtime(dev_realtime):
