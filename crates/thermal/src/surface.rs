@@ -279,6 +279,15 @@ mod tests {
         (data, temp)
     }
 
+    /// Back-to-back 100 s time slices of a 10 Hz channel.
+    fn hundred_second_slices(data: &[f64], temp: &[f64]) -> Surface {
+        let slicing = Slicing::Time {
+            window_s: 100.0,
+            step_s: 100.0,
+        };
+        slices(data, temp, 10.0, slicing, allan::DEFAULT_CONFIDENCE).unwrap()
+    }
+
     fn refused(slicing: Slicing, rate_hz: f64) -> String {
         let (data, temp) = ramp(20_000);
         match surface(&data, &temp, rate_hz, slicing, allan::DEFAULT_CONFIDENCE) {
@@ -287,14 +296,38 @@ mod tests {
         }
     }
 
+    /// A slice as the straightforward computations give it: start, end,
+    /// mean and change of temperature, samples, curve.
+    type Row = (f64, f64, f64, f64, usize, Vec<Point>);
+
+    /// One slice as first written: `series` holds its samples (NaN where
+    /// not in it), labelled by the temperatures `temp` beside them, and
+    /// spans `(start, end)`.
+    fn straightforward_slice(
+        series: Vec<f64>,
+        temp: &[f64],
+        (start, end): (f64, f64),
+        opts: &Options,
+    ) -> Option<Row> {
+        let used: Vec<f64> = series
+            .iter()
+            .zip(temp)
+            .filter(|(v, _)| !v.is_nan())
+            .map(|(_, &t)| t)
+            .collect();
+        if used.len() < MIN_SLICE_SAMPLES {
+            return None;
+        }
+        let mean = used.iter().sum::<f64>() / used.len() as f64;
+        let change = used[used.len() - 1] - used[0];
+        let curve = allan::analyze_vec(series, opts).ok()?;
+        Some((start, end, mean, change, used.len(), curve.points))
+    }
+
     /// The surface of temperature bins as first written: every bin a copy
     /// of the whole channel, NaN outside it, and the temperatures used
     /// collected. What the trimmed bins must reproduce.
-    fn straightforward_bins(
-        data: &[f64],
-        temp: &[f64],
-        width: f64,
-    ) -> Vec<(f64, f64, f64, f64, usize, Vec<Point>)> {
+    fn straightforward_bins(data: &[f64], temp: &[f64], width: f64) -> Vec<Row> {
         let (lo, hi) = temp
             .iter()
             .filter(|t| t.is_finite())
@@ -313,19 +346,7 @@ mod tests {
                     .zip(temp)
                     .map(|(&v, &t)| if t >= a && t < b { v } else { f64::NAN })
                     .collect();
-                let used: Vec<f64> = series
-                    .iter()
-                    .zip(temp)
-                    .filter(|(v, _)| !v.is_nan())
-                    .map(|(_, &t)| t)
-                    .collect();
-                if used.len() < MIN_SLICE_SAMPLES {
-                    return None;
-                }
-                let mean = used.iter().sum::<f64>() / used.len() as f64;
-                let change = used[used.len() - 1] - used[0];
-                let curve = allan::analyze(&series, &opts).ok()?;
-                Some((a, b, mean, change, used.len(), curve.points))
+                straightforward_slice(series, temp, (a, b), &opts)
             })
             .collect()
     }
@@ -449,13 +470,7 @@ mod tests {
     /// labelled by the temperatures of its non-NaN samples, dropped when
     /// too short. What the shared windows must reproduce where the
     /// temperature has no gap.
-    fn straightforward_windows(
-        data: &[f64],
-        temp: &[f64],
-        rate_hz: f64,
-        w: usize,
-        s: usize,
-    ) -> Vec<(f64, f64, f64, f64, usize, Vec<Point>)> {
+    fn straightforward_windows(data: &[f64], temp: &[f64], rate_hz: f64, w: usize, s: usize) -> Vec<Row> {
         let opts = Options {
             rate_hz,
             taus: TauSpec::Octave,
@@ -466,20 +481,8 @@ mod tests {
             .filter_map(|i| {
                 let mut window = allan::buffer_for(w);
                 window.extend_from_slice(&data[i..i + w]);
-                let used: Vec<f64> = window
-                    .iter()
-                    .zip(&temp[i..i + w])
-                    .filter(|(v, _)| !v.is_nan())
-                    .map(|(_, &t)| t)
-                    .collect();
-                if used.len() < MIN_SLICE_SAMPLES {
-                    return None;
-                }
-                let mean = used.iter().sum::<f64>() / used.len() as f64;
-                let change = used[used.len() - 1] - used[0];
-                let curve = allan::analyze_vec(window, &opts).ok()?;
-                let (start, end) = (i as f64 / rate_hz, (i + w) as f64 / rate_hz);
-                Some((start, end, mean, change, used.len(), curve.points))
+                let span = (i as f64 / rate_hz, (i + w) as f64 / rate_hz);
+                straightforward_slice(window, &temp[i..i + w], span, &opts)
             })
             .collect()
     }
@@ -528,11 +531,7 @@ mod tests {
         for t in &mut temp[1100..1150] {
             *t = f64::NAN;
         }
-        let slicing = Slicing::Time {
-            window_s: 100.0,
-            step_s: 100.0,
-        };
-        let s = slices(&data, &temp, 10.0, slicing, allan::DEFAULT_CONFIDENCE).unwrap();
+        let s = hundred_second_slices(&data, &temp);
         assert_eq!(s.rows.len(), 3);
         let row = &s.rows[1];
         assert_eq!(row.samples, 950);
@@ -551,11 +550,7 @@ mod tests {
         for v in &mut data[1000..1990] {
             *v = f64::NAN;
         }
-        let slicing = Slicing::Time {
-            window_s: 100.0,
-            step_s: 100.0,
-        };
-        let s = slices(&data, &temp, 10.0, slicing, allan::DEFAULT_CONFIDENCE).unwrap();
+        let s = hundred_second_slices(&data, &temp);
         assert_eq!(s.rows.len(), 2);
         assert_eq!(
             s.skipped,
