@@ -25,6 +25,12 @@ fn cubic_run(profile: Profile, seed: u64) -> (Vec<f64>, Vec<f64>, SimConfig) {
     };
     // Cubic in (T − 60 °C): a 1.5 °/s swing over 20…100 °C.
     cfg.gyro.bias[0] = vec![0.5 * DEG, 0.01 * DEG, 2e-4 * DEG, 3e-6 * DEG];
+    let (g, t) = gyro_x_and_temperature(&cfg);
+    (g, t, cfg)
+}
+
+/// The simulated gyro x and the die's true temperature of a run of `cfg`.
+fn gyro_x_and_temperature(cfg: &SimConfig) -> (Vec<f64>, Vec<f64>) {
     let sim = Simulator::new(cfg.clone()).unwrap();
     let (mut t, mut g) = (Vec::new(), Vec::new());
     sim.run(|c| {
@@ -33,7 +39,7 @@ fn cubic_run(profile: Profile, seed: u64) -> (Vec<f64>, Vec<f64>, SimConfig) {
         Ok(())
     })
     .unwrap();
-    (g, t, cfg)
+    (g, t)
 }
 
 fn cooling() -> Profile {
@@ -143,14 +149,7 @@ fn the_3d_adev_shows_noise_growing_with_temperature() {
         to_c: 86.0,
         duration_s: 6000.0,
     };
-    let sim = Simulator::new(cfg.clone()).unwrap();
-    let (mut t, mut g) = (Vec::new(), Vec::new());
-    sim.run(|c| {
-        t.extend_from_slice(&c.true_temperature);
-        g.extend_from_slice(&c.columns[3]);
-        Ok(())
-    })
-    .unwrap();
+    let (g, t) = gyro_x_and_temperature(&cfg);
     let rows = surface(
         &g,
         &t,
