@@ -346,13 +346,8 @@ mod tests {
     /// white noise (kind 0), its running sum (1), or white noise on a slow
     /// walk (2).
     fn noisy_series(seed: u64, len: usize, kind: usize, gaps: usize) -> Vec<f64> {
-        let mut state = seed | 1;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut noise = crate::work::uniform(seed | 1);
+        let mut next = || noise.next().unwrap() - 0.5;
         let mut acc = 0.0;
         let mut y: Vec<f64> = (0..len)
             .map(|_| match kind {

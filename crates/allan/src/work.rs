@@ -72,18 +72,27 @@ pub fn seconds_per_operation(stat: Stat) -> f64 {
         / ops
 }
 
-/// A reproducible random walk of `len` points: xorshift64 (Marsaglia,
-/// "Xorshift RNGs", J. Stat. Softw. 8(14), 2003, shifts 13, 7, 17) steps
-/// uniform in ±0.5, from a state spread from `seed`.
+/// Reproducible uniform samples in [0, 1): xorshift64 (Marsaglia,
+/// "Xorshift RNGs", J. Stat. Softw. 8(14), 2003, shifts 13, 7, 17) from
+/// `state` (which must not be 0), the top 53 bits of each state. The fixed
+/// noise of imutherm's tests and timings.
+pub fn uniform(mut state: u64) -> impl Iterator<Item = f64> {
+    std::iter::repeat_with(move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    })
+}
+
+/// A reproducible random walk of `len` points: [`uniform`] steps less 0.5,
+/// from a state spread from `seed`.
 pub(crate) fn random_walk(len: usize, seed: u64) -> Vec<f64> {
-    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
     let mut acc = 0.0;
-    (0..len)
-        .map(|_| {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            acc += (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+    uniform(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+        .take(len)
+        .map(|u| {
+            acc += u - 0.5;
             acc
         })
         .collect()

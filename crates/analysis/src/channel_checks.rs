@@ -618,19 +618,9 @@ mod tests {
     /// A static IMU at `rate` Hz: white noise of `gyro_sd` rad/s and
     /// `accel_sd` m/s² per sample, g on z (a fixed pseudo-random sequence).
     fn static_rec(n: usize, rate: f64, gyro_sd: f64, accel_sd: f64) -> Recording {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut noise = move || {
-            // Sum of 12 uniforms less 6: unit variance, near-normal.
-            (0..12)
-                .map(|_| {
-                    state ^= state << 13;
-                    state ^= state >> 7;
-                    state ^= state << 17;
-                    (state >> 11) as f64 / (1u64 << 53) as f64
-                })
-                .sum::<f64>()
-                - 6.0
-        };
+        let mut uniform = allan::work::uniform(0x2545_f491_4f6c_dd1d);
+        // Sum of 12 uniforms less 6: unit variance, near-normal.
+        let mut noise = move || uniform.by_ref().take(12).sum::<f64>() - 6.0;
         let mut channels = Vec::new();
         for (q, sd, bias) in [
             (Quantity::Acceleration, accel_sd, [0.1, -0.2, STANDARD_GRAVITY]),

@@ -269,14 +269,9 @@ mod tests {
     /// enough for two 10 °C bins to carry a curve each.
     fn warming() -> (Vec<f64>, Vec<f64>) {
         let n = 8000;
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let data = (0..n)
-            .map(|_| {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-            })
+        let data = allan::work::uniform(0x2545_f491_4f6c_dd1d)
+            .take(n)
+            .map(|u| u - 0.5)
             .collect();
         let temp = (0..n).map(|i| 20.0 + 20.0 * i as f64 / n as f64).collect();
         (data, temp)

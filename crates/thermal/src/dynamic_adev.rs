@@ -383,14 +383,9 @@ mod tests {
     /// White-ish data (a fixed pseudo-random sequence) and a linear cooling
     /// from 80 °C, at 10 Hz.
     fn run(n: usize) -> (Vec<f64>, Vec<f64>) {
-        let mut state = 0x2545_F491_4F6C_DD1D_u64;
-        let data = (0..n)
-            .map(|_| {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-            })
+        let data = allan::work::uniform(0x2545_F491_4F6C_DD1D)
+            .take(n)
+            .map(|u| u - 0.5)
             .collect();
         let temp = (0..n).map(|i| 80.0 - 0.01 * i as f64).collect();
         (data, temp)

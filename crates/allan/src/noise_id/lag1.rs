@@ -532,14 +532,12 @@ mod tests {
     /// whose generator has since changed.
     #[test]
     fn a_strong_trend_over_a_small_walk_agrees_to_the_raw_values_rounding() {
-        let mut s: u64 = 189780384775785678 | 1;
         let mut acc = 0.0;
-        let phase: Vec<f64> = (0..148)
-            .map(|i| {
-                s ^= s << 13;
-                s ^= s >> 7;
-                s ^= s << 17;
-                acc += (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        let phase: Vec<f64> = crate::work::uniform(189780384775785678 | 1)
+            .take(148)
+            .enumerate()
+            .map(|(i, u)| {
+                acc += u - 0.5;
                 let t = i as f64;
                 acc + 50.0 * (t * t - 3.0 * t)
             })

@@ -194,14 +194,10 @@ mod tests {
     /// under 1e-6, and 3.3 times MDEV at 1e6 under 1e-9.
     #[test]
     fn a_large_offset_costs_no_digits() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        let noise: Vec<f64> = (0..30_000).map(|_| next()).collect();
+        let noise: Vec<f64> = crate::work::uniform(0x2545_f491_4f6c_dd1d)
+            .take(30_000)
+            .map(|u| u - 0.5)
+            .collect();
         for (offset, scale) in [(0.0, 1.0), (1e2, 1e-9), (1e6, 1e-9), (1e4, 1e-6)] {
             let x: Vec<f64> = noise.iter().map(|v| offset + scale * v).collect();
             let shifted: Vec<f64> = x.iter().map(|v| v - offset).collect();
