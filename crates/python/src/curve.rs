@@ -71,6 +71,17 @@ fn put_points<'py>(py: Python<'py>, dict: &Bound<'py, PyDict>, points: &[Point])
     Ok(())
 }
 
+/// The options `analyze` and `time_library` read from their arguments.
+fn options(stat: &str, data_type: &str, rate: f64, taus: Taus, confidence: f64) -> PyResult<Options> {
+    Ok(Options {
+        stat: parse::<Stat>(stat)?,
+        data_type: parse::<DataType>(data_type)?,
+        rate_hz: rate,
+        taus: taus.spec()?,
+        confidence,
+    })
+}
+
 /// `stat` of the samples `y` over the tau grid `taus`, with intervals at
 /// `confidence`: what `imutherm adev` computes.
 #[pyfunction]
@@ -84,13 +95,7 @@ pub fn analyze<'py>(
     data_type: &str,
     confidence: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let opts = Options {
-        stat: parse::<Stat>(stat)?,
-        data_type: parse::<DataType>(data_type)?,
-        rate_hz: rate,
-        taus: taus.spec()?,
-        confidence,
-    };
+    let opts = options(stat, data_type, rate, taus, confidence)?;
     let data = samples(&y)?;
     let curve = py.detach(|| allan::analyze(data, &opts)).map_err(to_py_err)?;
     let dict = PyDict::new(py);
@@ -121,13 +126,7 @@ pub fn time_library<'py>(
     confidence: f64,
     runs: usize,
 ) -> PyResult<f64> {
-    let opts = Options {
-        stat: parse::<Stat>(stat)?,
-        data_type: parse::<DataType>(data_type)?,
-        rate_hz: rate,
-        taus: taus.spec()?,
-        confidence,
-    };
+    let opts = options(stat, data_type, rate, taus, confidence)?;
     let data = samples(&y)?;
     py.detach(|| {
         let mut best = f64::INFINITY;
