@@ -109,8 +109,9 @@ pub fn htotdev_with_progress(phase: &[f64], m: usize, tau0: f64, progress: &dyn 
 mod tests {
     use super::*;
     use crate::stats::mtotdev::tests::{
-        check_folded_against_direct, check_phase_dat, extended_windows_direct, integrate, matches_printed,
-        nbs14_10_phase, nbs14_10_phase_table30, nbs14_1000_freq, phase_dat, rel, walk,
+        check_folded_against_direct, check_phase_dat, check_same_deviation, extended_windows_direct,
+        integrate, matches_printed, nbs14_10_phase, nbs14_10_phase_table30, nbs14_1000_freq, phase_dat, rel,
+        walk,
     };
 
     /// SP 1065 eq. 29 as written, on rate values. The reference for the
@@ -295,11 +296,7 @@ mod tests {
                 v + 5.0 + 0.3 * t + 1e-3 * t * t
             })
             .collect();
-        for m in [1, 2, 3, 16, 50, 99] {
-            let a = htotdev(&x, m, 1.0).unwrap().dev;
-            let b = htotdev(&drift, m, 1.0).unwrap().dev;
-            assert!(rel(a, b) < 1e-9, "m={m}: {a} vs {b}");
-        }
+        check_same_deviation(htotdev, &x, &drift, &[1, 2, 3, 16, 50, 99]);
     }
 
     #[test]

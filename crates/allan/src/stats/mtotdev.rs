@@ -466,6 +466,24 @@ pub(crate) mod tests {
     /// A deviation as each statistic's function computes it.
     pub(crate) type Deviation = fn(&[f64], usize, f64) -> Option<Estimate>;
 
+    /// `x` plus the line `offset + slope·i`.
+    pub(crate) fn with_line(x: &[f64], offset: f64, slope: f64) -> Vec<f64> {
+        x.iter()
+            .enumerate()
+            .map(|(i, v)| v + offset + slope * i as f64)
+            .collect()
+    }
+
+    /// Checks that `stat` gives `x` and `moved` (`x` plus what the statistic
+    /// takes out) the same deviation, to 1e-9 relative, at each factor of `ms`.
+    pub(crate) fn check_same_deviation(stat: Deviation, x: &[f64], moved: &[f64], ms: &[usize]) {
+        for &m in ms {
+            let a = stat(x, m, 1.0).unwrap().dev;
+            let b = stat(moved, m, 1.0).unwrap().dev;
+            assert!(rel(a, b) < 1e-9, "m={m}: {a} vs {b}");
+        }
+    }
+
     /// A variance built out from its definition, the reference of a folded sum.
     pub(crate) type Direct = fn(&[f64], usize, f64) -> f64;
 
@@ -745,16 +763,7 @@ pub(crate) mod tests {
     fn ignores_phase_offset_and_frequency_offset() {
         // The per-window trend removal takes out any linear phase trend.
         let x = walk(300, 7);
-        let shifted: Vec<f64> = x
-            .iter()
-            .enumerate()
-            .map(|(i, v)| v + 1e3 - 0.25 * i as f64)
-            .collect();
-        for m in [1, 2, 5, 17, 64, 100] {
-            let a = mtotdev(&x, m, 1.0).unwrap().dev;
-            let b = mtotdev(&shifted, m, 1.0).unwrap().dev;
-            assert!(rel(a, b) < 1e-9, "m={m}: {a} vs {b}");
-        }
+        check_same_deviation(mtotdev, &x, &with_line(&x, 1e3, -0.25), &[1, 2, 5, 17, 64, 100]);
         // A pure line gives exactly nothing.
         let line: Vec<f64> = (0..50).map(|i| 2.0 + 0.5 * i as f64).collect();
         assert!(mtotdev(&line, 4, 1.0).unwrap().dev < 1e-12);
