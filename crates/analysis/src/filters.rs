@@ -156,33 +156,21 @@ pub fn filter_params(quantity: Quantity, terms: &NoiseTerms) -> Option<Vec<Filte
             left_out: left_out(&terms.model),
         }
     };
-    Some(if gyro {
-        vec![
-            make(
-                "px4_ekf2",
-                PX4_DT_S,
-                [("EKF2_GYR_NOISE", "rad/s"), ("EKF2_GYR_B_NOISE", "rad/s^2")],
-            ),
-            make(
-                "ardupilot_ekf3",
-                ARDUPILOT_DT_S,
-                [("EK3_GYRO_P_NSE", "rad/s"), ("EK3_GBIAS_P_NSE", "rad/s/s")],
-            ),
-        ]
+    let (px4, ardupilot) = if gyro {
+        (
+            [("EKF2_GYR_NOISE", "rad/s"), ("EKF2_GYR_B_NOISE", "rad/s^2")],
+            [("EK3_GYRO_P_NSE", "rad/s"), ("EK3_GBIAS_P_NSE", "rad/s/s")],
+        )
     } else {
-        vec![
-            make(
-                "px4_ekf2",
-                PX4_DT_S,
-                [("EKF2_ACC_NOISE", "m/s^2"), ("EKF2_ACC_B_NOISE", "m/s^3")],
-            ),
-            make(
-                "ardupilot_ekf3",
-                ARDUPILOT_DT_S,
-                [("EK3_ACC_P_NSE", "m/s/s"), ("EK3_ABIAS_P_NSE", "m/s/s/s")],
-            ),
-        ]
-    })
+        (
+            [("EKF2_ACC_NOISE", "m/s^2"), ("EKF2_ACC_B_NOISE", "m/s^3")],
+            [("EK3_ACC_P_NSE", "m/s/s"), ("EK3_ABIAS_P_NSE", "m/s/s/s")],
+        )
+    };
+    Some(vec![
+        make("px4_ekf2", PX4_DT_S, px4),
+        make("ardupilot_ekf3", ARDUPILOT_DT_S, ardupilot),
+    ])
 }
 
 /// One state or white input of the generic model.
@@ -214,23 +202,28 @@ pub struct StateSpaceTerm {
 pub fn gauss_markov_state_space(model: &NoiseModel) -> Vec<StateSpaceTerm> {
     let mut out = Vec::new();
     let value = |t: Term| model.get(t).value().copied();
-    if let Some(v) = value(Term::WhiteNoise) {
-        out.push(StateSpaceTerm {
-            kind: "white_noise",
-            tau_c_s: None,
-            q_c: Some(v.value * v.value),
-            sigma: None,
-            note: "measurement noise: variance N²/Δt per sample of Δt".to_string(),
-        });
-    }
-    if let Some(v) = value(Term::RateRandomWalk) {
-        out.push(StateSpaceTerm {
-            kind: "random_walk",
-            tau_c_s: None,
-            q_c: Some(v.value * v.value),
-            sigma: None,
-            note: "bias state ẋ = w: variance K²·Δt added per step".to_string(),
-        });
+    // White noise and the rate random walk: a density, squared.
+    for (t, kind, note) in [
+        (
+            Term::WhiteNoise,
+            "white_noise",
+            "measurement noise: variance N²/Δt per sample of Δt",
+        ),
+        (
+            Term::RateRandomWalk,
+            "random_walk",
+            "bias state ẋ = w: variance K²·Δt added per step",
+        ),
+    ] {
+        if let Some(v) = value(t) {
+            out.push(StateSpaceTerm {
+                kind,
+                tau_c_s: None,
+                q_c: Some(v.value * v.value),
+                sigma: None,
+                note: note.to_string(),
+            });
+        }
     }
     for g in &model.gauss_markov {
         let (s, t) = (g.sigma.value, g.tau_c.value);
