@@ -94,12 +94,6 @@ impl Stat {
     }
 }
 
-impl fmt::Display for Stat {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
 impl FromStr for Stat {
     type Err = AllanError;
 
@@ -134,12 +128,6 @@ impl DataType {
     }
 }
 
-impl fmt::Display for DataType {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
 impl FromStr for DataType {
     type Err = AllanError;
 
@@ -151,6 +139,19 @@ impl FromStr for DataType {
         }
     }
 }
+
+/// Both are written as the name used on the command line and in JSON.
+macro_rules! display_by_name {
+    ($($t:ty),*) => {$(
+        impl fmt::Display for $t {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+    )*};
+}
+
+display_by_name!(Stat, DataType);
 
 #[cfg(test)]
 mod tests {
