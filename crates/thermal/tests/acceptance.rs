@@ -70,13 +70,27 @@ fn bin_means(x: &[f64], t: &[f64]) -> Vec<(f64, f64, f64)> {
 
 /// The compensation of one channel, gyro_x in rad/s, fitted on one run.
 fn fit_gyro_x(x: &[f64], t: &[f64], rate_hz: f64) -> Result<thermal::tcal::Model, ThermalError> {
+    fit_gyro_x_of(x, t, rate_hz, Order::Auto)
+}
+
+/// [`fit_gyro_x`] at `order`.
+fn fit_gyro_x_of(
+    x: &[f64],
+    t: &[f64],
+    rate_hz: f64,
+    order: Order,
+) -> Result<thermal::tcal::Model, ThermalError> {
     let channels = vec![TcalChannel::new("gyro_x", "rad/s", x)];
     let run = Run {
         channels: &channels,
         temp: t,
         rate_hz,
     };
-    fit(&[run], &FitOptions::default())
+    let opts = FitOptions {
+        order,
+        ..FitOptions::default()
+    };
+    fit(&[run], &opts)
 }
 
 #[test]
@@ -184,30 +198,10 @@ fn degenerate_inputs_are_clear_errors() {
     assert!(e.to_string().contains("nothing to fit"));
 
     let t: Vec<f64> = (0..1000).map(|i| 30.0 + i as f64 * 0.003).collect();
-    let channels = vec![TcalChannel::new("gyro_x", "rad/s", x.as_slice())];
-    let run = Run {
-        channels: &channels,
-        temp: &t,
-        rate_hz: 10.0,
-    };
-    let e = fit(
-        &[run],
-        &FitOptions {
-            order: Order::Fixed(5),
-            ..FitOptions::default()
-        },
-    )
-    .unwrap_err();
+    let e = fit_gyro_x_of(&x, &t, 10.0, Order::Fixed(5)).unwrap_err();
     assert!(matches!(e, ThermalError::TooFewBins { .. }), "{e}");
 
-    let model = fit(
-        &[run],
-        &FitOptions {
-            order: Order::Fixed(1),
-            ..FitOptions::default()
-        },
-    )
-    .unwrap();
+    let model = fit_gyro_x_of(&x, &t, 10.0, Order::Fixed(1)).unwrap();
     let mut other = vec![0.0; 1000];
     let e = model.apply("accel_z", &mut other, &t, 10.0).unwrap_err();
     assert!(e.to_string().contains("'accel_z'"), "{e}");
