@@ -19,12 +19,5 @@ pub fn oadev(series: &PhaseSeries, m: usize) -> Option<Estimate> {
 }
 
 fn allan(series: &PhaseSeries, m: usize, terms: Terms) -> Option<Estimate> {
-    let (sum, n) = sum_squared(series, m, terms, Order::Second);
-    (n > 0).then(|| {
-        let tau = m as f64 * series.tau0();
-        Estimate {
-            dev: (sum / (2.0 * n as f64 * tau * tau)).sqrt(),
-            n,
-        }
-    })
+    Order::Second.deviation(sum_squared(series, m, terms, Order::Second), m, series.tau0())
 }

@@ -7,6 +7,7 @@
 
 use rayon::prelude::*;
 
+use super::Estimate;
 use crate::phase::PhaseSeries;
 
 /// Order of the difference: 2 for the Allan family, 3 for Hadamard.
@@ -22,6 +23,23 @@ impl Order {
             Order::Second => 2,
             Order::Third => 3,
         }
+    }
+
+    /// The deviation of `n` squared differences summing to `sum` at factor
+    /// `m`: √(Σ / (c·n·τ²)), c = 2 for the Allan variance (SP 1065 eqs. 7,
+    /// 11), 6 for the Hadamard variance (eqs. 18, 20); none without a term.
+    pub(crate) fn deviation(self, (sum, n): (f64, usize), m: usize, tau0: f64) -> Option<Estimate> {
+        let c = match self {
+            Order::Second => 2.0,
+            Order::Third => 6.0,
+        };
+        (n > 0).then(|| {
+            let tau = m as f64 * tau0;
+            Estimate {
+                dev: (sum / (c * n as f64 * tau * tau)).sqrt(),
+                n,
+            }
+        })
     }
 }
 

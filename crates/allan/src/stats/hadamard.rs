@@ -20,12 +20,5 @@ pub fn ohdev(series: &PhaseSeries, m: usize) -> Option<Estimate> {
 }
 
 fn hadamard(series: &PhaseSeries, m: usize, terms: Terms) -> Option<Estimate> {
-    let (sum, n) = sum_squared(series, m, terms, Order::Third);
-    (n > 0).then(|| {
-        let tau = m as f64 * series.tau0();
-        Estimate {
-            dev: (sum / (6.0 * n as f64 * tau * tau)).sqrt(),
-            n,
-        }
-    })
+    Order::Third.deviation(sum_squared(series, m, terms, Order::Third), m, series.tau0())
 }

@@ -51,12 +51,12 @@ pub fn compute_many_with_progress(
 ) -> Vec<Option<Estimate>> {
     use rayon::prelude::*;
     let order = match stat {
-        Stat::Oadev => Some((differences::Order::Second, 2.0)),
-        Stat::Ohdev => Some((differences::Order::Third, 6.0)),
+        Stat::Oadev => Some(differences::Order::Second),
+        Stat::Ohdev => Some(differences::Order::Third),
         _ => None,
     };
     match order {
-        Some((order, norm)) if !series.has_gaps() => {
+        Some(order) if !series.has_gaps() => {
             let sums = differences::sum_squared_overlapped_many(series.points(), ms, order);
             progress(
                 ms.iter()
@@ -65,15 +65,7 @@ pub fn compute_many_with_progress(
             );
             sums.into_iter()
                 .zip(ms)
-                .map(|((sum, n), &m)| {
-                    (n > 0).then(|| {
-                        let tau = m as f64 * series.tau0();
-                        Estimate {
-                            dev: (sum / (norm * n as f64 * tau * tau)).sqrt(),
-                            n,
-                        }
-                    })
-                })
+                .map(|(sum, &m)| order.deviation(sum, m, series.tau0()))
                 .collect()
         }
         _ => ms
