@@ -271,11 +271,13 @@ pub fn read(path: &Path, file: File, out: &mut Decoded) -> Result<(), LogError> 
             .push(format!("{skipped} bytes outside any message skipped"));
     }
     for s in &mut out.imu {
-        let Some(i) = s.instance else { continue };
-        let suffix = if i == 0 {
-            String::new()
-        } else {
-            (i + 1).to_string()
+        // ArduPilot keeps ids for three IMUs only; a higher instance
+        // (possible in a damaged log) has no parameter to look up.
+        let suffix = match s.instance {
+            Some(0) => "",
+            Some(1) => "2",
+            Some(2) => "3",
+            _ => continue,
         };
         for (sensor, is_gyro) in [("GYR", true), ("ACC", false)] {
             let name = format!("INS_{sensor}{suffix}_ID");
