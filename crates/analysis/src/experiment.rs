@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use imu::{Quantity, RecordingOptions};
 use ins::drift::report_times;
 use ins::strapdown::NavOptions;
-use thermal::evaluation::{BinMean, bin_means};
+use thermal::evaluation::{BinMean, bin_means, slice_minima};
 use thermal::surface::{Slicing, SurfaceRow, surface};
 use thermal::tcal::{FitOptions, Model, Run, TcalChannel, fit};
 
@@ -234,23 +234,15 @@ fn evaluate(
         // The ADEV over temperature before and after: its minimum per
         // slice, where a drifting bias shows as a rise at long τ.
         let minima = |x: &[f64]| -> Result<Vec<(f64, f64)>, AnalysisError> {
-            Ok(surface(
-                x,
-                heat_temp,
-                heat.rate_hz,
-                Slicing::Temperature {
-                    bin_width_c: CHANGE_BIN_C,
-                },
-                allan::DEFAULT_CONFIDENCE,
-            )
-            .map_err(AnalysisError::thermal(format!(
-                "{}: {}",
-                heating.display(),
-                c.name
-            )))?
-            .iter()
-            .filter_map(|r| r.terms.slope.sigma_min.map(|m| (r.t_mean_c, m.value)))
-            .collect())
+            Ok(slice_minima(x, heat_temp, heat.rate_hz, CHANGE_BIN_C)
+                .map_err(AnalysisError::thermal(format!(
+                    "{}: {}",
+                    heating.display(),
+                    c.name
+                )))?
+                .iter()
+                .map(|m| (m.t_c, m.sigma_min))
+                .collect())
         };
         out.push(ChannelCompensation {
             name: c.name.clone(),

@@ -2,7 +2,10 @@
 //! temperature (1 °C bin means and their spread) and the ADEV minimum per
 //! temperature slice, before and after.
 
-use crate::surface::{Slicing, surface};
+use allan::noise_terms::slope_method;
+
+use crate::ThermalError;
+use crate::surface::bin_curves;
 
 /// One 1 °C bin: mean temperature, mean value, standard error of the mean.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -82,25 +85,27 @@ pub struct SliceMinimum {
 /// σ_min of each `bin_width_c` slice of the ADEV surface; a run the
 /// surface cannot be drawn for has none.
 pub fn surface_minima(x: &[f64], t: &[f64], rate_hz: f64, bin_width_c: f64) -> Vec<SliceMinimum> {
-    surface(
-        x,
-        t,
-        rate_hz,
-        Slicing::Temperature { bin_width_c },
-        allan::DEFAULT_CONFIDENCE,
-    )
-    .map(|rows| {
-        rows.iter()
-            .filter_map(|r| {
-                r.terms.slope.sigma_min.map(|m| SliceMinimum {
-                    t_c: r.t_mean_c,
-                    sigma_min: m.value,
-                    tau: m.tau.unwrap_or(f64::NAN),
-                })
-            })
-            .collect()
-    })
-    .unwrap_or_default()
+    slice_minima(x, t, rate_hz, bin_width_c).unwrap_or_default()
+}
+
+/// σ_min of each `bin_width_c` slice, or why the run cannot be sliced so.
+/// Only the slope reading of each slice's curve is taken: the noise model
+/// that [`crate::surface::surface`] also fits per slice is by far the dearest
+/// part of it, and none of it is needed here.
+pub fn slice_minima(
+    x: &[f64],
+    t: &[f64],
+    rate_hz: f64,
+    bin_width_c: f64,
+) -> Result<Vec<SliceMinimum>, ThermalError> {
+    let (rows, _) = bin_curves(x, t, rate_hz, bin_width_c, allan::DEFAULT_CONFIDENCE, |c| {
+        slope_method(&c.points).sigma_min.map(|m| SliceMinimum {
+            t_c: c.t_mean_c,
+            sigma_min: m.value,
+            tau: m.tau.unwrap_or(f64::NAN),
+        })
+    })?;
+    Ok(rows.into_iter().flatten().collect())
 }
 
 #[cfg(test)]
@@ -121,5 +126,38 @@ mod tests {
         let s = spread(&b);
         assert!((s.rms - 2.0).abs() < 1e-12 && (s.max - 2.0).abs() < 1e-12);
         assert!(bin_means(&x, &t, 3).is_empty());
+    }
+
+    #[test]
+    fn slice_minima_are_the_surfaces_minima() {
+        // A cooling ramp of white data: the minima read from the curves
+        // alone are those of the full surface, slice for slice.
+        let n = 40_000;
+        let q = 1.0 / 333.87;
+        let t: Vec<f64> = (0..n)
+            .map(|i| ((60.0 - 30.0 * i as f64 / n as f64) / q).round() * q)
+            .collect();
+        let x: Vec<f64> = (0..n).map(|i| ((i * 7919) % 101) as f64 - 50.0).collect();
+        let got = slice_minima(&x, &t, 100.0, 5.0).unwrap();
+        let want: Vec<SliceMinimum> = crate::surface::surface(
+            &x,
+            &t,
+            100.0,
+            crate::surface::Slicing::Temperature { bin_width_c: 5.0 },
+            allan::DEFAULT_CONFIDENCE,
+        )
+        .unwrap()
+        .iter()
+        .filter_map(|r| {
+            r.terms.slope.sigma_min.map(|m| SliceMinimum {
+                t_c: r.t_mean_c,
+                sigma_min: m.value,
+                tau: m.tau.unwrap_or(f64::NAN),
+            })
+        })
+        .collect();
+        assert!(got.len() >= 6, "{got:?}");
+        assert_eq!(got, want);
+        assert!(slice_minima(&x, &t, 100.0, 0.0).is_err());
     }
 }

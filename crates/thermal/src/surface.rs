@@ -180,6 +180,40 @@ fn bins(
     bin_width_c: f64,
     confidence: f64,
 ) -> Result<Surface, ThermalError> {
+    let (rows, skipped) = bin_curves(data, temp, rate_hz, bin_width_c, confidence, |row| SurfaceRow {
+        terms: identify(&row.points, &row.points, confidence),
+        start: row.start,
+        end: row.end,
+        t_mean_c: row.t_mean_c,
+        t_change_c: row.t_change_c,
+        samples: row.samples,
+        points: row.points,
+    })?;
+    Ok(Surface { rows, skipped })
+}
+
+/// One temperature bin's OADEV curve, before anything is read from it.
+#[derive(Debug, Clone)]
+pub(crate) struct BinCurve {
+    pub start: f64,
+    pub end: f64,
+    pub t_mean_c: f64,
+    pub t_change_c: f64,
+    pub samples: usize,
+    pub points: Vec<Point>,
+}
+
+/// Each bin's curve, turned by `read` into what the caller needs: the
+/// noise model's fit is by far the dearest part of a slice, and a caller
+/// that needs only the curve's minimum should not pay for it.
+pub(crate) fn bin_curves<R: Send>(
+    data: &[f64],
+    temp: &[f64],
+    rate_hz: f64,
+    bin_width_c: f64,
+    confidence: f64,
+    read: impl Fn(BinCurve) -> R + Sync,
+) -> Result<(Vec<R>, Vec<SkippedSlice>), ThermalError> {
     if !(bin_width_c.is_finite() && bin_width_c > 0.0) {
         return Err(ThermalError::Invalid(format!(
             "bin width {bin_width_c} °C must be positive"
@@ -211,7 +245,7 @@ fn bins(
     let opts = crate::dynamic_adev::slice_options(rate_hz, confidence);
     let first = (lo / bin_width_c).floor() as i64;
     let last = (hi / bin_width_c).floor() as i64;
-    let results: Vec<Result<SurfaceRow, SkippedSlice>> = (first..=last)
+    let results: Vec<Result<R, SkippedSlice>> = (first..=last)
         .into_par_iter()
         .filter_map(|k| {
             let (a, b) = (k as f64 * bin_width_c, (k + 1) as f64 * bin_width_c);
@@ -240,15 +274,14 @@ fn bins(
                 return Some(Err(skip(Skip::TooFewSamples { valid: label.samples })));
             }
             Some(match allan::analyze_vec(series, &opts) {
-                Ok(curve) => Ok(SurfaceRow {
+                Ok(curve) => Ok(read(BinCurve {
                     start: a,
                     end: b,
                     t_mean_c: label.t_mean_c(),
                     t_change_c: label.t_change_c(),
                     samples: label.samples,
-                    terms: identify(&curve.points, &curve.points, confidence),
                     points: curve.points,
-                }),
+                })),
                 Err(e) => Err(skip(Skip::Statistic(e))),
             })
         })
@@ -260,7 +293,7 @@ fn bins(
             Err(s) => skipped.push(s),
         }
     }
-    Ok(Surface { rows, skipped })
+    Ok((rows, skipped))
 }
 
 #[cfg(test)]
