@@ -4,6 +4,7 @@ scripts, on the same logs, each parameter file applied to a held-out run as
 the firmware applies it.
 
     compare.py [SEEDS…]        (default 1 2 3)
+    compare.py --pool [SEEDS…] (the tables again from WORK/seedN/rows.json)
 
 Environment: PX4_CALDATA, the path of the PX4 script to run (a copy of
 PX4-Autopilot's Tools/process_sensor_caldata.py, fetched or installed at
@@ -13,7 +14,8 @@ matplotlib needed), the ArduPilot half left out when unset; IMUTHERM, the imuthe
 `imutherm` on PATH); PYTHON, an interpreter with numpy, scipy, pyulog
 (default: this one; pymavlink too for the ArduPilot half); WORK, where the logs go (default a temporary folder;
 logs and the peer's file already there are reused; each seed's figures are
-left in WORK/seedN/rows.json).
+left in WORK/seedN/rows.json); DROP_LOGS=1 removes a seed's four logs (about
+200 MB) once its figures are written, for runs of many seeds.
 
 Per seed: make_logs.py writes a 45 min heating ULog (fitted) and a cooling
 one (held out) with two IMUs of known cubic bias; PX4's script and
@@ -223,8 +225,39 @@ def lsq_ap(log, out):
     Path(out).write_text("\n".join(lines + [""]))
 
 
+def drop_logs(d):
+    if os.environ.get("DROP_LOGS") == "1":
+        for name in ("heating.ulg", "cooling.ulg", "heating.bin", "cooling.bin"):
+            (d / name).unlink(missing_ok=True)
+
+
+def pooled(work, seeds):
+    """The tables of seeds already judged, from their rows.json."""
+    results, ap_results = {}, {}
+    for seed in seeds:
+        rows = json.loads((work / f"seed{seed}" / "rows.json").read_text())
+        for name, into in (("px4", results), ("imutherm px4", results), ("lsq px4", results),
+                           ("ArduPilot", ap_results), ("imutherm ardupilot", ap_results),
+                           ("lsq ardupilot", ap_results)):
+            if name in rows:
+                into.setdefault(name.split()[0], []).append(
+                    {(int(k.split()[0]), k.split()[1]): tuple(v) for k, v in rows[name].items()})
+    return results, ap_results
+
+
 def main():
-    seeds = [int(s) for s in sys.argv[1:]] or [1, 2, 3]
+    args = sys.argv[1:]
+    if args[:1] == ["--pool"]:
+        work = Path(os.environ.get("WORK") or sys.exit("--pool reads WORK/seedN/rows.json: set WORK"))
+        seeds = [int(s) for s in args[1:]] or sorted(
+            int(d.name[4:]) for d in work.glob("seed*") if (d / "rows.json").is_file())
+        results, ap_results = pooled(work, seeds)
+        print(f"seeds {' '.join(map(str, seeds))}")
+        table("PX4 (ULog, 200 Hz)", "px4", results)
+        if ap_results:
+            table("ArduPilot (DataFlash, IMU at 25 Hz)", "ArduPilot", ap_results)
+        return
+    seeds = [int(s) for s in args] or [1, 2, 3]
     peer = os.environ.get("PX4_CALDATA")
     if not peer or not Path(peer).is_file():
         sys.exit("set PX4_CALDATA to a copy of PX4-Autopilot's Tools/process_sensor_caldata.py")
@@ -260,6 +293,7 @@ def main():
         seed_rows["lsq px4"] = {f"{k[0]} {k[1]}": v for k, v in results["lsq"][-1].items()}
         if not ap_peer:
             (d / "rows.json").write_text(json.dumps(seed_rows))
+            drop_logs(d)
             continue
         theirs = d / "heating.bin.parm"
         if not theirs.is_file():
@@ -279,6 +313,7 @@ def main():
                 f"{k[0]} {k[1]}": v for k, v in rows.items()}
         # Each seed's rows (spread, error, applied), to pool seeds of several runs.
         (d / "rows.json").write_text(json.dumps(seed_rows))
+        drop_logs(d)
     table("PX4 (ULog, 200 Hz)", "px4", results)
     if ap_results:
         table("ArduPilot (DataFlash, IMU at 25 Hz)", "ArduPilot", ap_results)
