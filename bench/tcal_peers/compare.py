@@ -51,6 +51,7 @@ those bins of offset − true bias); the level (the bin means' mean) is left
 out of both, since PX4 keeps the accelerometer's level apart.
 """
 
+import functools
 import json
 import os
 import statistics
@@ -95,10 +96,16 @@ def bins(temp, values):
         [temp[keys == k].mean() for k in np.unique(keys)])
 
 
+@functools.lru_cache(maxsize=2)
+def ulog_topics(path):
+    """The IMU topics of a ULog, parsed once for every file judged on it."""
+    return ULog(str(path), message_name_filter_list=["sensor_gyro", "sensor_accel"]).data_list
+
+
 def judge(pfile, log, truth):
     p = params(pfile)
     rows = {}
-    for d in ULog(str(log)).data_list:
+    for d in ulog_topics(log):
         if d.name not in ("sensor_gyro", "sensor_accel"):
             continue
         letter = "G" if d.name == "sensor_gyro" else "A"
@@ -146,6 +153,7 @@ def ap_offsets(p, kind, imu, temp):
     return out
 
 
+@functools.lru_cache(maxsize=2)
 def dataflash_imu(path):
     """The IMU messages of a DataFlash log, per instance, as pymavlink reads them."""
     from pymavlink import mavutil
@@ -196,7 +204,7 @@ def table(title, peer, results):
 def lsq_px4(log, out):
     """The least-squares file in PX4's format, TREF the range's middle."""
     lines = []
-    for d in ULog(str(log)).data_list:
+    for d in ulog_topics(log):
         if d.name not in ("sensor_gyro", "sensor_accel"):
             continue
         s = f"TC_{'G' if d.name == 'sensor_gyro' else 'A'}{d.multi_id}"
