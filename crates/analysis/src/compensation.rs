@@ -47,6 +47,21 @@ impl RunData {
         RunData::new(file, selection, digest)
     }
 
+    /// [`RunData::read`] of each IMU instance `pick` asks, from one open
+    /// and one decode of the file
+    /// ([`crate::selection::read_channels_digested_each`]).
+    pub fn read_each(
+        file: &Path,
+        wanted: &[String],
+        read: &RecordingOptions,
+        pick: &imu::InstancePick,
+    ) -> Result<Vec<(Option<u32>, RunData)>, AnalysisError> {
+        let (each, digest) = crate::selection::read_channels_digested_each(file, wanted, read, pick)?;
+        each.into_iter()
+            .map(|(n, selection)| Ok((n, RunData::new(file, selection, digest.clone())?)))
+            .collect()
+    }
+
     /// Splits the temperature off channels read from `file`, whose bytes
     /// have `digest`.
     pub fn new(file: &Path, mut selection: Selection, digest: String) -> Result<RunData, AnalysisError> {

@@ -61,34 +61,6 @@ pub fn format_of(path: &Path) -> Option<&'static str> {
     }
 }
 
-/// The IMU instances of a PX4 ULog or ArduPilot DataFlash log that hold
-/// samples, in increasing order; empty for a log without instances (a
-/// text log, a ROS bag).
-pub fn imu_instances(path: &Path) -> Result<Vec<u32>, AnalysisError> {
-    #[cfg(feature = "robotlogs")]
-    {
-        let log_error = |e: robotlogs::LogError| AnalysisError::RobotLog(e.to_string());
-        let Some(log) = robotlogs::Log::detect(path).map_err(log_error)? else {
-            return Ok(Vec::new());
-        };
-        let (d, _) = robotlogs::decode_log(path, log, false).map_err(log_error)?;
-        let mut out: Vec<u32> = d
-            .imu
-            .iter()
-            .filter(|s| !s.is_empty())
-            .filter_map(|s| s.instance)
-            .collect();
-        out.sort_unstable();
-        out.dedup();
-        Ok(out)
-    }
-    #[cfg(not(feature = "robotlogs"))]
-    {
-        let _ = path;
-        Ok(Vec::new())
-    }
-}
-
 /// Reads any recording, robot log or text log, with its report and (for a
 /// robot log) every stream in it; [`crate::source::read_source`] keeps the
 /// format found too.
@@ -260,27 +232,33 @@ pub(crate) fn read_input(
             let format = log.format();
             let r = robotlogs::read_opened(path, robotlogs::Opened::Log(log), opts, &choice_of(opts))
                 .map_err(log_error)?;
-            let streams = r
-                .streams
-                .into_iter()
-                .map(|s| Stream {
-                    name: s.name,
-                    kind: s.kind,
-                    instance: s.instance,
-                    message_type: s.msg_type,
-                    messages: s.messages,
-                    rate_hz: s.rate_hz,
-                    temperature_source: s.temperature,
-                    selected: s.selected,
-                })
-                .collect();
-            Ok((r.recording, r.report, streams, Some(format.name())))
+            Ok(any_read(r, format))
         }
         Input::Text(reader) => {
             let (rec, report) = read_recording_from(reader, opts)?;
             Ok((rec, report, Vec::new(), None))
         }
     }
+}
+
+/// A robot log's read, with its streams as this crate lists them.
+#[cfg(feature = "robotlogs")]
+fn any_read(r: robotlogs::Read, format: robotlogs::Format) -> AnyRead {
+    let streams = r
+        .streams
+        .into_iter()
+        .map(|s| Stream {
+            name: s.name,
+            kind: s.kind,
+            instance: s.instance,
+            message_type: s.msg_type,
+            messages: s.messages,
+            rate_hz: s.rate_hz,
+            temperature_source: s.temperature,
+            selected: s.selected,
+        })
+        .collect();
+    (r.recording, r.report, streams, Some(format.name()))
 }
 
 /// Opens and reads `path`, robot log or text log, once.
@@ -297,7 +275,35 @@ pub(crate) fn read_channels(
     wanted: &[String],
     read: &RecordingOptions,
 ) -> Result<Selection, AnalysisError> {
-    let (mut rec, report, _, _) = read_input(file, Input::Log(log), read)?;
+    channels_of(file, read_input(file, Input::Log(log), read)?, wanted)
+}
+
+/// [`read_channels`] of each IMU instance `pick` asks, from one decode of
+/// the log: each selection with its instance, or the one stream's with
+/// `None`.
+#[cfg(feature = "robotlogs")]
+pub(crate) fn read_channels_each(
+    file: &Path,
+    log: robotlogs::Log,
+    wanted: &[String],
+    read: &RecordingOptions,
+    pick: &imu::InstancePick,
+) -> Result<Vec<(Option<u32>, Selection)>, AnalysisError> {
+    let format = log.format();
+    robotlogs::read_log_each(file, log, read, &choice_of(read), pick)
+        .map_err(log_error)?
+        .into_iter()
+        .map(|(n, r)| Ok((n, channels_of(file, any_read(r, format), wanted)?)))
+        .collect()
+}
+
+/// The channels `wanted` of a robot log's read, in SI.
+#[cfg(feature = "robotlogs")]
+fn channels_of(
+    file: &Path,
+    (mut rec, report, _, _): AnyRead,
+    wanted: &[String],
+) -> Result<Selection, AnalysisError> {
     let facts = crate::source_facts::RecordingFacts::of(&rec, &report);
     let mut notes = reader_notes(file, &report, "the messages' clock");
     let checks = checked(file, &rec, &mut notes);

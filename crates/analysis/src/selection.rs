@@ -85,6 +85,32 @@ pub fn read_channels_digested(
     Ok((selection, digest.value()))
 }
 
+/// Selections of one read, each with its IMU instance, or `None` for the
+/// one stream read.
+pub type EachSelection = Vec<(Option<u32>, Selection)>;
+
+/// [`read_channels_digested`] of each IMU instance `pick` asks: a log of
+/// several IMUs is opened and decoded once for all of them. Each selection
+/// comes with its instance, or with `None` for the one stream read; a text
+/// log has no instances, so [`imu::InstancePick::All`] gives nothing for it.
+/// A choice of instances for a text log is refused as by
+/// [`read_channels_digested`] when `read` names one.
+pub fn read_channels_digested_each(
+    file: &Path,
+    wanted: &[String],
+    read: &RecordingOptions,
+    pick: &imu::InstancePick,
+) -> Result<(EachSelection, String), AnalysisError> {
+    let (input, digest) = crate::robot_logs::open_digesting(file, read)?;
+    let each = match input {
+        #[cfg(feature = "robotlogs")]
+        Input::Log(log) => crate::robot_logs::read_channels_each(file, log, wanted, read, pick)?,
+        Input::Text(_) if *pick == imu::InstancePick::All => Vec::new(),
+        input => vec![(None, read_opened(file, input, wanted, read)?)],
+    };
+    Ok((each, digest.value()))
+}
+
 /// [`read_channels`] of an input opened.
 #[cfg_attr(not(feature = "robotlogs"), allow(clippy::infallible_destructuring_match))]
 fn read_opened(

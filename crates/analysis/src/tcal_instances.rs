@@ -5,13 +5,14 @@
 //! call these, so that a model of several instances and its evaluation are
 //! the same bytes from either.
 //!
-//! Reading a run is left to the caller (`read_run`): the command line
+//! Reading a run is left to the caller (`read_runs`, one read of a file for
+//! every instance it is asked for): the command line
 //! prints the reader's notes and checks the sensor is static, Python does
 //! neither.
 
 use std::path::{Path, PathBuf};
 
-use imu::RecordingOptions;
+use imu::{InstancePick, RecordingOptions};
 use thermal::firmware::{self, Target};
 use thermal::tcal::Model;
 use thiserror::Error;
@@ -73,63 +74,79 @@ pub fn held(model: &Model) -> Vec<u32> {
     model.instances.iter().filter_map(|m| m.instance).collect()
 }
 
-/// The instances a fit covers: every one of the first run's with
+/// Each run read as `read_runs` reads it: with its instance, or with
+/// `None` for a run read as one stream.
+pub type EachRun = Vec<(Option<u32>, RunData)>;
+
+/// The instances a fit's first run is read for: every one with
 /// [`Instances::All`], and by default when fitting for a firmware (with no
-/// topic named) on a log of several IMUs; `None` for one sensor.
-pub fn instances_to_fit(
-    files: &[PathBuf],
-    asked: Option<Instances>,
-    for_firmware: bool,
-    topic_named: bool,
-) -> Result<Option<Vec<u32>>, AnalysisError> {
-    let all = match asked {
-        Some(Instances::One(_)) => return Ok(None),
-        Some(Instances::All) => true,
-        None if for_firmware && !topic_named => false,
-        None => return Ok(None),
-    };
-    let Some(first) = files.first() else {
-        return Ok(None);
-    };
-    let found = crate::robot_logs::imu_instances(first)?;
-    match found.len() {
-        0 if all => Err(InstanceError::NoneInLog {
-            file: first.to_path_buf(),
-        }
-        .into()),
-        0 | 1 if !all => Ok(None),
-        _ => Ok(Some(found)),
+/// topic named) on a log of several IMUs; otherwise the one stream asked.
+fn pick_for_fit(asked: Option<Instances>, for_firmware: bool, topic_named: bool) -> InstancePick {
+    match asked {
+        Some(Instances::All) => InstancePick::All,
+        None if for_firmware && !topic_named => InstancePick::Several,
+        _ => InstancePick::AsChosen,
     }
 }
 
-/// Fits `files` as `req` asks: one model from runs read with `read`, or,
-/// with `instances`, one model holding a fit of each instance (read as its
-/// own IMU), its warnings prefixed with the instance. A model for a
-/// firmware is exported once whole, so that a fault of the file the
-/// instances make together shows at the fit, not at the vehicle.
+/// Fits `files` as `req` asks: one model, or, where the instances asked
+/// (see [`Instances`]) are several, one model holding a fit of each
+/// instance (read as its own IMU), its warnings prefixed with the instance.
+/// `read_runs` reads a file once for every instance `pick` names: the first
+/// run decides the instances, the others are read for the same ones. A
+/// model for a firmware is exported once whole, so that a fault of the file
+/// the instances make together shows at the fit, not at the vehicle.
 pub fn fit<E: From<AnalysisError>>(
     files: &[PathBuf],
     req: &FitRequest,
     read: &RecordingOptions,
-    instances: Option<&[u32]>,
-    mut read_run: impl FnMut(&Path, &RecordingOptions) -> Result<RunData, E>,
+    asked: Option<Instances>,
+    topic_named: bool,
+    mut read_runs: impl FnMut(&Path, &RecordingOptions, &InstancePick) -> Result<EachRun, E>,
 ) -> Result<Fitted, E> {
-    let mut fit_one = |read: &RecordingOptions| -> Result<Fitted, E> {
-        let runs: Vec<RunData> = files
-            .iter()
-            .map(|f| read_run(f, read))
-            .collect::<Result<_, _>>()?;
-        Ok(compensation::fit(files, &runs, req)?)
+    let Some((first, rest)) = files.split_first() else {
+        return Ok(compensation::fit(files, &[], req)?);
     };
-    let Some(numbers) = instances else {
-        return fit_one(read);
+    let pick = pick_for_fit(asked, req.firmware.is_some(), topic_named);
+    let first_runs = read_runs(first, read, &pick)?;
+    let numbers: Vec<u32> = first_runs.iter().filter_map(|(n, _)| *n).collect();
+    let Some(&lead) = numbers.first() else {
+        if pick == InstancePick::All {
+            return Err(AnalysisError::from(InstanceError::NoneInLog {
+                file: first.to_path_buf(),
+            })
+            .into());
+        }
+        let mut runs: Vec<RunData> = first_runs.into_iter().map(|(_, r)| r).collect();
+        for f in rest {
+            runs.extend(
+                read_runs(f, read, &InstancePick::AsChosen)?
+                    .into_iter()
+                    .map(|(_, r)| r),
+            );
+        }
+        return Ok(compensation::fit(files, &runs, req)?);
     };
-    let mut each = Vec::with_capacity(numbers.len());
+    let mut by_instance: Vec<(u32, Vec<RunData>)> = first_runs
+        .into_iter()
+        .filter_map(|(n, r)| n.map(|n| (n, vec![r])))
+        .collect();
+    // The later runs are read for the first one's instances; naming one
+    // makes a text log among them refused as a stream choice is.
+    let mut each = read.clone();
+    each.stream.instance = Some(lead);
+    let these = InstancePick::These(numbers.clone());
+    for f in rest {
+        for (n, run) in read_runs(f, &each, &these)? {
+            if let Some((_, runs)) = by_instance.iter_mut().find(|(k, _)| Some(*k) == n) {
+                runs.push(run);
+            }
+        }
+    }
+    let mut models = Vec::with_capacity(by_instance.len());
     let mut export_warnings = Vec::new();
-    for &n in numbers {
-        let mut one = read.clone();
-        one.stream.instance = Some(n);
-        let fitted = fit_one(&one)?;
+    for (n, runs) in by_instance {
+        let fitted = compensation::fit(files, &runs, req)?;
         let mut model = fitted.model;
         model.instance = Some(n);
         export_warnings.extend(
@@ -138,11 +155,11 @@ pub fn fit<E: From<AnalysisError>>(
                 .into_iter()
                 .map(|w| format!("instance {n}: {w}")),
         );
-        each.push(model);
+        models.push(model);
     }
-    let model = Model::of_instances(each).ok_or_else(|| {
+    let model = Model::of_instances(models).ok_or_else(|| {
         AnalysisError::from(InstanceError::NoneInLog {
-            file: files.first().cloned().unwrap_or_default(),
+            file: first.to_path_buf(),
         })
     })?;
     if let Some(fw) = req.firmware {
@@ -209,9 +226,10 @@ pub fn to_evaluate<'m>(
 }
 
 /// `tcal eval`'s document: every run of `files` judged for each sensor of
-/// `model` (read as its own IMU for a model of several instances), with
-/// `loaded`, where given, applied as the firmware applies it (each instance
-/// against its own set) and its verdict on each run.
+/// `model` (read as its own IMU for a model of several instances, every
+/// instance from one read of the file where the sensors take the same
+/// channels), with `loaded`, where given, applied as the firmware applies
+/// it (each instance against its own set) and its verdict on each run.
 pub fn evaluate<E: From<AnalysisError>>(
     model: &Model,
     model_name: &str,
@@ -219,24 +237,42 @@ pub fn evaluate<E: From<AnalysisError>>(
     loaded: Option<&AsLoaded>,
     asked: Option<Instances>,
     read: &RecordingOptions,
-    mut read_run: impl FnMut(&Path, &[String], &RecordingOptions) -> Result<RunData, E>,
+    mut read_runs: impl FnMut(&Path, &[String], &RecordingOptions, &InstancePick) -> Result<EachRun, E>,
 ) -> Result<EvalDocument, E> {
     let many = !model.instances.is_empty();
     let sensors = to_evaluate(model, model_name, asked).map_err(AnalysisError::from)?;
+    let names_of = |m: &Model| -> Vec<String> { m.channels.iter().map(|c| c.name.clone()).collect() };
+    let together = many && sensors.len() > 1 && sensors.iter().all(|m| names_of(m) == names_of(sensors[0]));
     let mut rows = Vec::new();
     let mut verdicts = Vec::new();
     for file in files {
-        for m in &sensors {
-            let mut read = read.clone();
+        let mut runs: Vec<(&Model, RunData)> = Vec::with_capacity(sensors.len());
+        if together {
+            let numbers: Vec<u32> = sensors.iter().filter_map(|m| m.instance).collect();
+            let mut each = read.clone();
+            each.stream.instance = numbers.first().copied();
+            let got = read_runs(file, &names_of(sensors[0]), &each, &InstancePick::These(numbers))?;
+            for (n, run) in got {
+                if let Some(m) = sensors.iter().find(|m| m.instance.is_some() && m.instance == n) {
+                    runs.push((m, run));
+                }
+            }
+        } else {
+            for m in &sensors {
+                let mut one = read.clone();
+                if many {
+                    one.stream.instance = m.instance;
+                }
+                for (_, run) in read_runs(file, &names_of(m), &one, &InstancePick::AsChosen)? {
+                    runs.push((m, run));
+                }
+            }
+        }
+        for (m, run) in runs {
             let for_instance = match (many, loaded) {
                 (true, Some(l)) => Some(l.for_instance(m)?),
                 _ => None,
             };
-            if many {
-                read.stream.instance = m.instance;
-            }
-            let names: Vec<String> = m.channels.iter().map(|c| c.name.clone()).collect();
-            let run = read_run(file, &names, &read)?;
             let loaded = for_instance.as_ref().or(loaded);
             if let Some(l) = loaded {
                 let mut v = compensation::judge(l, file, &run)?;
@@ -312,16 +348,41 @@ mod tests {
 
     #[test]
     fn instances_are_fitted_together_only_where_asked_or_a_firmware_wants_them() {
+        assert_eq!(pick_for_fit(None, true, false), InstancePick::Several);
+        assert_eq!(pick_for_fit(None, true, true), InstancePick::AsChosen);
+        assert_eq!(pick_for_fit(None, false, false), InstancePick::AsChosen);
+        assert_eq!(
+            pick_for_fit(Some(Instances::One(1)), true, false),
+            InstancePick::AsChosen
+        );
+        assert_eq!(pick_for_fit(Some(Instances::All), false, true), InstancePick::All);
+
+        // Every instance of a text log, which has none: a usage error.
         let dir = tempfile::tempdir().unwrap();
         let text = dir.path().join("run.csv");
         std::fs::write(&text, "gyro_x,temperature\n1,20\n").unwrap();
-        let files = [text.clone()];
-        assert_eq!(instances_to_fit(&files, None, true, false).unwrap(), None);
-        assert_eq!(
-            instances_to_fit(&files, Some(Instances::One(1)), true, false).unwrap(),
-            None
-        );
-        let err = instances_to_fit(&files, Some(Instances::All), false, false).unwrap_err();
+        let req = FitRequest {
+            order: thermal::tcal::Order::Auto,
+            t_ref_c: None,
+            bin_width_c: 1.0,
+            rate_term: false,
+            firmware: None,
+        };
+        let mut picks = Vec::new();
+        let Err(err) = fit::<AnalysisError>(
+            &[text],
+            &req,
+            &RecordingOptions::default(),
+            Some(Instances::All),
+            false,
+            |f, read, pick| {
+                picks.push(pick.clone());
+                RunData::read_each(f, &[], read, pick)
+            },
+        ) else {
+            panic!("a text log fitted for every instance");
+        };
+        assert_eq!(picks, [InstancePick::All]);
         assert!(err.is_usage(), "{err}");
         assert!(err.to_string().contains("has no IMU instances"), "{err}");
     }

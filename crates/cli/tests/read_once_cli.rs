@@ -338,6 +338,23 @@ fn each_command_opens_each_input_file_once() {
         &["adev", "--json", "--instance", "0"],
         &["report", "--instance", "0", "--out", "page"],
     ];
+    // A flight controller's log of two IMUs: a fit for the firmware and
+    // its evaluation take every instance from one read of the log.
+    let dataflash_commands: &[&[&str]] = &[
+        &["info"],
+        &["adev", "--json", "--instance", "0"],
+        &["report", "--instance", "0", "--out", "page"],
+        &[
+            "tcal",
+            "fit",
+            "--for",
+            "ardupilot",
+            "--overwrite",
+            "-o",
+            "vehicle.json",
+        ],
+        &["tcal", "eval", "--json", "vehicle.json"],
+    ];
     let ros_commands: &[&[&str]] = &[&["info"], &["adev", "--json"], &["report", "--out", "page"]];
     // A gzip file is unpacked by the text reader, after the one open.
     let gzip_commands: &[&[&str]] = &[
@@ -351,7 +368,7 @@ fn each_command_opens_each_input_file_once() {
         ("ULog", &ulog, log_commands),
         ("MCAP", &mcap, ros_commands),
         ("ROS 1 bag", &ros1, ros_commands),
-        ("DataFlash", &dataflash, log_commands),
+        ("DataFlash", &dataflash, dataflash_commands),
         ("ROS 2 bag (SQLite3)", &sqlite_bag, ros_commands),
         ("ROS 2 bag (MCAP, split)", &split_bag, ros_commands),
     ];

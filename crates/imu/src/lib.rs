@@ -48,8 +48,8 @@ pub mod units;
 
 pub use error::{ReadError, ReadErrorKind};
 pub use log_file::{
-    LogFormat, LogWriter, RecordingOptions, StreamChoice, read_recording, read_recording_with_report,
-    write_recording,
+    InstancePick, LogFormat, LogWriter, RecordingOptions, StreamChoice, read_recording,
+    read_recording_with_report, write_recording,
 };
 pub use read_report::{FileFormat, Problem, ProblemKind, ReadReport};
 pub use recording::{Axis, Channel, Metadata, Recording};

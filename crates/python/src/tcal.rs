@@ -3,9 +3,8 @@
 //! A model travels as the JSON text of its model file, so what Python saves
 //! is the file `tcal fit` writes.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use analysis::AnalysisError;
 use analysis::compensation::{self, FitRequest, RunData};
 use analysis::reading::{ReadingChoices, recording_options};
 use analysis::tcal_instances::{self as instances, Instances};
@@ -65,11 +64,6 @@ fn model_of(text: &str) -> PyResult<Model> {
     Model::from_json(text).map_err(|e| to_py(&e))
 }
 
-/// The channels and the temperature of one run.
-fn run_data(file: &Path, channels: &[String], read: &RecordingOptions) -> Result<RunData, AnalysisError> {
-    RunData::read(file, channels, read)
-}
-
 /// Fits a model on the runs in `files`, as `imutherm tcal fit`; returns the
 /// model file's text and the export's warnings for `firmware`. With
 /// `all_instances`, and by default for a firmware on a log of several IMUs,
@@ -105,10 +99,8 @@ pub fn tcal_fit(
     let topic_named = reading.topic.is_some();
     let read = options(reading)?;
     py.detach(|| {
-        let numbers = instances::instances_to_fit(&files, asked, req.firmware.is_some(), topic_named)
-            .map_err(analysis_err)?;
-        let fitted = instances::fit(&files, &req, &read, numbers.as_deref(), |f, read| {
-            run_data(f, &channels, read)
+        let fitted = instances::fit(&files, &req, &read, asked, topic_named, |f, read, pick| {
+            RunData::read_each(f, &channels, read, pick)
         })
         .map_err(analysis_err)?;
         let text = serde_json::to_string_pretty(&fitted.model).map_err(|e| refused(e.to_string()))?;
@@ -204,7 +196,7 @@ pub fn tcal_eval(
             loaded.as_ref(),
             asked,
             &read,
-            run_data,
+            RunData::read_each,
         )
         .map_err(analysis_err)?;
         let text = serde_json::to_string_pretty(&doc).map_err(|e| refused(e.to_string()))?;

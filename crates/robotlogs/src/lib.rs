@@ -32,7 +32,7 @@ pub use assemble::{Choice, StreamInfo};
 pub use error::{LogError, LogErrorKind};
 pub use format::{Format, detect};
 
-use imu::{ReadReport, Recording, RecordingOptions};
+use imu::{InstancePick, ReadReport, Recording, RecordingOptions};
 
 /// A recording read, with what the log holds.
 #[derive(Debug, Clone)]
@@ -258,6 +258,97 @@ pub fn read(path: &Path, opts: &RecordingOptions, choice: &Choice) -> Result<Rea
     read_opened(path, open(path, choice)?, opts, choice)
 }
 
+/// The IMU instances of a decoded log that hold samples, in increasing
+/// order; empty for a log without instances (a ROS bag).
+pub fn instances(d: &streams::Decoded) -> Vec<u32> {
+    let mut out: Vec<u32> = d
+        .imu
+        .iter()
+        .filter(|s| !s.is_empty())
+        .filter_map(|s| s.instance)
+        .collect();
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+/// A robot log decoded once and assembled as `pick` asks: each instance
+/// with its number, or the one stream the choice names with `None` (and
+/// nothing for [`InstancePick::All`] on a log without instances). The
+/// instances come from the one decode (a copy of it for all but the last),
+/// so a log of several IMUs is neither opened nor decoded again for each.
+pub fn read_log_each(
+    path: &Path,
+    log: Log,
+    opts: &RecordingOptions,
+    choice: &Choice,
+    pick: &InstancePick,
+) -> Result<Vec<(Option<u32>, Read)>, Error> {
+    let format = log.format;
+    let (d, missing) = decode_log(path, log, choice.allow_partial)?;
+    let base = with_options(choice, opts);
+    let numbers = match pick {
+        InstancePick::AsChosen => Vec::new(),
+        InstancePick::All => {
+            let found = instances(&d);
+            if found.is_empty() {
+                return Ok(Vec::new());
+            }
+            found
+        }
+        InstancePick::Several => Some(instances(&d))
+            .filter(|found| found.len() >= 2)
+            .unwrap_or_default(),
+        InstancePick::These(these) => these.clone(),
+    };
+    let one = |d, choice: &Choice| assembled(path, format, d, &missing, choice);
+    let Some((&last, first)) = numbers.split_last() else {
+        return Ok(vec![(None, one(d, &base)?)]);
+    };
+    let mut out = Vec::with_capacity(numbers.len());
+    for &n in first {
+        let choice = Choice {
+            instance: Some(n),
+            ..base.clone()
+        };
+        out.push((Some(n), one(d.clone(), &choice)?));
+    }
+    let choice = Choice {
+        instance: Some(last),
+        ..base
+    };
+    out.push((Some(last), one(d, &choice)?));
+    Ok(out)
+}
+
+/// The choice with the rate and the grid's limit the options give, where
+/// the choice gives none.
+fn with_options(choice: &Choice, opts: &RecordingOptions) -> Choice {
+    Choice {
+        rate_hz: choice.rate_hz.or(opts.rate_hz),
+        max_grid_factor: choice.max_grid_factor.or(opts.max_grid_factor),
+        ..choice.clone()
+    }
+}
+
+/// One stream of a decoded log, on its clock, with its report.
+fn assembled(
+    path: &Path,
+    format: Format,
+    d: streams::Decoded,
+    missing: &[format::MissingFile],
+    choice: &Choice,
+) -> Result<Read, Error> {
+    let (recording, mut report, streams) = assemble::assemble(path, format.name(), d, choice)?;
+    report_missing(missing, &mut report);
+    Ok(Read {
+        recording,
+        report,
+        streams,
+        format: Some(format),
+    })
+}
+
 /// [`read`] of an input [`open`] opened.
 pub fn read_opened(
     path: &Path,
@@ -269,19 +360,7 @@ pub fn read_opened(
         Opened::Log(log) => {
             let format = log.format;
             let (d, missing) = decode_log(path, log, choice.allow_partial)?;
-            let choice = Choice {
-                rate_hz: choice.rate_hz.or(opts.rate_hz),
-                max_grid_factor: choice.max_grid_factor.or(opts.max_grid_factor),
-                ..choice.clone()
-            };
-            let (recording, mut report, streams) = assemble::assemble(path, format.name(), d, &choice)?;
-            report_missing(&missing, &mut report);
-            Ok(Read {
-                recording,
-                report,
-                streams,
-                format: Some(format),
-            })
+            assembled(path, format, d, &missing, &with_options(choice, opts))
         }
         Opened::Text(reader) => {
             let (recording, report) = imu::log_file::read_recording_from(reader, opts)?;

@@ -10,7 +10,7 @@ use analysis::AnalysisError;
 use analysis::compensation::{self, AsLoaded, FitRequest, RunData};
 use analysis::tcal_instances::{self, Instances};
 use imu::output::{AtomicFile, OutputPolicy, check_output, write_file};
-use imu::{LogFormat, RecordingOptions, write_recording};
+use imu::{InstancePick, LogFormat, RecordingOptions, write_recording};
 use thermal::firmware::Firmware;
 use thermal::tcal::Model;
 
@@ -19,22 +19,25 @@ use crate::args::{TcalApplyArgs, TcalEvalArgs, TcalFitArgs};
 use crate::flags::Instance;
 use crate::print::{notes, static_checked};
 
-/// Reads channels and the temperature of one run of a static sensor,
-/// printing the reader's notes; the digest of its bytes comes from the same
-/// read, so the run is opened once and may be a pipe.
+/// Reads channels and the temperature of one run of a static sensor for
+/// each IMU instance `pick` asks, printing the reader's notes; the file is
+/// opened and decoded once for all of them, and the digest of its bytes
+/// comes from the same read, so the run may be a pipe.
 fn run_data(
     file: &Path,
     channels: &[String],
     read: &RecordingOptions,
+    pick: &InstancePick,
     allow_motion: bool,
-) -> Result<RunData> {
-    let (sel, digest) = analysis::selection::read_channels_digested(file, channels, read)?;
-    notes(&sel.notes);
-    Ok(RunData::new(
-        file,
-        static_checked(file, sel, allow_motion)?,
-        digest,
-    )?)
+) -> Result<tcal_instances::EachRun> {
+    let (each, digest) = analysis::selection::read_channels_digested_each(file, channels, read, pick)?;
+    each.into_iter()
+        .map(|(n, sel)| {
+            notes(&sel.notes);
+            let sel = static_checked(file, sel, allow_motion)?;
+            Ok((n, RunData::new(file, sel, digest.clone())?))
+        })
+        .collect()
 }
 
 /// A compensation error; one in the flags given ends the program as a
@@ -55,22 +58,20 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
         firmware: a.for_firmware.map(Firmware::from),
     };
     req.check().map_err(exit_status)?;
-    let instances = tcal_instances::instances_to_fit(
-        &a.files,
-        a.read.instance.map(instances_of),
-        a.for_firmware.is_some(),
-        a.read.topic.is_some(),
-    )
-    .map_err(exit_status)?;
     let read = a.read.recording_options_any_instance()?;
     let policy = OutputPolicy {
         overwrite: a.overwrite,
         inputs: &a.files,
     };
     check_output(&a.output, &policy)?;
-    let fitted = tcal_instances::fit(&a.files, &req, &read, instances.as_deref(), |f, read| {
-        run_data(f, &a.channels, read, a.motion.allow_motion)
-    })
+    let fitted = tcal_instances::fit(
+        &a.files,
+        &req,
+        &read,
+        a.read.instance.map(instances_of),
+        a.read.topic.is_some(),
+        |f, read, pick| run_data(f, &a.channels, read, pick, a.motion.allow_motion),
+    )
     .map_err(usage_exit)?;
     let (model, warnings) = (fitted.model, fitted.export_warnings);
     let text = serde_json::to_string_pretty(&model)?;
@@ -190,7 +191,7 @@ pub fn eval(a: &TcalEvalArgs) -> Result<()> {
         loaded.as_ref(),
         a.read.instance.map(instances_of),
         &read,
-        |file, names, read| run_data(file, names, read, a.motion.allow_motion),
+        |file, names, read, pick| run_data(file, names, read, pick, a.motion.allow_motion),
     )
     .map_err(usage_exit)?;
     if let Some(l) = &loaded {

@@ -69,6 +69,22 @@ impl StreamChoice {
     }
 }
 
+/// Which IMU instances of a log of several (PX4, ArduPilot) one read
+/// assembles, each as its own IMU.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum InstancePick {
+    /// The one stream the [`StreamChoice`] names.
+    AsChosen,
+    /// Every instance that holds samples; none for a log without
+    /// instances.
+    All,
+    /// Every instance that holds samples where there are two or more;
+    /// otherwise the one stream the choice names.
+    Several,
+    /// These instances.
+    These(Vec<u32>),
+}
+
 /// Reads `# key: value` comment lines into metadata (other comments are
 /// ignored).
 pub fn parse_metadata(comments: &[String]) -> Metadata {
