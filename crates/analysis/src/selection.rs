@@ -92,7 +92,8 @@ pub type EachSelection = Vec<(Option<u32>, Selection)>;
 /// [`read_channels_digested`] of each IMU instance `pick` asks: a log of
 /// several IMUs is opened and decoded once for all of them. Each selection
 /// comes with its instance, or with `None` for the one stream read; a text
-/// log has no instances, so [`imu::InstancePick::All`] gives nothing for it.
+/// log has no instances, so [`imu::InstancePick::All`] gives nothing for it
+/// (its body unread, and its digest then that of its header alone).
 /// A choice of instances for a text log is refused as by
 /// [`read_channels_digested`] when `read` names one.
 pub fn read_channels_digested_each(

@@ -143,6 +143,15 @@ pub fn fit<E: From<AnalysisError>>(
             }
         }
     }
+    // Every instance of the first run must be read from every run: the
+    // fit pairs each instance's runs with the files.
+    if let Some((n, _)) = by_instance.iter().find(|(_, runs)| runs.len() != files.len()) {
+        return Err(AnalysisError::MissingChannel {
+            file: first.to_path_buf(),
+            what: format!("IMU instance {n} was not read from every run"),
+        }
+        .into());
+    }
     let mut models = Vec::with_capacity(by_instance.len());
     let mut export_warnings = Vec::new();
     for (n, runs) in by_instance {

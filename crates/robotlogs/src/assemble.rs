@@ -364,25 +364,79 @@ fn summaries(d: &Decoded) -> Vec<StreamInfo> {
     streams
 }
 
+/// A recording assembled: the chosen stream on its clock, the report of
+/// its clock, and every stream of the log.
+pub type Assembled = (Recording, ReadReport, Vec<StreamInfo>);
+
+/// Which IMU stream a choice takes, and its temperature topic, if any.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Plan {
+    imu: usize,
+    temp_topic: Option<usize>,
+}
+
+/// The streams `c` takes from the whole log, before any moves out.
+fn plan(path: &Path, d: &Decoded, c: &Choice) -> Result<Plan, LogError> {
+    let imu = choose(path, d, c)?;
+    let temp_topic = if d.imu[imu].temp.is_some() && c.temp_topic.is_none() {
+        None
+    } else {
+        choose_temp(path, d, c)?.and_then(|t| d.temps.iter().position(|x| x.name == t.name))
+    };
+    Ok(Plan { imu, temp_topic })
+}
+
 /// Builds the recording of the chosen stream, with the report of its clock.
-pub fn assemble(
+pub fn assemble(path: &Path, format: &str, mut d: Decoded, c: &Choice) -> Result<Assembled, LogError> {
+    let plan = plan(path, &d, c)?;
+    let streams = summaries(&d);
+    build(path, format, &mut d, c, plan, streams, false)
+}
+
+/// [`assemble`] of each choice from one decode: every stream is chosen on
+/// the whole log first, then each moves out into its recording, so the
+/// log's samples are held once (a stream two choices take is copied for
+/// the first).
+pub fn assemble_each(
     path: &Path,
     format: &str,
     mut d: Decoded,
+    choices: &[Choice],
+) -> Result<Vec<Assembled>, LogError> {
+    let plans: Vec<Plan> = choices
+        .iter()
+        .map(|c| plan(path, &d, c))
+        .collect::<Result<_, _>>()?;
+    let streams = summaries(&d);
+    let mut out = Vec::with_capacity(choices.len());
+    for (k, (c, &p)) in choices.iter().zip(&plans).enumerate() {
+        let again = plans[k + 1..].iter().any(|q| q.imu == p.imu);
+        out.push(build(path, format, &mut d, c, p, streams.clone(), again)?);
+    }
+    Ok(out)
+}
+
+/// The recording of `plan`'s stream, moved out of `d` (copied where
+/// `keep`, for a later choice of the same stream); `streams` are the log's
+/// streams as decoded.
+fn build(
+    path: &Path,
+    format: &str,
+    d: &mut Decoded,
     c: &Choice,
-) -> Result<(Recording, ReadReport, Vec<StreamInfo>), LogError> {
-    let idx = choose(path, &d, c)?;
-    let temp_topic: Option<usize> = if d.imu[idx].temp.is_some() && c.temp_topic.is_none() {
-        None
-    } else {
-        choose_temp(path, &d, c)?.and_then(|t| d.temps.iter().position(|x| x.name == t.name))
-    };
-    let mut streams = summaries(&d);
-    // Before the chosen stream's samples move out.
+    plan: Plan,
+    mut streams: Vec<StreamInfo>,
+    keep: bool,
+) -> Result<Assembled, LogError> {
+    let Plan { imu: idx, temp_topic } = plan;
     let read_messages: usize = streams.iter().map(|s| s.messages).sum();
     // The chosen stream's samples move into the recording: memory stays
     // near the decoded data, with no second copy of the stream.
-    let mut s = std::mem::take(&mut d.imu[idx]);
+    let mut s = if keep {
+        d.imu[idx].clone()
+    } else {
+        std::mem::take(&mut d.imu[idx])
+    };
     let messages = s.len();
     let (mut t, stamped, why) = time_source(&mut s);
     s.stamp = Vec::new();

@@ -275,8 +275,8 @@ pub fn instances(d: &streams::Decoded) -> Vec<u32> {
 /// A robot log decoded once and assembled as `pick` asks: each instance
 /// with its number, or the one stream the choice names with `None` (and
 /// nothing for [`InstancePick::All`] on a log without instances). The
-/// instances come from the one decode (a copy of it for all but the last),
-/// so a log of several IMUs is neither opened nor decoded again for each.
+/// instances come from the one decode, each stream moved out of it, so a
+/// log of several IMUs is neither opened, decoded nor held again for each.
 pub fn read_log_each(
     path: &Path,
     log: Log,
@@ -301,24 +301,33 @@ pub fn read_log_each(
             .unwrap_or_default(),
         InstancePick::These(these) => these.clone(),
     };
-    let one = |d, choice: &Choice| assembled(path, format, d, &missing, choice);
-    let Some((&last, first)) = numbers.split_last() else {
-        return Ok(vec![(None, one(d, &base)?)]);
-    };
-    let mut out = Vec::with_capacity(numbers.len());
-    for &n in first {
-        let choice = Choice {
+    if numbers.is_empty() {
+        return Ok(vec![(None, assembled(path, format, d, &missing, &base)?)]);
+    }
+    let choices: Vec<Choice> = numbers
+        .iter()
+        .map(|&n| Choice {
             instance: Some(n),
             ..base.clone()
-        };
-        out.push((Some(n), one(d.clone(), &choice)?));
-    }
-    let choice = Choice {
-        instance: Some(last),
-        ..base
-    };
-    out.push((Some(last), one(d, &choice)?));
-    Ok(out)
+        })
+        .collect();
+    let each = assemble::assemble_each(path, format.name(), d, &choices)?;
+    Ok(numbers
+        .into_iter()
+        .zip(each)
+        .map(|(n, (recording, mut report, streams))| {
+            report_missing(&missing, &mut report);
+            (
+                Some(n),
+                Read {
+                    recording,
+                    report,
+                    streams,
+                    format: Some(format),
+                },
+            )
+        })
+        .collect())
 }
 
 /// The choice with the rate and the grid's limit the options give, where

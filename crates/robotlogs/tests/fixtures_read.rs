@@ -344,3 +344,57 @@ fn a_block_of_0xff_in_a_ulog_loses_only_itself_and_is_counted() {
         "{m}"
     );
 }
+
+#[test]
+fn every_instance_from_one_decode_is_each_instance_read_alone() {
+    // The two IMUs of an ArduPilot log: assembled from one decode, each
+    // is the recording, report and stream list of a read of that instance
+    // alone; instances asked twice (a stream taken by two choices) too.
+    let p = fixture("ros/arducopter_imu.bin");
+    let opts = RecordingOptions::default();
+    let alone = |n: u32| {
+        read(
+            "ros/arducopter_imu.bin",
+            &Choice {
+                instance: Some(n),
+                ..Choice::default()
+            },
+        )
+    };
+    let same = |a: &robotlogs::Read, b: &robotlogs::Read| {
+        assert_eq!(format!("{:?}", a.recording), format!("{:?}", b.recording));
+        assert_eq!(format!("{:?}", a.report), format!("{:?}", b.report));
+        assert_eq!(format!("{:?}", a.streams), format!("{:?}", b.streams));
+    };
+    let open = || robotlogs::Log::open(&p, robotlogs::Format::DataFlash).unwrap();
+    let all =
+        robotlogs::read_log_each(&p, open(), &opts, &Choice::default(), &imu::InstancePick::All).unwrap();
+    assert_eq!(
+        all.iter().map(|(n, _)| *n).collect::<Vec<_>>(),
+        [Some(0), Some(1)]
+    );
+    for (n, r) in &all {
+        same(r, &alone(n.unwrap()));
+    }
+    let twice = imu::InstancePick::These(vec![1, 0, 1]);
+    let got = robotlogs::read_log_each(&p, open(), &opts, &Choice::default(), &twice).unwrap();
+    assert_eq!(
+        got.iter().map(|(n, _)| *n).collect::<Vec<_>>(),
+        [Some(1), Some(0), Some(1)]
+    );
+    for (n, r) in &got {
+        same(r, &alone(n.unwrap()));
+    }
+    // A log of two IMUs holds several: each is read.
+    let several =
+        robotlogs::read_log_each(&p, open(), &opts, &Choice::default(), &imu::InstancePick::Several).unwrap();
+    assert_eq!(several.len(), 2);
+    let missing = robotlogs::read_log_each(
+        &p,
+        open(),
+        &opts,
+        &Choice::default(),
+        &imu::InstancePick::These(vec![0, 7]),
+    );
+    assert!(matches!(missing, Err(robotlogs::Error::Log(_))));
+}

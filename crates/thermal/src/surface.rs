@@ -129,13 +129,7 @@ pub fn slices(
     slicing: Slicing,
     confidence: f64,
 ) -> Result<Surface, ThermalError> {
-    if data.len() != temp.len() {
-        return Err(ThermalError::Invalid(format!(
-            "{} samples but {} temperatures",
-            data.len(),
-            temp.len()
-        )));
-    }
+    same_length(data, temp)?;
     match slicing {
         Slicing::Temperature { bin_width_c } => bins(data, temp, rate_hz, bin_width_c, confidence),
         Slicing::Time { window_s, step_s } => {
@@ -170,6 +164,18 @@ pub fn slices(
             Ok(Surface { rows, skipped })
         }
     }
+}
+
+/// Refuses data and temperatures of different lengths.
+fn same_length(data: &[f64], temp: &[f64]) -> Result<(), ThermalError> {
+    if data.len() != temp.len() {
+        return Err(ThermalError::Invalid(format!(
+            "{} samples but {} temperatures",
+            data.len(),
+            temp.len()
+        )));
+    }
+    Ok(())
 }
 
 /// The surface over bins of `bin_width_c`.
@@ -214,6 +220,7 @@ pub(crate) fn bin_curves<R: Send>(
     confidence: f64,
     read: impl Fn(BinCurve) -> R + Sync,
 ) -> Result<(Vec<R>, Vec<SkippedSlice>), ThermalError> {
+    same_length(data, temp)?;
     if !(bin_width_c.is_finite() && bin_width_c > 0.0) {
         return Err(ThermalError::Invalid(format!(
             "bin width {bin_width_c} °C must be positive"
