@@ -12,6 +12,7 @@ compile_error!("imutherm needs the feature `analysis`, `record` or both");
 mod args;
 mod commands;
 mod flags;
+mod help_examples;
 mod naming;
 #[cfg(feature = "analysis")]
 mod options;
