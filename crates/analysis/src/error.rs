@@ -131,7 +131,7 @@ pub enum AnalysisError {
     /// one the firmware loads.
     #[error("{context}")]
     Firmware {
-        /// The flag or file at fault.
+        /// The setting or file at fault.
         context: String,
         /// Its reason.
         #[source]
@@ -217,7 +217,7 @@ pub enum AnalysisError {
 }
 
 impl AnalysisError {
-    /// Whether the error is in the flags given rather than in the data: the
+    /// Whether the error is in the settings given rather than in the data: the
     /// command line ends such with status 2.
     pub fn is_usage(&self) -> bool {
         matches!(
