@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use imu::RecordingOptions;
+use imu::{RecordingOptions, Setting, Value};
 
 use serde::Serialize;
 use thermal::evaluation::{BinMean, SliceMinimum, bin_means, level, spread, surface_minima};
@@ -275,7 +275,10 @@ pub fn as_loaded(
         None => {
             let exported = firmware::export(model, firmware, Target::default()).map_err(|cause| {
                 AnalysisError::Firmware {
-                    context: format!("--export {}: the model cannot be written for it", firmware.key()),
+                    context: format!(
+                        "{}: the model cannot be written for it",
+                        Setting::ExportFirmware.given(Value::text(firmware.key()))
+                    ),
                     cause,
                 }
             })?;
@@ -289,7 +292,10 @@ pub fn as_loaded(
                 p.display(),
                 firmware.name()
             ),
-            None => format!("--export {}: the written file does not load", firmware.key()),
+            None => format!(
+                "{}: the written file does not load",
+                Setting::ExportFirmware.given(Value::text(firmware.key()))
+            ),
         },
         cause,
     })?;
@@ -662,7 +668,7 @@ mod tests {
         let err = req.check().unwrap_err().to_string();
         assert_eq!(
             err,
-            "--order 4 --for px4: PX4 evaluates a cubic at most (--order 3 or auto)"
+            "the fit's order 4 the fit's firmware px4: PX4 evaluates a cubic at most (the fit's order 3 or auto)"
         );
         assert!(
             FitRequest {

@@ -2,15 +2,29 @@
 
 use std::path::PathBuf;
 
+use imu::setting::and_list;
+use imu::{Given, Setting, Value};
 use thiserror::Error;
 
 /// An analysis that cannot be done; the message names the file and the
-/// flag or channel at fault.
+/// setting or channel at fault.
 #[derive(Debug, Error)]
 pub enum AnalysisError {
-    /// A reading option out of its domain (`--rate`, `--unit`, `--time-unit`).
-    #[error("{0}")]
-    Option(String),
+    /// A reading setting given a value out of its domain (the sample rate,
+    /// the time unit, a unit override).
+    #[error("{given}: {problem}")]
+    Setting {
+        /// The setting and the value given.
+        given: Given,
+        /// What is wrong with it.
+        problem: String,
+    },
+    /// A robot log's stream chosen in a build without the robot-log readers.
+    #[error(
+        "{} need imutherm built with robot-log support",
+        and_list(&[Setting::Topic, Setting::Instance, Setting::TempTopic].map(|s| s.to_string()))
+    )]
+    NoRobotLogReaders,
     /// A group of channels (`gyro`, `accel`) the file does not have.
     #[error("{file}: no '{group}' channels (columns: {columns})")]
     NoGroup {
@@ -24,7 +38,9 @@ pub enum AnalysisError {
     /// Several columns resolve to one channel, and none was named by its
     /// full header.
     #[error(
-        "{file}: columns {columns} resolve to one channel, {channel}: name one by its full header with --channels (e.g. --channels '{first}')"
+        "{file}: columns {columns} resolve to one channel, {channel}: name one by its full header with {} (e.g. {})",
+        Setting::Channels,
+        Setting::Channels.given(Value::Spaced(first.clone()))
     )]
     AmbiguousChannel {
         /// The file.
@@ -37,7 +53,10 @@ pub enum AnalysisError {
         first: String,
     },
     /// A time column whose stamps give no clock, and no rate given.
-    #[error("{file}: the time column cannot time the samples: {detail}; give the sample rate with --rate HZ")]
+    #[error(
+        "{file}: the time column cannot time the samples: {detail}; give the sample rate with {}",
+        Setting::SampleRate.given(Value::Placeholder("HZ"))
+    )]
     NoClock {
         /// The file.
         file: PathBuf,
@@ -63,7 +82,7 @@ pub enum AnalysisError {
         what: String,
     },
     /// Nothing to write a Kalibr file from.
-    #[error("--kalibr: {0}")]
+    #[error("{}: {}", Setting::KalibrFile, .0)]
     Kalibr(String),
     /// The file could not be read.
     #[error(transparent)]
@@ -112,7 +131,7 @@ pub enum AnalysisError {
     /// one the firmware loads.
     #[error("{context}")]
     Firmware {
-        /// The flag or file at fault.
+        /// The setting or file at fault.
         context: String,
         /// Its reason.
         #[source]
@@ -139,8 +158,9 @@ pub enum AnalysisError {
     },
     /// More averaging bins than a fit is allowed.
     #[error(
-        "--bin-width {width}: bins over {lo:.2} to {hi:.2} °C would be {bins:.0}; at most \
+        "{}: bins over {lo:.2} to {hi:.2} °C would be {bins:.0}; at most \
          {max} are fitted: give a wider bin",
+        Setting::BinWidth.given(Value::number(width)),
         max = crate::compensation::MAX_FIT_BINS
     )]
     TooManyBins {
@@ -154,7 +174,14 @@ pub enum AnalysisError {
         bins: f64,
     },
     /// A polynomial order the firmware cannot evaluate. A usage error.
-    #[error("--order {order} --for {}: {} evaluates a cubic at most (--order 3 or auto)", firmware.key(), firmware.name())]
+    #[error(
+        "{} {}: {} evaluates a cubic at most ({} or {})",
+        Setting::FitOrder.given(Value::number(order)),
+        Setting::FitFirmware.given(Value::text(firmware.key())),
+        firmware.name(),
+        Setting::FitOrder.given(Value::number(3)),
+        Value::text("auto")
+    )]
     OrderForFirmware {
         /// The order asked for.
         order: usize,
@@ -163,7 +190,8 @@ pub enum AnalysisError {
     },
     /// A calibration slot the firmware does not have. A usage error.
     #[error(
-        "--instance {instance}: {} has calibration instances {} to {}",
+        "{}: {} has calibration instances {} to {}",
+        Setting::Instance.given(Value::number(instance)),
         firmware.name(),
         firmware.instances().start(),
         firmware.instances().end()
@@ -189,7 +217,7 @@ pub enum AnalysisError {
 }
 
 impl AnalysisError {
-    /// Whether the error is in the flags given rather than in the data: the
+    /// Whether the error is in the settings given rather than in the data: the
     /// command line ends such with status 2.
     pub fn is_usage(&self) -> bool {
         matches!(

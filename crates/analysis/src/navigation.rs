@@ -255,8 +255,9 @@ pub fn raw_and_compensated(
                 notes.push(format!(
                     "note: {}: the temperature runs over {lo:.1}…{hi:.1} °C: the noise terms the prediction \
                      rests on absorb part of its drift, so the measured error above the prediction understates \
-                     the temperature's share (--model predicts from the compensated run)",
-                    file.display()
+                     the temperature's share ({} predicts from the compensated run)",
+                    file.display(),
+                    imu::Setting::NavigationModel
                 ));
             }
             Ok((navigate(file, &six, sel.rate_hz, plan)?, None))

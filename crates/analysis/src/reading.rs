@@ -2,7 +2,7 @@
 //! (`--rate`, `--unit COL=UNIT`, the time column), and a unit as shown.
 
 use imu::units::{UnitOverride, parse_unit};
-use imu::{Quantity, RecordingOptions};
+use imu::{Quantity, RecordingOptions, Setting, Value};
 
 use crate::AnalysisError;
 
@@ -28,27 +28,36 @@ pub struct ReadingChoices {
 }
 
 /// Checks the choices and turns them into the reader's options; every
-/// error names the flag and the value at fault.
+/// error names the setting and the value at fault.
 pub fn recording_options(c: &ReadingChoices) -> Result<RecordingOptions, AnalysisError> {
-    let refuse = |m: String| Err(AnalysisError::Option(m));
+    let refuse = |setting: Setting, value: Value, problem: String| AnalysisError::Setting {
+        given: setting.given(value),
+        problem,
+    };
     if let Some(r) = c.rate_hz
         && !(r.is_finite() && r > 0.0)
     {
-        return refuse(format!(
-            "--rate {r}: the sample rate must be a positive number of Hz"
+        return Err(refuse(
+            Setting::SampleRate,
+            Value::number(r),
+            "the sample rate must be a positive number of Hz".into(),
         ));
     }
     if let Some(u) = &c.time_unit
         && parse_unit(u).is_none_or(|u| u.quantity != Quantity::Time)
     {
-        return refuse(format!("--time-unit {u}: expected s, ms, us or ns"));
+        return Err(refuse(
+            Setting::TimeUnit,
+            Value::text(u.as_str()),
+            "expected s, ms, us or ns".into(),
+        ));
     }
     let units = c
         .units
         .iter()
         .map(|p| {
             p.parse::<UnitOverride>()
-                .map_err(|e| AnalysisError::Option(format!("--unit {p}: {e}")))
+                .map_err(|e| refuse(Setting::UnitOverride, Value::text(p.as_str()), e.to_string()))
         })
         .collect::<Result<Vec<_>, _>>()?;
     Ok(RecordingOptions {
@@ -80,16 +89,16 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_bad_choice_names_its_flag_and_a_good_one_passes() {
+    fn a_bad_choice_names_its_setting_and_a_good_one_passes() {
         let bad_rate = ReadingChoices {
             rate_hz: Some(-1.0),
             ..Default::default()
         };
+        let e = recording_options(&bad_rate).unwrap_err();
         assert!(
-            recording_options(&bad_rate)
-                .unwrap_err()
-                .to_string()
-                .starts_with("--rate -1")
+            matches!(&e, AnalysisError::Setting { given, .. }
+                if given.setting == Setting::SampleRate && given.value == Value::number(-1)),
+            "{e}"
         );
         let bad_unit = ReadingChoices {
             units: vec!["gyro_x=furlong".into()],

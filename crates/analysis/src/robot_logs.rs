@@ -123,9 +123,7 @@ pub(crate) fn open(path: &Path, opts: &RecordingOptions) -> Result<Input, Analys
 #[cfg(not(feature = "robotlogs"))]
 pub(crate) fn open(path: &Path, opts: &RecordingOptions) -> Result<Input, AnalysisError> {
     if opts.stream.is_given() {
-        return Err(AnalysisError::Option(
-            "--topic, --instance and --temp-topic need imutherm built with robot-log support".into(),
-        ));
+        return Err(AnalysisError::NoRobotLogReaders);
     }
     Ok(Input::Text(TableReader::open(path)?))
 }
@@ -211,9 +209,7 @@ fn refuse_choice_for_text(path: &Path, opts: &RecordingOptions) -> Result<(), An
     {
         let _ = path;
         if opts.stream.is_given() {
-            return Err(AnalysisError::Option(
-                "--topic, --instance and --temp-topic need imutherm built with robot-log support".into(),
-            ));
+            return Err(AnalysisError::NoRobotLogReaders);
         }
         Ok(())
     }

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use imu::log_file::{ColumnKind, classify_with_overrides, read_recording_from};
-use imu::{Quantity, RecordingOptions};
+use imu::{Quantity, RecordingOptions, Setting};
 
 use crate::AnalysisError;
 use crate::channel_checks::{self, Checks};
@@ -206,8 +206,9 @@ fn read_opened(
         }
         None => {
             notes.push(format!(
-                "note: {}: no sample rate given (--rate), recorded (# sample_rate_hz:) or timed; assuming 1 Hz",
-                file.display()
+                "note: {}: no sample rate given ({}), recorded (# sample_rate_hz:) or timed; assuming 1 Hz",
+                file.display(),
+                Setting::SampleRate
             ));
             1.0
         }

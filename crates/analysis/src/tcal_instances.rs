@@ -12,7 +12,7 @@
 
 use std::path::{Path, PathBuf};
 
-use imu::{InstancePick, RecordingOptions};
+use imu::{InstancePick, RecordingOptions, Setting, Value};
 use thermal::firmware::{self, Target};
 use thermal::tcal::Model;
 use thiserror::Error;
@@ -31,12 +31,13 @@ pub enum Instances {
 }
 
 /// An instance asked for that the log or the model does not hold. A usage
-/// error: the flags, not the data, are at fault.
+/// error: the settings, not the data, are at fault.
 #[derive(Debug, Error)]
 pub enum InstanceError {
     /// Every instance asked of a file that has none.
     #[error(
-        "--instance all: {} has no IMU instances (it is not a PX4 ULog or ArduPilot DataFlash log with several IMUs)",
+        "{}: {} has no IMU instances (it is not a PX4 ULog or ArduPilot DataFlash log with several IMUs)",
+        Setting::Instance.given(Value::text("all")),
         file.display()
     )]
     NoneInLog {
@@ -44,13 +45,16 @@ pub enum InstanceError {
         file: PathBuf,
     },
     /// Every instance asked of a model of one sensor.
-    #[error("--instance all: {model} is the model of one sensor; give its instance number")]
+    #[error(
+        "{}: {model} is the model of one sensor; give its instance number",
+        Setting::Instance.given(Value::text("all"))
+    )]
     OneSensor {
         /// The model, as named.
         model: String,
     },
     /// An instance the model does not hold.
-    #[error("--instance {instance}: {model} holds instances {held:?}")]
+    #[error("{}: {model} holds instances {held:?}", Setting::Instance.given(Value::number(instance)))]
     NotInModel {
         /// The instance asked for.
         instance: u32,
@@ -60,7 +64,10 @@ pub enum InstanceError {
         held: Vec<u32>,
     },
     /// A compensation of a model of several instances without saying which.
-    #[error("{model} holds instances {held:?}: give --instance N to compensate one")]
+    #[error(
+        "{model} holds instances {held:?}: give {} to compensate one",
+        Setting::Instance.given(Value::Placeholder("N"))
+    )]
     Unchosen {
         /// The model, as named.
         model: String,
@@ -320,11 +327,11 @@ mod tests {
         let many = Model::of_instances(vec![model(Some(0)), model(Some(2))]).unwrap();
         assert_eq!(to_apply(&many, "m.json", Some(2)).unwrap().instance, Some(2));
         let err = to_apply(&many, "m.json", Some(1)).unwrap_err().to_string();
-        assert_eq!(err, "--instance 1: m.json holds instances [0, 2]");
+        assert_eq!(err, "the IMU instance 1: m.json holds instances [0, 2]");
         let err = to_apply(&many, "m.json", None).unwrap_err().to_string();
         assert_eq!(
             err,
-            "m.json holds instances [0, 2]: give --instance N to compensate one"
+            "m.json holds instances [0, 2]: give the IMU instance N to compensate one"
         );
         // A model of one sensor compensates whatever instance was read.
         assert_eq!(to_apply(&model(None), "m.json", Some(3)).unwrap(), model(None));

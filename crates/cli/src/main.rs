@@ -1,7 +1,8 @@
 //! `imutherm`: the command line over imutherm's libraries.
 //!
 //! Thin glue: flags are defined in [`args`], their values checked in
-//! [`flags`] and turned into the libraries' options in `options`; each
+//! [`flags`] and turned into the libraries' options in `options`; the
+//! libraries' messages name settings as flags through [`naming`]; each
 //! subcommand lives in [`commands`], and this is the only crate that prints. Exit status: 0
 //! success, 1 runtime error, 2 usage error.
 
@@ -11,6 +12,8 @@ compile_error!("imutherm needs the feature `analysis`, `record` or both");
 mod args;
 mod commands;
 mod flags;
+mod help_examples;
+mod naming;
 #[cfg(feature = "analysis")]
 mod options;
 #[cfg(feature = "analysis")]
@@ -22,6 +25,7 @@ use clap::Parser;
 
 fn main() -> ExitCode {
     quiet_on_closed_stdout();
+    naming::install();
     let cli = args::Cli::parse();
     let result = match cli.command {
         #[cfg(feature = "analysis")]

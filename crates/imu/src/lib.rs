@@ -42,6 +42,7 @@ pub mod names;
 pub mod output;
 pub mod read_report;
 pub mod recording;
+pub mod setting;
 pub mod table;
 pub mod timing;
 pub mod units;
@@ -53,4 +54,5 @@ pub use log_file::{
 };
 pub use read_report::{FileFormat, Problem, ProblemKind, ReadReport};
 pub use recording::{Axis, Channel, Metadata, Recording};
+pub use setting::{Given, Setting, Value};
 pub use units::{Quantity, Unit, UnitSource};

@@ -28,13 +28,16 @@ use std::fs::{File, OpenOptions};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 
+use crate::setting::Setting;
+
 /// Why an output cannot be written.
 #[derive(Debug, thiserror::Error)]
 pub enum WriteError {
     /// The output exists and replacing it was not asked for.
     #[error(
-        "{} already exists ({size} bytes): choose another name, or pass --overwrite to replace it",
-        path.display()
+        "{} already exists ({size} bytes): choose another name, or pass {} to replace it",
+        path.display(),
+        Setting::Overwrite
     )]
     Exists {
         /// The output.
@@ -44,9 +47,10 @@ pub enum WriteError {
     },
     /// The output is one of the inputs.
     #[error(
-        "{} is the input {}: writing it would destroy the data being read (even with --overwrite); choose another name",
+        "{} is the input {}: writing it would destroy the data being read (even with {}); choose another name",
         path.display(),
-        input.display()
+        input.display(),
+        Setting::Overwrite
     )]
     IsInput {
         /// The output.
@@ -552,7 +556,11 @@ mod tests {
         write_file(&p, b"first\n", &policy(false, &[])).unwrap();
         let e = write_file(&p, b"second\n", &policy(false, &[])).unwrap_err();
         assert!(matches!(e, WriteError::Exists { size: 6, .. }), "{e}");
-        assert!(e.to_string().contains("--overwrite"), "{e}");
+        assert!(
+            e.to_string()
+                .contains("pass the choice to overwrite to replace it"),
+            "{e}"
+        );
         assert_eq!(std::fs::read(&p).unwrap(), b"first\n");
         write_file(&p, b"second\n", &policy(true, &[])).unwrap();
         assert_eq!(std::fs::read(&p).unwrap(), b"second\n");

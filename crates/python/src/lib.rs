@@ -15,6 +15,7 @@ mod curve;
 mod errors;
 mod estimates;
 mod model;
+mod naming;
 mod recording;
 mod simulation;
 mod stamps;
@@ -24,7 +25,7 @@ create_exception!(
     _imutherm,
     ImuthermError,
     PyValueError,
-    "Raised when imutherm cannot compute what was asked; the message is the command line's."
+    "Raised when imutherm cannot compute what was asked; its message names settings by their keyword arguments."
 );
 
 /// Turns an `allan` error into the Python exception carrying its message.
@@ -41,6 +42,7 @@ pub(crate) fn samples<'a>(y: &'a numpy::PyReadonlyArray1<'_, f64>) -> PyResult<&
 
 #[pymodule]
 fn _imutherm(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    naming::install();
     m.add("ImuthermError", m.py().get_type::<ImuthermError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(curve::analyze, m)?)?;

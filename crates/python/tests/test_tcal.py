@@ -68,6 +68,10 @@ def test_evaluate_gives_the_golden_document(in_runs):
 def test_export_gives_the_golden_parameter_files(in_runs):
     model = imutherm.TcalModel((GOLDEN / "tcal_model.json").read_text())
     assert model.export("px4") == (GOLDEN / "tcal_export_px4.params").read_text()
+    # The file names the command line's --device-id (it is the same file
+    # from both); the warnings name the keyword argument.
+    placeholders = [w for w in model.export_warnings if "is a placeholder" in w]
+    assert placeholders and all(w.endswith("export with device_id") for w in placeholders)
     assert model.export("ardupilot", instance=2) == (GOLDEN / "tcal_export_ardupilot.parm").read_text()
 
 

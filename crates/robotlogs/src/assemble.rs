@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use imu::timing::{analyze_timestamps, regularize};
-use imu::{Axis, Channel, Problem, ProblemKind, Quantity, ReadReport, Recording};
+use imu::{Axis, Channel, Problem, ProblemKind, Quantity, ReadReport, Recording, Setting, Value};
 
 use crate::error::{LogError, LogErrorKind};
 use crate::streams::{Decoded, ImuStream, TempSource, TempStream, mean_rate};
@@ -96,7 +96,7 @@ fn choose(path: &Path, d: &Decoded, c: &Choice) -> Result<usize, LogError> {
             LogError::new(
                 path,
                 LogErrorKind::NoSuchStream {
-                    wanted: format!("--topic {t}"),
+                    wanted: Setting::Topic.given(Value::text(t.as_str())),
                     list: list(),
                 },
             )
@@ -115,7 +115,7 @@ fn choose(path: &Path, d: &Decoded, c: &Choice) -> Result<usize, LogError> {
                 LogError::new(
                     path,
                     LogErrorKind::NoSuchStream {
-                        wanted: format!("--instance {i}"),
+                        wanted: Setting::Instance.given(Value::number(i)),
                         list: list(),
                     },
                 )
@@ -129,17 +129,17 @@ fn choose(path: &Path, d: &Decoded, c: &Choice) -> Result<usize, LogError> {
         [first, ..] if c.first_if_several => Ok(*first),
         [] => Err(LogError::new(path, LogErrorKind::NoImuStream)),
         many => {
-            let flag = if many.iter().all(|&k| d.imu[k].instance.is_some()) {
-                "--instance"
+            let setting = if many.iter().all(|&k| d.imu[k].instance.is_some()) {
+                Setting::Instance
             } else {
-                "--topic"
+                Setting::Topic
             };
             Err(LogError::new(
                 path,
                 LogErrorKind::SeveralStreams {
                     count: many.len(),
                     kind: "IMU",
-                    flag,
+                    setting,
                     list: many
                         .iter()
                         .map(|&k| describe(&d.imu[k]))
@@ -165,7 +165,7 @@ fn choose_temp<'a>(path: &Path, d: &'a Decoded, c: &Choice) -> Result<Option<&'a
             LogError::new(
                 path,
                 LogErrorKind::NoSuchStream {
-                    wanted: format!("--temp-topic {t}"),
+                    wanted: Setting::TempTopic.given(Value::text(t.as_str())),
                     list: if d.temps.is_empty() { "none".into() } else { list() },
                 },
             )
@@ -178,7 +178,7 @@ fn choose_temp<'a>(path: &Path, d: &'a Decoded, c: &Choice) -> Result<Option<&'a
                 LogErrorKind::SeveralStreams {
                     count: d.temps.len(),
                     kind: "temperature",
-                    flag: "--temp-topic",
+                    setting: Setting::TempTopic,
                     list: list(),
                 },
             )),
@@ -492,8 +492,9 @@ fn build(
             ));
         };
         report.notes.push(format!(
-            "the stamps of {} cannot time it ({detail}): its {messages} samples are placed one per 1/{r} s (--rate {r}) in the order of the log",
-            s.name
+            "the stamps of {} cannot time it ({detail}): its {messages} samples are placed one per 1/{r} s ({}) in the order of the log",
+            s.name,
+            Setting::SampleRate.given(Value::number(r))
         ));
         t = (0..messages).map(|k| k as f64 / r).collect();
         timing = analyze_timestamps(&t);
@@ -680,7 +681,10 @@ mod tests {
             let e = assemble(Path::new("x.bag"), "ROS 1 bag", log_of(&t), &Choice::default()).unwrap_err();
             let text = e.to_string();
             assert!(matches!(e.kind, LogErrorKind::NoClock { .. }), "{text}");
-            assert!(text.contains(says) && text.contains("--rate"), "{text}");
+            assert!(
+                text.contains(says) && text.contains("the sample rate HZ"),
+                "{text}"
+            );
             let rated = Choice {
                 rate_hz: Some(100.0),
                 ..Choice::default()
@@ -691,7 +695,7 @@ mod tests {
                 report
                     .notes
                     .iter()
-                    .any(|n| n.contains("cannot time it") && n.contains("--rate 100")),
+                    .any(|n| n.contains("cannot time it") && n.contains("(the sample rate 100)")),
                 "{:?}",
                 report.notes
             );

@@ -2,6 +2,8 @@
 
 use std::path::PathBuf;
 
+use imu::{Given, Setting, Value};
+
 /// An error reading a robot log: the file, where in it, and what.
 #[derive(Debug, thiserror::Error)]
 #[error("{}{}: {kind}", path.display(), at.as_ref().map(|a| format!(" ({a})")).unwrap_or_default())]
@@ -62,14 +64,14 @@ pub enum LogErrorKind {
     )]
     NoImuStream,
     /// Several IMU or temperature streams and none chosen.
-    #[error("{count} {kind} streams; choose one with {flag}: {list}")]
+    #[error("{count} {kind} streams; choose one with {setting}: {list}")]
     SeveralStreams {
         /// How many.
         count: usize,
         /// `IMU` or `temperature`.
         kind: &'static str,
-        /// `--topic` or `--instance`.
-        flag: &'static str,
+        /// The setting that chooses one: a topic or an instance.
+        setting: Setting,
         /// Each with its rate.
         list: String,
     },
@@ -77,17 +79,18 @@ pub enum LogErrorKind {
     #[error("no stream {wanted} in the log; streams: {list}")]
     NoSuchStream {
         /// What was asked for.
-        wanted: String,
+        wanted: Given,
         /// What there is.
         list: String,
     },
     /// A stream choice given for a text log.
     #[error("{0} applies to robot logs (bags, ULog, DataFlash) only")]
-    NotARobotLog(&'static str),
+    NotARobotLog(Setting),
     /// The stamps give no clock at all (every one zero, NaN, equal or
     /// running backwards) and no rate was given.
     #[error(
-        "the stamps of {stream} cannot time it: {detail}; give the nominal rate with --rate HZ to place the samples one per period in the log's order"
+        "the stamps of {stream} cannot time it: {detail}; give the nominal rate with {} to place the samples one per period in the log's order",
+        Setting::SampleRate.given(Value::Placeholder("HZ"))
     )]
     NoClock {
         /// The stream.

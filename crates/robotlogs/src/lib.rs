@@ -32,7 +32,7 @@ pub use assemble::{Choice, StreamInfo};
 pub use error::{LogError, LogErrorKind};
 pub use format::{Format, detect};
 
-use imu::{InstancePick, ReadReport, Recording, RecordingOptions};
+use imu::{InstancePick, ReadReport, Recording, RecordingOptions, Setting};
 
 /// A recording read, with what the log holds.
 #[derive(Debug, Clone)]
@@ -238,14 +238,14 @@ pub fn open(path: &Path, choice: &Choice) -> Result<Opened, Error> {
 /// Refuses a stream choice given for a text log, which has one stream:
 /// ignored, it would be a silent guess at what was meant.
 pub fn refuse_choice_for_text(path: &Path, choice: &Choice) -> Result<(), LogError> {
-    for (given, flag) in [
-        (choice.topic.is_some(), "--topic"),
-        (choice.instance.is_some(), "--instance"),
-        (choice.temp_topic.is_some(), "--temp-topic"),
-        (choice.allow_partial, "--allow-partial"),
+    for (given, setting) in [
+        (choice.topic.is_some(), Setting::Topic),
+        (choice.instance.is_some(), Setting::Instance),
+        (choice.temp_topic.is_some(), Setting::TempTopic),
+        (choice.allow_partial, Setting::AllowPartial),
     ] {
         if given {
-            return Err(LogError::new(path, LogErrorKind::NotARobotLog(flag)));
+            return Err(LogError::new(path, LogErrorKind::NotARobotLog(setting)));
         }
     }
     Ok(())

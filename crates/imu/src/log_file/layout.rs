@@ -11,6 +11,7 @@ use crate::header::split_name_unit;
 use crate::names::{is_time_name, quantity_of_name};
 use crate::read_report::{FileFormat, Problem, ProblemKind};
 use crate::recording::Metadata;
+use crate::setting::Setting;
 use crate::table::TableReader;
 use crate::units::Quantity;
 
@@ -89,7 +90,7 @@ fn check_units(
         return Err(ReadError::new(
             path,
             ReadErrorKind::NoSuchColumn {
-                wanted: format!("{} (named by --unit)", o.column),
+                wanted: format!("{} (named by {})", o.column, Setting::UnitOverride),
                 available: headers.join(", "),
             },
         ));

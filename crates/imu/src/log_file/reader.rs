@@ -11,6 +11,7 @@ use super::writer::KEY_RATE;
 use crate::error::ReadError;
 use crate::read_report::{Problem, ReadReport};
 use crate::recording::{Channel, Metadata, Recording};
+use crate::setting::{Setting, Value};
 use crate::table::{ReadPolicy, TableReader};
 use crate::units::{Quantity, UnitOverride, UnitSource};
 
@@ -174,7 +175,8 @@ fn accel_unit_note(channels: &[Channel]) -> Option<String> {
     };
     Some(format!(
         "the accelerometer's unit is assumed m/s², but its mean norm is {norm:.4}: that looks like {looks}, \
-         not m/s²; give --unit accel_x={looks} (and y, z) or write the unit in the header"
+         not m/s²; give {} (and y, z) or write the unit in the header",
+        Setting::UnitOverride.given(Value::text(format!("accel_x={looks}")))
     ))
 }
 

@@ -11,6 +11,7 @@ use super::reader::{RecordingOptions, round_rate};
 use crate::error::{ReadError, ReadErrorKind};
 use crate::read_report::{Problem, ProblemKind, ReadReport};
 use crate::recording::Channel;
+use crate::setting::{Setting, Value};
 use crate::timing::{Timing, analyze_timestamps, regularize};
 use crate::units::{Quantity, UnitSource, parse_unit};
 
@@ -92,14 +93,15 @@ fn time_scale(time: &TimeColumn, opts: &RecordingOptions, report: &mut ReadRepor
     };
     if let Some(why) = origin {
         report.notes.push(format!(
-            "time column '{}': unit {}, {why}; give --time-unit if that is wrong",
+            "time column '{}': unit {}, {why}; give {} if that is wrong",
             time.header,
             match scale {
                 1.0 => "s",
                 1e-3 => "ms",
                 1e-6 => "us",
                 _ => "ns",
-            }
+            },
+            Setting::TimeUnit
         ));
     }
     scale
@@ -180,9 +182,10 @@ fn refuse_backwards(
             path,
             ReadErrorKind::TimeColumn(format!(
                 "'{}' runs backwards: {back} of its {} steps go back, from this line on; \
-                 sort the rows by time, or name the true time column with --time-column",
+                 sort the rows by time, or name the true time column with {}",
                 header,
-                back + forth
+                back + forth,
+                Setting::TimeColumn
             )),
         )
         .at(rows.line(row), Some(ti + 1)));
@@ -194,19 +197,18 @@ fn refuse_backwards(
 /// `factor` times its samples.
 fn grid_too_large(path: &Path, t: &[f64], ti: usize, rate: f64, factor: usize) -> ReadError {
     let finite = || t.iter().copied().filter(|v| v.is_finite());
+    let span = finite().fold(f64::NEG_INFINITY, f64::max) - finite().fold(f64::INFINITY, f64::min);
+    let needed = (span * rate / t.len() as f64).ceil() + 1.0;
     ReadError::new(
         path,
         ReadErrorKind::TimeColumn(format!(
-            "column {} spans {:.6e} s, more than {factor} times its {} samples at {rate} Hz: \
-             check the time unit (--time-unit) or the values; a duty-cycled log is read \
-             with its gaps by raising the limit (--max-grid-factor {})",
+            "column {} spans {span:.6e} s, more than {factor} times its {} samples at {rate} Hz: \
+             check the time unit ({}) or the values; a duty-cycled log is read \
+             with its gaps by raising the limit ({})",
             ti + 1,
-            finite().fold(f64::NEG_INFINITY, f64::max) - finite().fold(f64::INFINITY, f64::min),
             t.len(),
-            ((finite().fold(f64::NEG_INFINITY, f64::max) - finite().fold(f64::INFINITY, f64::min)) * rate
-                / t.len() as f64)
-                .ceil()
-                + 1.0
+            Setting::TimeUnit,
+            Setting::MaxGridFactor.given(Value::number(needed))
         )),
     )
 }

@@ -27,7 +27,7 @@ from . import _imutherm
 from ._curve import Curve
 from ._recording import Channel, Recording
 from ._tcal import TcalModel, tcal_fit
-from ._errors import in_python_words
+from ._errors import names_the_file
 from ._samples import as_samples, as_taus, in_samples
 from . import allantools  # noqa: E402  (imutherm.allantools after a plain import imutherm)
 
@@ -108,7 +108,6 @@ htotdev = _statistic("htotdev", "Hadamard total deviation (NIST SP 1065 eq. 29),
 theo1 = _statistic("theo1", "Theo1 deviation (NIST SP 1065 eq. 30) at tau = 0.75 m/rate, no bias correction.")
 
 
-@in_python_words()
 def noise_terms(y, rate=1.0, confidence=0.95, quantity=None):
     """The IEEE Std 952 noise terms of rate samples ``y`` at ``rate`` Hz, as
     ``imutherm noise`` reads them: from the selected noise model, each with
@@ -160,7 +159,7 @@ def noise_terms(y, rate=1.0, confidence=0.95, quantity=None):
     return fields
 
 
-@in_python_words(path_arg=(0, "path"))
+@names_the_file(path_arg=(0, "path"))
 def read(path, rate=None, units=None, topic=None, instance=None, temp_topic=None,
          allow_partial=False):
     """Reads a recording as every ``imutherm`` command does: imutherm's log,
@@ -179,7 +178,7 @@ def read(path, rate=None, units=None, topic=None, instance=None, temp_topic=None
     Raises ``OSError`` (``FileNotFoundError``, ``PermissionError``, ...)
     when the file cannot be read and :class:`ImuthermError` (a
     ``ValueError``) when its content or an option is refused, with the
-    command line's message.
+    command line's message, an option named as its keyword argument.
 
     >>> rec = imutherm.read("imu_34C.txt", rate=200)            # doctest: +SKIP
     >>> rec.channels["gyro_x"].mean(), rec.units["gyro_x"]      # doctest: +SKIP
@@ -199,7 +198,6 @@ def read(path, rate=None, units=None, topic=None, instance=None, temp_topic=None
     return rec
 
 
-@in_python_words()
 def simulate(preset="mpu9250-thesis", duration=None, rate=None, profile=None, seed=None,
              unit=None, scatter=None, defect=None):
     """The recording ``imutherm simulate`` writes with the same arguments,

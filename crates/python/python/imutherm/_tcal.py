@@ -5,7 +5,7 @@ import json
 import os
 
 from . import _imutherm
-from ._errors import in_python_words, python_words
+from ._errors import names_the_file
 
 
 READ_FLAGS = ("rate", "units", "topic", "instance", "temp_topic")
@@ -48,7 +48,7 @@ def _units(units):
     return list(units or [])
 
 
-@in_python_words(path_arg=(0, "runs"))
+@names_the_file(path_arg=(0, "runs"))
 def tcal_fit(runs, channels=None, order="auto", tref=None, bin_width=1.0, rate_term=False,
              firmware=None, rate=None, units=None, topic=None, instance=None, temp_topic=None):
     """Fits the bias over temperature of the runs, as ``imutherm tcal fit``:
@@ -117,7 +117,7 @@ class TcalModel:
         self._doc = json.loads(text)
         #: What ``tcal eval`` and ``tcal export`` call the model in their output.
         self.name = name
-        self.warnings = [python_words(w) for w in warnings]
+        self.warnings = list(warnings)
 
     @classmethod
     def load(cls, path):
@@ -164,7 +164,6 @@ class TcalModel:
     def instances(self):
         return {n: TcalModel(text, name=self.name) for n, text in _imutherm.tcal_instances(self._text)}
 
-    @in_python_words()
     def apply(self, recording, instance=None):
         """A copy of ``recording`` with every modelled channel compensated,
         as ``imutherm tcal apply`` writes it: x - (p(T) - p(T_ref)) with T
@@ -203,7 +202,7 @@ class TcalModel:
             ("temperature_compensated_with", self.name or "model")]
         return out
 
-    @in_python_words(path_arg=(1, "runs"))
+    @names_the_file(path_arg=(1, "runs"))
     def evaluate(self, runs, export=None, params=None, rate=None, units=None, topic=None,
                  instance=None, temp_topic=None):
         """What ``imutherm tcal eval --json MODEL RUNS [--export FW]
@@ -223,10 +222,9 @@ class TcalModel:
         text, warnings = _imutherm.tcal_eval(self._text, self.name or "model", paths, export,
                                              None if params is None else os.fspath(params), reading,
                                              every)
-        self.export_warnings = [python_words(w) for w in warnings]
+        self.export_warnings = list(warnings)
         return json.loads(text)
 
-    @in_python_words()
     def export(self, firmware, instance=None, device_id=None):
         """The parameter file ``imutherm tcal export MODEL --firmware
         FIRMWARE [--instance N] [--device-id ID]`` writes (``"px4"``: a
@@ -239,7 +237,7 @@ class TcalModel:
         text, warnings = _imutherm.tcal_export(self._text, self.name or "model", str(firmware),
                                                None if instance is None else int(instance),
                                                None if device_id is None else int(device_id))
-        self.export_warnings = [python_words(w) for w in warnings]
+        self.export_warnings = list(warnings)
         return text
 
     def __repr__(self):

@@ -16,6 +16,7 @@ use thiserror::Error;
 
 use imu::Quantity;
 use imu::log_file::classify_header;
+use imu::setting::{FitCall, Setting, Value, Without};
 
 use crate::ModelError;
 use crate::tcal::Model;
@@ -109,7 +110,9 @@ pub struct Export {
 pub enum FirmwareError {
     /// A polynomial above the firmware's cubic.
     #[error(
-        "{channel} has order {order}, and {firmware} evaluates a cubic at most: refit with `imutherm tcal fit --for {key}` (or --order 3)"
+        "{channel} has order {order}, and {firmware} evaluates a cubic at most: refit with {} (or {})",
+        FitCall(Setting::FitFirmware.given(Value::text(*key))),
+        Setting::FitOrder.given(Value::number(3))
     )]
     OrderTooHigh {
         /// Channel name.
@@ -123,7 +126,9 @@ pub enum FirmwareError {
     },
     /// A dT/dt term, which neither stack evaluates.
     #[error(
-        "{channel} has a dT/dt term, which {firmware} cannot apply: refit without --rate-term (`imutherm tcal fit --for {key}`)"
+        "{channel} has a dT/dt term, which {firmware} cannot apply: refit {} ({})",
+        Without(&[Setting::RateTerm]),
+        FitCall(Setting::FitFirmware.given(Value::text(*key)))
     )]
     RateTerm {
         /// Channel name.
@@ -156,7 +161,8 @@ pub enum FirmwareError {
     /// A slot or id given for a model of several instances, whose
     /// instances each go to their own slot with their own ids.
     #[error(
-        "the model holds instances {instances:?}, each written to its own slot with its own ids: export it without --instance and --device-id"
+        "the model holds instances {instances:?}, each written to its own slot with its own ids: export it {}",
+        Without(&[Setting::Instance, Setting::DeviceId])
     )]
     TargetOfMany {
         /// The model's instance numbers.
@@ -447,7 +453,11 @@ mod tests {
         for fw in [Firmware::Px4, Firmware::ArduPilot] {
             let e = export(&m, fw, Target::default()).unwrap_err();
             assert!(matches!(e, FirmwareError::OrderTooHigh { order: 4, .. }), "{e}");
-            assert!(e.to_string().contains(&format!("--for {}", fw.key())), "{e}");
+            assert!(
+                e.to_string()
+                    .contains(&format!("the fit's firmware {}", fw.key())),
+                "{e}"
+            );
         }
         let mut m = model(2, None);
         m.channels[0].rate_coefficient = Some(0.1);

@@ -26,6 +26,7 @@ use std::fmt::Write as _;
 use super::params::{ParamFile, ParamValue, TYPE_INT32, TYPE_REAL32};
 use super::{Export, Firmware, FirmwareError, Sensor, cubics, float32_text};
 use crate::tcal::Model;
+use imu::Setting;
 
 /// PX4's calibration sets per sensor type (`TemperatureCompensation.h`).
 pub const INSTANCES: std::ops::RangeInclusive<u8> = 0..=3;
@@ -127,13 +128,17 @@ pub(super) fn write(slots: &[Slot]) -> Result<Export, FirmwareError> {
                         s,
                         "# {p}_ID below is a placeholder (0 matches no sensor): set it to the {what}'s device id, read with"
                     );
+                    // The file is the same whichever front end writes it
+                    // (Python's export is compared with the command line's),
+                    // so its comment names the command line's flag.
                     let _ = writeln!(
                         s,
                         "# `listener {listener}` (device_id) or from the parameter {cal}{n}_ID, or export with --device-id."
                     );
                     lines(&mut s, &format!("{p}_ID"), "0", TYPE_INT32);
                     warnings.push(format!(
-                    "{p}_ID is a placeholder (0): PX4 applies nothing until it is the {what}'s device id (`listener {listener}`, or {cal}{n}_ID); export with --device-id"
+                    "{p}_ID is a placeholder (0): PX4 applies nothing until it is the {what}'s device id (`listener {listener}`, or {cal}{n}_ID); export with {}",
+                    Setting::DeviceId
                 ));
                 }
             }
