@@ -64,9 +64,9 @@ fn main() {
                 .join(", ")
         );
         println!(
-            "| term | truth | in the model | within tolerance | median error | 95 % interval covers (of those in the model) |"
+            "| term | truth | in the model | within tolerance | median error | 95 % interval covers (of those in the model) | half-width / (1.96 × spread) |"
         );
-        println!("| --- | --- | --- | --- | --- | --- |");
+        println!("| --- | --- | --- | --- | --- | --- | --- |");
         let t = truth(case);
         for k in 0..6 {
             let shown = results.iter().filter(|r| r.1[k].shown).count();
@@ -80,8 +80,9 @@ fn main() {
             let median = errors
                 .get(errors.len() / 2)
                 .map_or("—".to_string(), |e| format!("{:+.1} %", 100.0 * e));
+            let calibration = calibration(results.iter().map(|r| &r.1[k]));
             println!(
-                "| {} | {:.3e} | {shown} | {} | {median} | {} |",
+                "| {} | {:.3e} | {shown} | {} | {median} | {} | {calibration} |",
                 NAMES[k],
                 t[k],
                 if t[k] > 0.0 {
@@ -98,6 +99,26 @@ fn main() {
         }
         println!();
     }
+}
+
+/// The median half-width of the term's 95 % intervals in ln over 1.96 times
+/// the standard deviation of ln value across the seeds that hold it: near 1
+/// for intervals as wide as the estimates' own scatter asks, above 1 for
+/// intervals wider than that.
+fn calibration<'a>(outcomes: impl Iterator<Item = &'a cases::Outcome>) -> String {
+    let (logs, mut halves): (Vec<f64>, Vec<f64>) = outcomes
+        .filter_map(|o| Some((o.log_value?, o.log_half?)))
+        .filter(|(v, h)| v.is_finite() && h.is_finite())
+        .unzip();
+    if logs.len() < 3 {
+        return "—".to_string();
+    }
+    let n = logs.len() as f64;
+    let mean = logs.iter().sum::<f64>() / n;
+    let spread = (logs.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+    halves.sort_by(f64::total_cmp);
+    let half = halves[halves.len() / 2];
+    format!("{:.2}", half / (1.96 * spread))
 }
 
 /// Each seed's samples of `case` and the values of its selected model

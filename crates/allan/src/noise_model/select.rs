@@ -33,42 +33,84 @@ pub(super) struct Best {
     pub quality: Quality,
     pub resid: Vec<f64>,
     jac: DMatrix<f64>,
-    /// Whether the fit weighed the points with their correlations.
-    correlated: bool,
+    /// The lower Cholesky factor of the points' correlation matrix, where
+    /// the fit weighed the points with their correlations.
+    whiten: Option<DMatrix<f64>>,
+    /// Each point's standard deviation of ln σ̂² under its own EDF over the
+    /// one the fit weighed it with (below 1 where [`MAX_FIT_EDF`] capped
+    /// it).
+    capped: Vec<f64>,
 }
 
 impl Best {
-    /// Standard deviation of each log-parameter: from (JᵀJ)⁻¹ of the
-    /// whitened residuals, scaled up by χ²/dof when the model misses the
-    /// points by more than their scatter. Where the points were weighed as
-    /// independent, never below what the single most telling point gives
-    /// alone (1/max |J_ik|): neighbouring octave points share most of their
-    /// data, so their errors are positively correlated and the
+    /// Standard deviation of each log-parameter.
+    ///
+    /// Weighed with the points' correlations: the covariance of a weighted
+    /// least-squares estimate whose weights W are not the inverse of the
+    /// residuals' covariance Σ, (JᵀWJ)⁻¹ JᵀWΣWJ (JᵀWJ)⁻¹ (the "sandwich";
+    /// e.g. Seber & Wild, "Nonlinear Regression", 1989, §2.1.4). The fit
+    /// weighs each point with its EDF capped at [`MAX_FIT_EDF`], a variance
+    /// larger than the model's own; taking that larger variance as the
+    /// points' true one, as (JᵀWJ)⁻¹ alone does, widens the intervals of the
+    /// terms read at short τ (N, Q) beyond the estimates' actual scatter.
+    /// Σ is the model's covariance of the points (uncapped EDFs, their
+    /// correlations), scaled up by the fit's measured misfit where the
+    /// model misses the points by more than Σ allows: χ² over its
+    /// expectation under Σ, tr((I − H)·M) in the whitened frame (H the hat
+    /// matrix, M the whitened Σ), which is χ²/dof when nothing is capped.
+    ///
+    /// Where the points were weighed as independent: from (JᵀJ)⁻¹, scaled
+    /// up by χ²/dof, and never below what the single most telling point
+    /// gives alone (1/max |J_ik|): neighbouring octave points share most of
+    /// their data, so their errors are positively correlated and the
     /// independent-points covariance is too optimistic; the single-point
     /// spread is its fully correlated limit.
     pub fn spreads(&self) -> Vec<f64> {
         let p = self.jac.ncols();
+        let Some(cov) = (self.jac.transpose() * &self.jac).try_inverse() else {
+            return vec![f64::INFINITY; p];
+        };
+        if let Some(l) = &self.whiten {
+            return self.sandwich(l, &cov);
+        }
         let inflate = self.quality.chi2_reduced.max(1.0);
-        let cov = (self.jac.transpose() * &self.jac).try_inverse();
         (0..p)
             .map(|k| {
-                if self.correlated {
-                    return cov
-                        .as_ref()
-                        .map_or(f64::INFINITY, |c| (c[(k, k)].max(0.0) * inflate).sqrt());
-                }
                 let single = self
                     .jac
                     .column(k)
                     .iter()
                     .map(|j| 1.0 / j.abs())
                     .fold(f64::INFINITY, f64::min);
-                let joint = cov
-                    .as_ref()
-                    .map_or(f64::INFINITY, |c| (c[(k, k)].max(0.0) * inflate).sqrt());
+                let joint = (cov[(k, k)].max(0.0) * inflate).sqrt();
                 joint.max(single)
             })
             .collect()
+    }
+
+    /// The sandwich of [`Best::spreads`], given L (the points' correlation
+    /// R = LLᵀ) and (JᵀWJ)⁻¹ = (JᵀJ)⁻¹ of the whitened Jacobian J.
+    fn sandwich(&self, l: &DMatrix<f64>, bread: &DMatrix<f64>) -> Vec<f64> {
+        let n = self.jac.nrows();
+        let p = self.jac.ncols();
+        // Σ = S D R D S and W = (S R S)⁻¹ with S the fit's standard
+        // deviations and D = diag(capped): whitened by L⁻¹S⁻¹, Σ becomes
+        // M = (L⁻¹DL)(L⁻¹DL)ᵀ.
+        let dl = DMatrix::from_fn(n, n, |i, j| self.capped[i] * l[(i, j)]);
+        let Some(root) = l.clone().solve_lower_triangular(&dl) else {
+            return vec![f64::INFINITY; p];
+        };
+        let m = &root * root.transpose();
+        let meat = self.jac.transpose() * &m * &self.jac;
+        let cov = bread * meat * bread;
+        let hat = &self.jac * bread * self.jac.transpose();
+        let expected = (DMatrix::identity(n, n) - hat).component_mul(&m).sum();
+        let inflate = if expected > 0.0 {
+            (self.quality.chi2 / expected).max(1.0)
+        } else {
+            self.quality.chi2_reduced.max(1.0)
+        };
+        (0..p).map(|k| (cov[(k, k)].max(0.0) * inflate).sqrt()).collect()
     }
 }
 
@@ -300,7 +342,11 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>) -> Selection {
         },
         None => data_of(pts),
     };
-    let correlated = data.whiten.is_some();
+    let capped: Vec<f64> = pts
+        .iter()
+        .zip(&data.s)
+        .map(|(p, s)| (lm::trigamma(p.edf / 2.0).sqrt() / s).min(1.0))
+        .collect();
     // A kept process is held under the points as this fit weighs them: the
     // model's own account of each point's spread (or, before a model, the
     // most cautious power-law one), which the points' one-α-at-a-time
@@ -410,7 +456,8 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>) -> Selection {
         },
         resid: top.fit.resid.clone(),
         jac: top.fit.jac.clone(),
-        correlated,
+        whiten: data.whiten.clone(),
+        capped,
     };
     Selection {
         best: Some(best),
