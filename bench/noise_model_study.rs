@@ -33,12 +33,12 @@ fn main() {
     }
     for (index, case) in CASES.iter().enumerate() {
         let start = std::time::Instant::now();
-        let results: Vec<(String, [cases::Outcome; 6], bool)> = (0..seeds)
+        let results: Vec<(String, [cases::Outcome; 6], bool, f64)> = (0..seeds)
             .into_par_iter()
             .map(|seed| {
                 let m = cases::model_of(case, 10_000 + seed);
                 let o = outcomes(case, &m);
-                (m.label, o, m.fits)
+                (m.label, o, m.fits, m.chi2_reduced.unwrap_or(f64::NAN))
             })
             .collect();
         if let Some(dir) = &dump {
@@ -46,15 +46,19 @@ fn main() {
         }
         let fitting = results.iter().filter(|r| r.2).count();
         let mut labels: Vec<(String, usize)> = Vec::new();
-        for (l, _, _) in &results {
+        for (l, ..) in &results {
             match labels.iter_mut().find(|(x, _)| x == l) {
                 Some((_, c)) => *c += 1,
                 None => labels.push((l.clone(), 1)),
             }
         }
         labels.sort_by_key(|x| std::cmp::Reverse(x.1));
+        // Near 1 where the points' covariance is right and the model holds.
+        let mut chi2: Vec<f64> = results.iter().map(|r| r.3).filter(|v| v.is_finite()).collect();
+        chi2.sort_by(f64::total_cmp);
+        let chi2_median = chi2.get(chi2.len() / 2).copied().unwrap_or(f64::NAN);
         println!(
-            "## {} ({seeds} seeds, {:.0} s)\nthe selected model fits in {fitting}\nmodels: {}",
+            "## {} ({seeds} seeds, {:.0} s)\nthe selected model fits in {fitting}; median χ²/dof {chi2_median:.2}\nmodels: {}",
             case.name,
             start.elapsed().as_secs_f64(),
             labels

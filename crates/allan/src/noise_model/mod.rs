@@ -51,7 +51,8 @@ pub use select::Candidate;
 /// No sensor is exact power laws down to τ0 (its anti-alias filter, the
 /// sampling itself, a flicker spectrum that ends somewhere); trusting the
 /// short-τ points of a long record to 0.1 % would let a model error of that
-/// size decide the fit.
+/// size decide the fit. The cap sets the fit's weights only: the intervals
+/// take each point's spread from its own EDF (`select::Best::spreads`).
 pub const MAX_FIT_EDF: f64 = 20_000.0;
 
 /// Share of the model's variance a process must carry at a point to count
