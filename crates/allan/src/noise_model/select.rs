@@ -57,8 +57,9 @@ impl Best {
     ///
     /// Weighed with the points' correlations: the covariance of a weighted
     /// least-squares estimate whose weights W are not the inverse of the
-    /// residuals' covariance Σ, (JᵀWJ)⁻¹ JᵀWΣWJ (JᵀWJ)⁻¹ (the "sandwich";
-    /// e.g. Seber & Wild, "Nonlinear Regression", 1989, §2.1.4). The fit
+    /// residuals' covariance Σ, (JᵀWJ)⁻¹ JᵀWΣWJ (JᵀWJ)⁻¹ (the "sandwich" of
+    /// a fit with working weights: Liang & Zeger, "Longitudinal data
+    /// analysis using generalized linear models", Biometrika 73, 1986). The fit
     /// weighs each point with its EDF capped at [`MAX_FIT_EDF`], a variance
     /// larger than the model's own; taking that larger variance as the
     /// points' true one, as (JᵀWJ)⁻¹ alone does, widens the intervals of the
