@@ -128,6 +128,12 @@ pub struct Outcome {
     pub covered: bool,
     /// (value − truth)/truth where held and the truth is not zero.
     pub error: Option<f64>,
+    /// ln value, where held.
+    #[allow(dead_code)] // read by the study, not by the fast test
+    pub log_value: Option<f64>,
+    /// Half the width of the interval in ln: ln(hi/lo)/2, where held.
+    #[allow(dead_code)] // read by the study, not by the fast test
+    pub log_half: Option<f64>,
 }
 
 /// The true values in [`Case::tolerance`]'s order; 0 where absent.
@@ -170,6 +176,8 @@ pub fn outcomes(case: &Case, m: &NoiseModel) -> [Outcome; 6] {
             within: truth[k] > 0.0 && ((value - truth[k]) / truth[k]).abs() <= case.tolerance[k],
             covered: lo <= truth[k] && truth[k] <= hi,
             error: (truth[k] > 0.0).then(|| (value - truth[k]) / truth[k]),
+            log_value: Some(value.ln()),
+            log_half: Some(0.5 * (hi / lo).ln()),
         },
         None => Outcome::default(),
     };

@@ -3,7 +3,10 @@
 //! `bench/noise_model_study.rs`, its results in `bench/README.md`). The
 //! thresholds are those the acceptance asks for, read over 8 seeds: a term
 //! the model holds must lie within its tolerance, and its 95 % interval
-//! must cover the truth, in at least 7 of 8 seeds where it is held.
+//! must cover the truth, in at least 7 of 8 seeds where it is held. The
+//! quantization case, the cheapest, reads coverage over 32 seeds instead:
+//! calibrated 95 % intervals miss twice in 8 seeds in 5.7 % of seed sets,
+//! which 8 seeds cannot tell from an interval too narrow.
 
 #[path = "../../../bench/noise_model_cases.rs"]
 mod cases;
@@ -12,9 +15,13 @@ use cases::{CASES, NAMES, outcomes};
 const SEEDS: u64 = 8;
 
 fn run(index: usize) -> Vec<[cases::Outcome; 6]> {
+    run_seeds(index, SEEDS)
+}
+
+fn run_seeds(index: usize, seeds: u64) -> Vec<[cases::Outcome; 6]> {
     let case = &CASES[index];
-    println!("{}: {SEEDS} seeds", case.name);
-    (0..SEEDS)
+    println!("{}: {seeds} seeds", case.name);
+    (0..seeds)
         .map(|seed| outcomes(case, &cases::model_of(case, 500 + seed)))
         .collect()
 }
@@ -69,8 +76,14 @@ fn a_gauss_markov_term_is_found_with_its_correlation_time() {
 
 #[test]
 fn quantization_is_recovered() {
-    let r = run(3);
-    assert!(count(&r, 0, |o| o.within) >= 7, "Q within 10 %");
-    assert!(count(&r, 0, |o| o.covered) >= 7, "Q covered");
-    assert!(count(&r, 1, |o| o.covered) >= 7, "N covered");
+    let r = run_seeds(3, 32);
+    assert!(count(&r, 0, |o| o.within) >= 28, "Q within 10 %");
+    // A calibrated 95 % interval misses 6 or more of 32 in 0.5 % of seed
+    // sets, one covering 90 % (the acceptance's lower end) in 9 %, one
+    // covering 80 % in 64 % (binomial tails).
+    for k in [0, 1] {
+        let held = count(&r, k, |o| o.shown);
+        let covered = count(&r, k, |o| o.covered);
+        assert!(covered + 5 >= held, "{} covered in {covered} of {held}", NAMES[k]);
+    }
 }

@@ -38,7 +38,7 @@ pub mod lm;
 pub mod process;
 mod select;
 
-use statrs::distribution::{ContinuousCDF, StudentsT};
+use statrs::distribution::{ContinuousCDF, Normal, StudentsT};
 
 use crate::Point;
 use crate::noise_terms::{PerTerm, Term, TermEstimate, TermValue};
@@ -51,7 +51,8 @@ pub use select::Candidate;
 /// No sensor is exact power laws down to τ0 (its anti-alias filter, the
 /// sampling itself, a flicker spectrum that ends somewhere); trusting the
 /// short-τ points of a long record to 0.1 % would let a model error of that
-/// size decide the fit.
+/// size decide the fit. The cap sets the fit's weights only: the intervals
+/// take each point's spread from its own EDF (`select::Best::spreads`).
 pub const MAX_FIT_EDF: f64 = 20_000.0;
 
 /// Share of the model's variance a process must carry at a point to count
@@ -408,15 +409,21 @@ fn build(
     let q = best.quality;
     let ok = fits(q.p_value);
     let defeat = (!ok).then(|| misfit(&best, pts)).flatten();
-    // Student's t on the fit's degrees of freedom: the spreads rest on the
-    // fit's own residual scatter where that exceeds the points' EDF.
-    let z = StudentsT::new(0.0, 1.0, q.dof as f64)
-        .map(|d| d.inverse_cdf(0.5 + confidence / 2.0))
-        .unwrap_or(f64::INFINITY);
     let spreads = best.spreads();
+    // Student's t on the fit's degrees of freedom where the spreads rest on
+    // the fit's own residual scatter (it exceeds what the points' covariance
+    // allows, and sets their scale); the normal quantile where they rest on
+    // the model's covariance of the points alone, a scale known rather
+    // than estimated.
+    let p_quantile = 0.5 + confidence / 2.0;
+    let z = if spreads.rescaled {
+        StudentsT::new(0.0, 1.0, q.dof as f64).map_or(f64::INFINITY, |d| d.inverse_cdf(p_quantile))
+    } else {
+        Normal::new(0.0, 1.0).map_or(f64::INFINITY, |d| d.inverse_cdf(p_quantile))
+    };
     let interval = |at: usize, half: f64| -> (f64, f64, f64) {
         let th = best.theta[at];
-        let sd = spreads[at];
+        let sd = spreads.sd[at];
         (
             (th * half).exp(),
             ((th - z * sd) * half).exp(),

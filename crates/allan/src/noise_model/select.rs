@@ -25,6 +25,16 @@ pub struct Candidate {
     pub parameters: usize,
 }
 
+/// The standard deviations of a fit's log-parameters.
+pub(super) struct Spreads {
+    /// One per parameter.
+    pub sd: Vec<f64>,
+    /// Whether they were scaled up by the fit's measured misfit: their
+    /// scale then rests on the residuals, an estimate on the fit's degrees
+    /// of freedom, and not on the points' known covariance alone.
+    pub rescaled: bool,
+}
+
 /// The selected model's fit.
 pub(super) struct Best {
     pub components: Vec<Component>,
@@ -33,42 +43,98 @@ pub(super) struct Best {
     pub quality: Quality,
     pub resid: Vec<f64>,
     jac: DMatrix<f64>,
-    /// Whether the fit weighed the points with their correlations.
-    correlated: bool,
+    /// The lower Cholesky factor of the points' correlation matrix, where
+    /// the fit weighed the points with their correlations.
+    whiten: Option<DMatrix<f64>>,
+    /// Each point's standard deviation of ln σ̂² under its own EDF over the
+    /// one the fit weighed it with (below 1 where [`MAX_FIT_EDF`] capped
+    /// it).
+    capped: Vec<f64>,
 }
 
 impl Best {
-    /// Standard deviation of each log-parameter: from (JᵀJ)⁻¹ of the
-    /// whitened residuals, scaled up by χ²/dof when the model misses the
-    /// points by more than their scatter. Where the points were weighed as
-    /// independent, never below what the single most telling point gives
-    /// alone (1/max |J_ik|): neighbouring octave points share most of their
-    /// data, so their errors are positively correlated and the
+    /// Standard deviation of each log-parameter.
+    ///
+    /// Weighed with the points' correlations: the covariance of a weighted
+    /// least-squares estimate whose weights W are not the inverse of the
+    /// residuals' covariance Σ, (JᵀWJ)⁻¹ JᵀWΣWJ (JᵀWJ)⁻¹ (the "sandwich" of
+    /// a fit with working weights: Liang & Zeger, "Longitudinal data
+    /// analysis using generalized linear models", Biometrika 73, 1986). The fit
+    /// weighs each point with its EDF capped at [`MAX_FIT_EDF`], a variance
+    /// larger than the model's own; taking that larger variance as the
+    /// points' true one, as (JᵀWJ)⁻¹ alone does, widens the intervals of the
+    /// terms read at short τ (N, Q) beyond the estimates' actual scatter.
+    /// Σ is the model's covariance of the points (uncapped EDFs, their
+    /// correlations), scaled up by the fit's measured misfit where the
+    /// model misses the points by more than Σ allows: χ² over its
+    /// expectation under Σ, tr((I − H)·M) in the whitened frame (H the hat
+    /// matrix, M the whitened Σ), which is χ²/dof when nothing is capped.
+    ///
+    /// Where the points were weighed as independent: from (JᵀJ)⁻¹, scaled
+    /// up by χ²/dof, and never below what the single most telling point
+    /// gives alone (1/max |J_ik|): neighbouring octave points share most of
+    /// their data, so their errors are positively correlated and the
     /// independent-points covariance is too optimistic; the single-point
     /// spread is its fully correlated limit.
-    pub fn spreads(&self) -> Vec<f64> {
+    pub fn spreads(&self) -> Spreads {
         let p = self.jac.ncols();
+        let Some(cov) = (self.jac.transpose() * &self.jac).try_inverse() else {
+            return Spreads {
+                sd: vec![f64::INFINITY; p],
+                rescaled: false,
+            };
+        };
+        if let Some(l) = &self.whiten {
+            return self.sandwich(l, &cov);
+        }
         let inflate = self.quality.chi2_reduced.max(1.0);
-        let cov = (self.jac.transpose() * &self.jac).try_inverse();
-        (0..p)
+        let sd = (0..p)
             .map(|k| {
-                if self.correlated {
-                    return cov
-                        .as_ref()
-                        .map_or(f64::INFINITY, |c| (c[(k, k)].max(0.0) * inflate).sqrt());
-                }
                 let single = self
                     .jac
                     .column(k)
                     .iter()
                     .map(|j| 1.0 / j.abs())
                     .fold(f64::INFINITY, f64::min);
-                let joint = cov
-                    .as_ref()
-                    .map_or(f64::INFINITY, |c| (c[(k, k)].max(0.0) * inflate).sqrt());
+                let joint = (cov[(k, k)].max(0.0) * inflate).sqrt();
                 joint.max(single)
             })
-            .collect()
+            .collect();
+        Spreads {
+            sd,
+            rescaled: inflate > 1.0,
+        }
+    }
+
+    /// The sandwich of [`Best::spreads`], given L (the points' correlation
+    /// R = LLᵀ) and (JᵀWJ)⁻¹ = (JᵀJ)⁻¹ of the whitened Jacobian J.
+    fn sandwich(&self, l: &DMatrix<f64>, bread: &DMatrix<f64>) -> Spreads {
+        let n = self.jac.nrows();
+        let p = self.jac.ncols();
+        // Σ = S D R D S and W = (S R S)⁻¹ with S the fit's standard
+        // deviations and D = diag(capped): whitened by L⁻¹S⁻¹, Σ becomes
+        // M = (L⁻¹DL)(L⁻¹DL)ᵀ.
+        let dl = DMatrix::from_fn(n, n, |i, j| self.capped[i] * l[(i, j)]);
+        let Some(root) = l.clone().solve_lower_triangular(&dl) else {
+            return Spreads {
+                sd: vec![f64::INFINITY; p],
+                rescaled: false,
+            };
+        };
+        let m = &root * root.transpose();
+        let meat = self.jac.transpose() * &m * &self.jac;
+        let cov = bread * meat * bread;
+        let hat = &self.jac * bread * self.jac.transpose();
+        let expected = (DMatrix::identity(n, n) - hat).component_mul(&m).sum();
+        let inflate = if expected > 0.0 {
+            (self.quality.chi2 / expected).max(1.0)
+        } else {
+            self.quality.chi2_reduced.max(1.0)
+        };
+        Spreads {
+            sd: (0..p).map(|k| (cov[(k, k)].max(0.0) * inflate).sqrt()).collect(),
+            rescaled: inflate > 1.0,
+        }
     }
 }
 
@@ -300,7 +366,11 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>) -> Selection {
         },
         None => data_of(pts),
     };
-    let correlated = data.whiten.is_some();
+    let capped: Vec<f64> = pts
+        .iter()
+        .zip(&data.s)
+        .map(|(p, s)| (lm::trigamma(p.edf / 2.0).sqrt() / s).min(1.0))
+        .collect();
     // A kept process is held under the points as this fit weighs them: the
     // model's own account of each point's spread (or, before a model, the
     // most cautious power-law one), which the points' one-α-at-a-time
@@ -410,7 +480,8 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>) -> Selection {
         },
         resid: top.fit.resid.clone(),
         jac: top.fit.jac.clone(),
-        correlated,
+        whiten: data.whiten.clone(),
+        capped,
     };
     Selection {
         best: Some(best),
@@ -438,4 +509,120 @@ pub(super) fn outlier(resid: &[f64]) -> Option<usize> {
         .filter(|(_, r)| r.abs() > OUTLIER_SIGMAS && r.abs() > OUTLIER_MEDIAN * median)
         .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
         .map(|(i, _)| i)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fit's [`Best`] with the given whitened Jacobian, correlation
+    /// factor, capped ratios and χ².
+    fn best(jac: DMatrix<f64>, l: DMatrix<f64>, capped: Vec<f64>, chi2: f64) -> Best {
+        let (n, p) = (jac.nrows(), jac.ncols());
+        let dof = n - p;
+        Best {
+            components: Vec::new(),
+            theta: vec![0.0; p],
+            label: String::new(),
+            quality: Quality {
+                chi2,
+                dof,
+                chi2_reduced: chi2 / dof as f64,
+                p_value: 0.5,
+                criterion: 0.0,
+            },
+            resid: vec![0.0; n],
+            jac,
+            whiten: Some(l),
+            capped,
+        }
+    }
+
+    /// A straight line on six points whose errors are AR(1)-correlated
+    /// (ρ = 0.6): the Cholesky factor of their correlation, the design
+    /// matrix and the points' true standard deviations.
+    fn line() -> (DMatrix<f64>, DMatrix<f64>, Vec<f64>) {
+        let n = 6;
+        let corr = DMatrix::from_fn(n, n, |i, j| 0.6f64.powi((i as i32 - j as i32).abs()));
+        let l = corr.cholesky().expect("positive definite").l();
+        let x = DMatrix::from_fn(n, 2, |i, k| if k == 0 { 1.0 } else { i as f64 });
+        (l, x, vec![0.01, 0.01, 0.02, 0.05, 0.1, 0.2])
+    }
+
+    /// The whitened Jacobian L⁻¹·S⁻¹·X of the fit that weighs the points
+    /// with standard deviations `s`.
+    fn whitened(l: &DMatrix<f64>, x: &DMatrix<f64>, s: &[f64]) -> DMatrix<f64> {
+        let scaled = DMatrix::from_fn(x.nrows(), x.ncols(), |i, k| x[(i, k)] / s[i]);
+        l.clone().solve_lower_triangular(&scaled).expect("invertible")
+    }
+
+    #[test]
+    fn nothing_capped_is_the_gls_covariance_scaled_by_chi2_per_dof() {
+        let (l, x, s) = line();
+        let j = whitened(&l, &x, &s);
+        let gls = (j.transpose() * &j).try_inverse().expect("invertible");
+        let b = best(j, l, vec![1.0; 6], 8.0);
+        let spreads = b.spreads();
+        assert!(spreads.rescaled);
+        for (k, sd) in spreads.sd.iter().enumerate() {
+            // χ²/dof = 2.
+            let expected = (gls[(k, k)] * 2.0).sqrt();
+            assert!((sd / expected - 1.0).abs() < 1e-9, "{sd} vs {expected}");
+        }
+    }
+
+    #[test]
+    fn capped_weights_give_the_estimates_own_scatter() {
+        let (l, x, s) = line();
+        // The fit weighs every point as if its σ were at least 0.03, as
+        // the EDF cap does at the points known best.
+        let s_fit: Vec<f64> = s.iter().map(|v| v.max(0.03)).collect();
+        let j = whitened(&l, &x, &s_fit);
+        let capped: Vec<f64> = s.iter().zip(&s_fit).map(|(a, b)| a / b).collect();
+        let b = best(j.clone(), l.clone(), capped, 0.0);
+        let spreads = b.spreads();
+        assert!(!spreads.rescaled);
+        let spreads = spreads.sd;
+        // The weighted estimate θ̂ = (JᵀJ)⁻¹Jᵀ·L⁻¹S_fit⁻¹·e over draws of
+        // e with the points' true covariance S·LLᵀ·S.
+        let gain = (j.transpose() * &j).try_inverse().expect("invertible") * j.transpose();
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = || {
+            state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let draws = 40_000;
+        let mut sums = [0.0f64; 2];
+        for _ in 0..draws {
+            let z = DMatrix::from_fn(6, 1, |_, _| {
+                let (u, v) = (uniform().max(1e-300), uniform());
+                (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+            });
+            let e = &l * z;
+            let white = l
+                .clone()
+                .solve_lower_triangular(&DMatrix::from_fn(6, 1, |i, _| e[(i, 0)] * s[i] / s_fit[i]))
+                .expect("invertible");
+            let theta = &gain * white;
+            for k in 0..2 {
+                sums[k] += theta[(k, 0)] * theta[(k, 0)];
+            }
+        }
+        let naive = (j.transpose() * &j).try_inverse().expect("invertible");
+        for k in 0..2 {
+            let scatter = (sums[k] / draws as f64).sqrt();
+            // The sampling error of a standard deviation over 40 000 draws
+            // is 0.35 %.
+            assert!(
+                (spreads[k] / scatter - 1.0).abs() < 0.02,
+                "{k}: {} vs {scatter}",
+                spreads[k]
+            );
+            // The capped weights' own covariance overstates it.
+            assert!(naive[(k, k)].sqrt() > 1.2 * scatter, "{k}");
+        }
+    }
 }
