@@ -5,6 +5,7 @@ the firmware applies it.
 
     compare.py [SEEDS…]        (default 1 2 3)
     compare.py --pool [SEEDS…] (the tables again from WORK/seedN/rows.json)
+    compare.py --floor SEEDS…  (adds the true bias's own file to those rows)
 
 Environment: PX4_CALDATA, the path of the PX4 script to run (a copy of
 PX4-Autopilot's Tools/process_sensor_caldata.py, fetched or installed at
@@ -43,6 +44,11 @@ sample of the fitted run (numpy's polyfit of the raw samples on their
 temperature, no filter, no bins), which under white Gaussian noise is the
 minimum-variance unbiased fit of these samples; a ratio no fit can beat
 reliably. It is written in each firmware's format and applied the same way.
+
+A fourth file, with `--floor`, holds the true bias itself (the cubic the
+logs were made with, TMIN/TMAX wide enough that nothing is clamped): its
+error is zero, and its residual spread is the held-out run's own noise, the
+floor of that figure, printed as the last column ("truth spread").
 
 Printed per instance and axis, median over the seeds: the residual spread
 (standard deviation over the held-out run's 1 °C bins of the corrected
@@ -187,14 +193,17 @@ def judge_ap(pfile, log, truth):
 def table(title, peer, results):
     print(title)
     keys = sorted(results[peer][0])
+    floor = len(results.get("truth", [])) == len(results[peer])
     print(f"{'IMU':>3} {'axis':<8} {'spread ' + peer:>14} {'imutherm':>11} {'ratio':>6}   "
-          f"{'error ' + peer:>14} {'imutherm':>11} {'ratio':>6} {'lsq ratio':>9}")
+          f"{'error ' + peer:>14} {'imutherm':>11} {'ratio':>6} {'lsq ratio':>9}"
+          + (f" {'truth spread':>12}" if floor else ""))
     for k in keys:
         med = lambda name, i: statistics.median(r[k][i] for r in results[name])
         sp, si, ep, ei = med(peer, 0), med("imutherm", 0), med(peer, 1), med("imutherm", 1)
         el = med("lsq", 1)
         print(f"{k[0]:>3} {k[1]:<8} {sp:>14.3e} {si:>11.3e} {si / sp:>6.2f}   "
-              f"{ep:>14.3e} {ei:>11.3e} {ei / ep:>6.2f} {el / ep:>9.2f}")
+              f"{ep:>14.3e} {ei:>11.3e} {ei / ep:>6.2f} {el / ep:>9.2f}"
+              + (f" {med('truth', 0) / sp:>12.3f}" if floor else ""))
     ratios = np.array([results["imutherm"][i][k][1] / results[peer][i][k][1]
                        for i in range(len(results[peer])) for k in keys])
     print(f"{len(ratios)} seed x IMU x axis pairs: error ratio geometric mean {np.exp(np.log(ratios).mean()):.2f}, "
@@ -233,6 +242,57 @@ def lsq_ap(log, out):
     Path(out).write_text("\n".join(lines + [""]))
 
 
+def truth_px4(truth, out):
+    """The true bias in PX4's format: TREF the cubic's own centre."""
+    lines = []
+    for i, ids in enumerate(truth["ids"]):
+        for letter, sensor, dev in (("G", "gyro", ids[0]), ("A", "accel", ids[1])):
+            s = f"TC_{letter}{i}"
+            vals = {f"{s}_ID": dev, f"{s}_TMIN": -40.0, f"{s}_TMAX": 125.0, f"{s}_TREF": truth["t_mid_c"]}
+            for a in range(3):
+                c = truth["instances"][i][sensor][a]
+                vals.update({f"{s}_X{k}_{a}": c[k] for k in range(4)})
+            lines += [f"1\t1\t{k}\t{v}\t{6 if k.endswith('_ID') else 9}" for k, v in vals.items()]
+    Path(out).write_text("\n".join(lines + ["1\t1\tTC_G_ENABLE\t1\t6", "1\t1\tTC_A_ENABLE\t1\t6", ""]))
+
+
+def truth_ap(truth, out):
+    """The true bias in ArduPilot's format: the cubic re-centred at 35 °C,
+    its constant (the level) left out."""
+    lines = []
+    for i in range(len(truth["ids"])):
+        s = f"INS_TCAL{i + 1}"
+        lines += [f"{s}_ENABLE 1", f"{s}_TMIN -40.0", f"{s}_TMAX 125.0"]
+        for kind, sensor in (("ACC", "accel"), ("GYR", "gyro")):
+            for a, axis in enumerate("XYZ"):
+                # b(x) with x = T - t_mid = d + (35 - t_mid), as a polynomial in d.
+                shifted = np.polynomial.Polynomial(truth["instances"][i][sensor][a])(
+                    np.polynomial.Polynomial([35.0 - truth["t_mid_c"], 1.0]))
+                c = np.pad(shifted.coef, (0, 4))[:4]
+                lines += [f"{s}_{kind}{k}_{axis} {float(c[k] * 1e6)!r}" for k in (1, 2, 3)]
+    Path(out).write_text("\n".join(lines + [""]))
+
+
+def floor(work, seeds, python):
+    """Adds each seed's true-bias file, judged as the others, to its rows."""
+    for seed in seeds:
+        d = work / f"seed{seed}"
+        if not (d / "cooling.ulg").is_file() or not (d / "cooling.bin").is_file():
+            subprocess.run([python, str(HERE / "make_logs.py"), str(seed), str(d)], check=True)
+        truth = json.loads((d / "truth.json").read_text())
+        rows = json.loads((d / "rows.json").read_text())
+        truth_px4(truth, d / "truth.params")
+        judged, _ = judge(d / "truth.params", d / "cooling.ulg", truth)
+        rows["truth px4"] = {f"{k[0]} {k[1]}": v for k, v in judged.items()}
+        if "ArduPilot" in rows:
+            truth_ap(truth, d / "truth.parm")
+            judged, _ = judge_ap(d / "truth.parm", d / "cooling.bin", truth)
+            rows["truth ardupilot"] = {f"{k[0]} {k[1]}": v for k, v in judged.items()}
+        (d / "rows.json").write_text(json.dumps(rows))
+        drop_logs(d)
+        print(f"seed {seed}: floor added", file=sys.stderr)
+
+
 def drop_logs(d):
     if os.environ.get("DROP_LOGS") == "1":
         for name in ("heating.ulg", "cooling.ulg", "heating.bin", "cooling.bin"):
@@ -245,8 +305,9 @@ def pooled(work, seeds):
     for seed in seeds:
         rows = json.loads((work / f"seed{seed}" / "rows.json").read_text())
         for name, into in (("px4", results), ("imutherm px4", results), ("lsq px4", results),
-                           ("ArduPilot", ap_results), ("imutherm ardupilot", ap_results),
-                           ("lsq ardupilot", ap_results)):
+                           ("truth px4", results), ("ArduPilot", ap_results),
+                           ("imutherm ardupilot", ap_results), ("lsq ardupilot", ap_results),
+                           ("truth ardupilot", ap_results)):
             if name in rows:
                 into.setdefault(name.split()[0], []).append(
                     {(int(k.split()[0]), k.split()[1]): tuple(v) for k, v in rows[name].items()})
@@ -264,6 +325,10 @@ def main():
         table("PX4 (ULog, 200 Hz)", "px4", results)
         if ap_results:
             table("ArduPilot (DataFlash, IMU at 25 Hz)", "ArduPilot", ap_results)
+        return
+    if args[:1] == ["--floor"]:
+        work = Path(os.environ.get("WORK") or sys.exit("--floor adds to WORK/seedN/rows.json: set WORK"))
+        floor(work, [int(s) for s in args[1:]], os.environ.get("PYTHON", sys.executable))
         return
     seeds = [int(s) for s in args] or [1, 2, 3]
     peer = os.environ.get("PX4_CALDATA")
