@@ -98,13 +98,20 @@ pub fn slice_minima(
     rate_hz: f64,
     bin_width_c: f64,
 ) -> Result<Vec<SliceMinimum>, ThermalError> {
-    let (rows, _) = bin_curves(x, t, rate_hz, bin_width_c, allan::DEFAULT_CONFIDENCE, |c| {
-        slope_method(&c.points).sigma_min.map(|m| SliceMinimum {
-            t_c: c.t_mean_c,
-            sigma_min: m.value,
-            tau: m.tau.unwrap_or(f64::NAN),
-        })
-    })?;
+    let (rows, _) = bin_curves(
+        x,
+        t,
+        rate_hz,
+        bin_width_c,
+        allan::DEFAULT_CONFIDENCE,
+        |_, label, points| {
+            slope_method(&points).sigma_min.map(|m| SliceMinimum {
+                t_c: label.t_mean_c(),
+                sigma_min: m.value,
+                tau: m.tau.unwrap_or(f64::NAN),
+            })
+        },
+    )?;
     Ok(rows.into_iter().flatten().collect())
 }
 

@@ -186,30 +186,27 @@ fn bins(
     bin_width_c: f64,
     confidence: f64,
 ) -> Result<Surface, ThermalError> {
-    let (rows, skipped) = bin_curves(data, temp, rate_hz, bin_width_c, confidence, |row| SurfaceRow {
-        terms: identify(&row.points, &row.points, confidence),
-        start: row.start,
-        end: row.end,
-        t_mean_c: row.t_mean_c,
-        t_change_c: row.t_change_c,
-        samples: row.samples,
-        points: row.points,
-    })?;
+    let (rows, skipped) = bin_curves(
+        data,
+        temp,
+        rate_hz,
+        bin_width_c,
+        confidence,
+        |(a, b), label, points| SurfaceRow {
+            start: a,
+            end: b,
+            t_mean_c: label.t_mean_c(),
+            t_change_c: label.t_change_c(),
+            samples: label.samples,
+            terms: identify(&points, &points, confidence),
+            points,
+        },
+    )?;
     Ok(Surface { rows, skipped })
 }
 
-/// One temperature bin's OADEV curve, before anything is read from it.
-#[derive(Debug, Clone)]
-pub(crate) struct BinCurve {
-    pub start: f64,
-    pub end: f64,
-    pub t_mean_c: f64,
-    pub t_change_c: f64,
-    pub samples: usize,
-    pub points: Vec<Point>,
-}
-
-/// Each bin's curve, turned by `read` into what the caller needs: the
+/// Each bin's curve, turned by `read` (given the bin's edges in °C, what
+/// its samples hold, and the curve) into what the caller needs: the
 /// noise model's fit is by far the dearest part of a slice, and a caller
 /// that needs only the curve's minimum should not pay for it.
 pub(crate) fn bin_curves<R: Send>(
@@ -218,7 +215,7 @@ pub(crate) fn bin_curves<R: Send>(
     rate_hz: f64,
     bin_width_c: f64,
     confidence: f64,
-    read: impl Fn(BinCurve) -> R + Sync,
+    read: impl Fn((f64, f64), &Label, Vec<Point>) -> R + Sync,
 ) -> Result<(Vec<R>, Vec<SkippedSlice>), ThermalError> {
     same_length(data, temp)?;
     if !(bin_width_c.is_finite() && bin_width_c > 0.0) {
@@ -281,14 +278,7 @@ pub(crate) fn bin_curves<R: Send>(
                 return Some(Err(skip(Skip::TooFewSamples { valid: label.samples })));
             }
             Some(match allan::analyze_vec(series, &opts) {
-                Ok(curve) => Ok(read(BinCurve {
-                    start: a,
-                    end: b,
-                    t_mean_c: label.t_mean_c(),
-                    t_change_c: label.t_change_c(),
-                    samples: label.samples,
-                    points: curve.points,
-                })),
+                Ok(curve) => Ok(read((a, b), &label, curve.points)),
                 Err(e) => Err(skip(Skip::Statistic(e))),
             })
         })
