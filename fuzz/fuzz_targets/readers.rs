@@ -3,6 +3,7 @@
 #![no_main]
 
 use std::path::PathBuf;
+use std::sync::Once;
 
 use imu::table::{ReadPolicy, TableReader};
 use imu::{RecordingOptions, read_recording_with_report};
@@ -13,7 +14,31 @@ fn scratch() -> PathBuf {
     std::env::temp_dir().join(format!("imutherm-fuzz-readers-{}.txt", std::process::id()))
 }
 
+/// The reader's columns may take a quarter of the process's address-space
+/// limit (`imu::table::column_limit`); with none set they may take half the
+/// machine's memory, far above the 2 GiB of resident memory the runs are
+/// given, so a wide gzip table the reader rightly accepts would be called a
+/// leak. A 3 GiB limit holds the columns to 768 MiB, with room for a copy.
+fn limit_address_space() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        let mut limit = libc::rlimit {
+            rlim_cur: 0,
+            rlim_max: 0,
+        };
+        // SAFETY: getrlimit and setrlimit read and write the struct given,
+        // which lives here.
+        unsafe {
+            if libc::getrlimit(libc::RLIMIT_AS, &mut limit) == 0 {
+                limit.rlim_cur = limit.rlim_max.min(3 << 30);
+                libc::setrlimit(libc::RLIMIT_AS, &limit);
+            }
+        }
+    });
+}
+
 fuzz_target!(|bytes: &[u8]| {
+    limit_address_space();
     let path = scratch();
     if std::fs::write(&path, bytes).is_err() {
         return;

@@ -30,6 +30,11 @@ pub(super) struct Start<'a> {
     pub file_bytes: Option<u64>,
 }
 
+/// How many blocks a batch holds: a few per core, parsed at once.
+pub(super) fn batch_len() -> usize {
+    4 * rayon::current_num_threads().max(1)
+}
+
 /// Reads the rest of `input` into `got`: the lines read in all.
 pub(super) fn read_body(
     input: &mut Box<dyn BufRead + Send>,
@@ -46,7 +51,7 @@ pub(super) fn read_body(
         out.append_to(got, path, line - 1, &layout.spare)?;
     }
 
-    let batch_len = 4 * rayon::current_num_threads().max(1);
+    let batch_len = batch_len();
     let mut source = BlockSource {
         input,
         carry: Vec::new(),

@@ -334,6 +334,7 @@ impl TableReader {
             delimiter: self.delimiter,
             select: &select,
             spare: Mutex::new(Vec::new()),
+            column_limit: limit,
         };
         let mut got = blocks::Collected {
             columns: vec![Vec::new(); select.len()],

@@ -18,6 +18,9 @@ pub(super) struct Layout<'a> {
     /// Column buffers of blocks already merged, for the next blocks to
     /// parse into (see [`BlockSource::spare`]).
     pub spare: Mutex<Vec<Vec<f64>>>,
+    /// The bytes the columns of the whole read may take
+    /// ([`super::budget::column_limit`]), `None` for no bound.
+    pub column_limit: Option<u64>,
 }
 
 impl Layout<'_> {
@@ -113,6 +116,29 @@ impl Layout<'_> {
 
     /// Parses whole lines. `last` marks the end of the file, where a line
     /// without its newline is a truncated write if it is short.
+    /// A skipped line is a row of NaN as wide as the selection however
+    /// short the line, so the gaps of a block are not bounded by its bytes
+    /// as its rows are (a row of n values takes at least 2n bytes): a few
+    /// kilobytes of short bad lines in a wide table would be gigabytes of
+    /// gaps before the columns' budget sees them at the merge. Each block
+    /// of a batch in flight may hold an even share of half the columns'
+    /// limit in gaps; past it the read is refused as the budget refuses it.
+    fn gaps_too_large(&self, gap_rows: u64, line: u64) -> Option<BlockFault> {
+        let limit = self.column_limit?;
+        let in_flight = 2 * super::blocks::batch_len() as u64;
+        let bytes = gap_rows
+            .saturating_mul(self.select.len() as u64)
+            .saturating_mul(size_of::<f64>() as u64);
+        (bytes > limit / in_flight).then(|| BlockFault {
+            line,
+            column: None,
+            kind: ReadErrorKind::TooLarge {
+                held_mib: bytes.saturating_mul(in_flight).div_ceil(1 << 20),
+                limit_mib: limit >> 20,
+            },
+        })
+    }
+
     pub(super) fn parse_block(&self, block: &[u8], last: bool) -> Result<BlockOut, BlockFault> {
         let mut problems = Vec::new();
         let mut skipped = SkippedLines::default();
@@ -129,6 +155,7 @@ impl Layout<'_> {
                 .collect()
         };
         let mut lines = 0u64;
+        let mut gap_rows = 0u64;
         let unterminated = !block.is_empty() && !block.ends_with(b"\n");
         let mut fields: Vec<&[u8]> = Vec::with_capacity(self.ncols);
         let mut values: Vec<f64> = vec![0.0; self.ncols];
@@ -249,6 +276,10 @@ impl Layout<'_> {
                 // Skipped lines become gaps so that sample indices (and so
                 // time) stay right.
                 Some(p) if self.skip_bad_lines => {
+                    gap_rows += 1;
+                    if let Some(fault) = self.gaps_too_large(gap_rows, lines) {
+                        return Err(fault);
+                    }
                     for dst in columns.iter_mut() {
                         dst.push(f64::NAN);
                     }

@@ -387,6 +387,42 @@ fn columns_past_their_memory_limit_stop_at_the_line_that_crosses_it() {
 }
 
 #[test]
+fn short_bad_lines_in_a_wide_table_are_gaps_held_to_the_budget() {
+    // 2,000 columns, then a million two-byte bad lines: each a gap row of
+    // 2,000 NaN (16 kB), 16 GB of gaps from 2 MB of text, which one block
+    // would hold before its merge. Skipped, they are refused at the budget
+    // before more than a share of it is held.
+    let mut content = (1..=2000).map(|i| format!("c{i}")).collect::<Vec<_>>().join(",");
+    content.push('\n');
+    content.push_str(&vec!["0"; 2000].join(","));
+    content.push('\n');
+    content.push_str(&"x\n".repeat(1_000_000));
+    let f = file(content.as_bytes());
+    let limit = 64 << 20;
+    let r = TableReader::open(f.path()).unwrap();
+    let e = r
+        .read_within(None, &ReadPolicy { skip_bad_lines: true }, Some(limit))
+        .unwrap_err();
+    assert!(
+        matches!(e.kind, ReadErrorKind::TooLarge { limit_mib: 64, .. }),
+        "{e}"
+    );
+    // Where the gaps fit, they are read as gaps.
+    let mut few = (1..=2000).map(|i| format!("c{i}")).collect::<Vec<_>>().join(",");
+    few.push('\n');
+    few.push_str(&"x\n".repeat(10));
+    few.push_str(&vec!["1"; 2000].join(","));
+    few.push('\n');
+    let f = file(few.as_bytes());
+    let t = TableReader::open(f.path())
+        .unwrap()
+        .read_within(None, &ReadPolicy { skip_bad_lines: true }, Some(limit))
+        .unwrap();
+    assert_eq!(t.rows(), 11);
+    assert!(t.columns[0][..10].iter().all(|v| v.is_nan()) && t.columns[0][10] == 1.0);
+}
+
+#[test]
 fn blocks_of_comments_alone_hold_no_budget() {
     let mut content = b"a\n".to_vec();
     content.extend(
