@@ -13,6 +13,9 @@ mod args;
 #[path = "../../crates/cli/src/flags.rs"]
 mod flags;
 
+#[path = "../../crates/cli/src/help_examples.rs"]
+mod help_examples;
+
 fuzz_target!(|data: &[u8]| {
     // NUL-separated arguments; the first word of the subcommands steers
     // the fuzzer towards them.
