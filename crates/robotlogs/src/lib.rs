@@ -315,18 +315,7 @@ pub fn read_log_each(
     Ok(numbers
         .into_iter()
         .zip(each)
-        .map(|(n, (recording, mut report, streams))| {
-            report_missing(&missing, &mut report);
-            (
-                Some(n),
-                Read {
-                    recording,
-                    report,
-                    streams,
-                    format: Some(format),
-                },
-            )
-        })
+        .map(|(n, a)| (Some(n), read_of(format, &missing, a)))
         .collect())
 }
 
@@ -348,14 +337,26 @@ fn assembled(
     missing: &[format::MissingFile],
     choice: &Choice,
 ) -> Result<Read, Error> {
-    let (recording, mut report, streams) = assemble::assemble(path, format.name(), d, choice)?;
+    Ok(read_of(
+        format,
+        missing,
+        assemble::assemble(path, format.name(), d, choice)?,
+    ))
+}
+
+/// A stream assembled, as read: its report names the bag's missing files.
+fn read_of(
+    format: Format,
+    missing: &[format::MissingFile],
+    (recording, mut report, streams): assemble::Assembled,
+) -> Read {
     report_missing(missing, &mut report);
-    Ok(Read {
+    Read {
         recording,
         report,
         streams,
         format: Some(format),
-    })
+    }
 }
 
 /// [`read`] of an input [`open`] opened.
