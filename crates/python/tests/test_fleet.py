@@ -252,14 +252,18 @@ def test_a_killed_driver_loses_no_finished_unit(line, client, first_run, tmp_pat
     assert _comparable(pq.read_table(out / "fleet.parquet").to_pylist()) == undisturbed
 
 
-def test_ctrl_c_keeps_the_finished_units_and_says_how_to_resume(line, client, tmp_path):
+def test_ctrl_c_keeps_the_finished_units_and_says_how_to_resume(line, tmp_path):
+    """Ctrl-C at a terminal: SIGINT to the whole process group, the local
+    cluster's workers included. The driver alone answers: it says what it
+    kept and how to resume, exits 130, and nothing prints a traceback."""
     out = tmp_path / "out"
     proc = subprocess.Popen(CLI + [str(line), "--limits", str(line.parent / "limits.toml"),
-                                   "--out", str(out), "--scheduler", client.scheduler.address],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                                   "--out", str(out), "--workers", "1"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
     _wait_for(lambda: (out / "rows").is_dir() and any(
         n.endswith(".parquet") for n in os.listdir(out / "rows")), proc)
-    proc.send_signal(signal.SIGINT)
+    os.killpg(proc.pid, signal.SIGINT)
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 130, err
     assert "Traceback" not in err and "run the same command again" in err, err

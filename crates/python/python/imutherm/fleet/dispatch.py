@@ -12,7 +12,9 @@ keyed by its id, whichever attempt finished it.
 """
 
 import contextlib
+import logging
 import os
+import signal
 import sys
 import time
 
@@ -53,9 +55,33 @@ def connect(client=None, scheduler=None, workers=None):
     # when its global pool starts, in the worker's own process). A value
     # the user set is kept.
     env = {} if "RAYON_NUM_THREADS" in os.environ else {"RAYON_NUM_THREADS": str(max(1, cores // n))}
-    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                      env=env) as cluster, Client(cluster) as c:
+    with _ignoring_ctrl_c():
+        # Dask's warnings of its own (a task cancelled by Ctrl-C, a worker
+        # killed at close while mid-unit) are not the line's business: a
+        # unit that fails is a row saying why.
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=None, env=env, silence_logs=logging.ERROR)
+    with cluster, Client(cluster) as c:
         yield c
+
+
+@contextlib.contextmanager
+def _ignoring_ctrl_c():
+    """SIGINT ignored while the local workers start: a Ctrl-C at a
+    terminal reaches every process of its group, and the driver alone is
+    to answer it (keep what finished, close the cluster); a worker process
+    inherits the ignored signal, so it neither dies mid-unit nor prints a
+    traceback. Outside the main thread signals cannot be set: nothing
+    changes."""
+    try:
+        before = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except ValueError:
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, before)
 
 
 def analyse(units, settings, out_dir, client, progress=None, prune=False):

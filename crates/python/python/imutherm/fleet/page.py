@@ -26,8 +26,7 @@ STYLE = ("body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0
          # unit lines under the headings.
          "p.status{font-size:1.3em;font-weight:bold}p.status.pass{color:#2e7d32}"
          "p.status.fail,p.status.error{color:#c0392b}p.status.outlier{color:#b9770e}"
-         "ul.reasons{max-width:100%;overflow-wrap:anywhere}th small{font-weight:normal;color:#555}"
-         "td{overflow-wrap:anywhere}")
+         "ul.reasons{max-width:100%;overflow-wrap:anywhere}th small{font-weight:normal;color:#555}")
 HIST_TERMS = ("white_noise", "bias_instability", "tcal_slope", "tcal_residual_rms")
 WORST = 20
 
@@ -182,8 +181,11 @@ def _histogram(term, channel, rows, limit=None, width=320, height=170, bins=24):
                         f"stroke=\"#c0392b\" stroke-dasharray=\"4,3\"><title>limit {_e(label_text)}"
                         f"</title></line>")
         else:
+            # Named in the top line, the low one left and the high one
+            # right of "max N units".
             end = m > hi
-            bars.append(f"<text x=\"{left + pw if end else left}\" y=\"26\" fill=\"#c0392b\" "
+            bars.append(f"<text x=\"{left + pw if end else left}\" y=\"{24 if end else 12}\" "
+                        f"fill=\"#c0392b\" "
                         f"text-anchor=\"{'end' if end else 'start'}\">limit {_e(label_text)} "
                         f"{'→' if end else '←'}</text>")
     label = (lambda v: f"{10 ** v:.3g}") if log else (lambda v: f"{v:.3g}")
@@ -207,7 +209,7 @@ UNIT_TABLE = (("channel", "channel"), ("status", "status"), ("white_noise", "N")
               ("tcal_slope", "mean slope"), ("tcal_residual_rms", "residual RMS"),
               ("held_out_bias_rms", "held-out RMS"))
 #: Plots per row of the unit page (three fit in its 1100 px column).
-PLOT_WIDTH = 350
+PLOT_WIDTH = 330
 
 
 def _bands(rows):
