@@ -32,7 +32,7 @@ def main():
         # Before imutherm is imported: rayon reads it when its pool starts.
         os.environ["RAYON_NUM_THREADS"] = str(a.rayon_threads)
     sys.path.insert(0, os.path.dirname(__file__))
-    from acceptance import LIMITS, manifest, uid, write_line  # the acceptance line's units
+    from acceptance import LIMITS, manifest, timed_run, uid, write_line  # the acceptance line's
 
     from imutherm import fleet
     from imutherm.fleet import manifest as manifest_mod, unit as unit_mod
@@ -62,12 +62,8 @@ def main():
     for w in (1, 2):
         out = os.path.join(a.dir, f"scaling_w{w}")
         shutil.rmtree(out, ignore_errors=True)
-        with fleet.connect(workers=w) as c:
-            c.run(lambda: __import__("imutherm").__version__)
-            cpu = lambda: sum(c.run(time.process_time).values())
-            before, t0 = cpu(), time.monotonic()
-            fleet.run(units, limits, out, client=c, progress=fleet.Progress(0, open(os.devnull, "w")))
-            results[f"{w} worker{'s' if w > 1 else ''}"] = (time.monotonic() - t0, cpu() - before)
+        results[f"{w} worker{'s' if w > 1 else ''}"] = timed_run(
+            units, limits, out, w, progress=fleet.Progress(0, open(os.devnull, "w")))
 
     print(f"{a.units} units, {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}, "
           f"RAYON_NUM_THREADS {os.environ.get('RAYON_NUM_THREADS', 'unset')}")
