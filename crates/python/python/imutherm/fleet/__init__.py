@@ -8,7 +8,7 @@ distributed and pyarrow)::
     from imutherm import fleet
     result = fleet.run("units.csv", limits="limits.toml", out="fleet_out")
     result.table            # the path of fleet.parquet
-    result.counts           # units, analysed, reused, flagged, failed
+    result.counts           # units, analysed, reused, flagged, failed, table, earlier, ...
 
 ``run(..., client=my_client)`` uses an existing ``dask.distributed.Client``;
 ``scheduler="tcp://host:8786"`` connects to a running cluster; otherwise a
