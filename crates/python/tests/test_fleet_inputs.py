@@ -68,6 +68,11 @@ def test_the_run_checks_and_what_the_limits_allow():
     assert judge({"run": {"allow": ["time_gap"]}})["status"] == "pass"
     assert judge({"run": {"allow": ["thermal:time_gap"]}})["status"] == "pass"
     assert judge({"run": {"allow": ["static:time_gap"]}})["status"] == "fail"
+    # Each problem judged by its own kind: one allowed leaves the other.
+    two = dict(row, problems=row["problems"] + ["static s.txt line 4: nan: 2 NaN samples"],
+               problem_kinds=row["problem_kinds"] + ["static:nan"])
+    r = screen.judge([two], limits_mod.parse({"run": {"allow": ["time_gap"]}}))[0]
+    assert r["status"] == "fail" and r["reasons"] == "reader: static s.txt line 4: nan: 2 NaN samples"
     r = judge({"run": {"allow": ["time_gap"], "static_duration_min": 300, "rate_min": 50,
                        "temperature_span_min": 40, "fit_range": [20, 70]},
                "gyro": {"tcal_slope_max": 1e-3}})

@@ -25,7 +25,8 @@ INERTIAL = ("acceleration", "angular_rate")
 PARAMS_SUFFIX = {"px4": "px4.params", "ardupilot": "ardupilot.parm"}
 #: The checks of :func:`imutherm.read` (``Recording.checks``) carried per
 #: run: a static run must neither move nor hold a dead or clipped channel;
-#: a thermal run is read for its reader problems and dead channels only,
+#: a thermal (or held-out) run is read for its reader problems and dead
+#: or clipped channels only,
 #: since its bias drifts with temperature, which the motion check would
 #: take for movement.
 STATIC_CHECKS = ("stuck", "saturated", "accel_norm", "motion")
@@ -74,11 +75,13 @@ def _instance(unit, instance, settings, units_dir):
     if unit.firmware is not None:
         params_file = os.path.join(units_dir, f"{stem}.{PARAMS_SUFFIX[unit.firmware]}")
         write_atomic(params_file, model.export(unit.firmware, instance=instance))
-    held = {}
+    held, runs = {}, [("static", static, STATIC_CHECKS)] + [("thermal", t, THERMAL_CHECKS)
+                                                          for t in thermal]
     if unit.held_out is not None:
+        runs.append(("held_out", imutherm.read(unit.held_out, **reading), THERMAL_CHECKS))
         doc = model.evaluate(unit.held_out, export=unit.firmware, params=params_file, **reading)
         held = {r["channel"]: r for r in doc["rows"]}
-    runs = _run_facts(static, thermal)
+    facts = _run_facts(static, thermal)
     rows = []
     for name in static.channels:
         channel = static.channel(name)
@@ -88,9 +91,8 @@ def _instance(unit, instance, settings, units_dir):
                "static_file": unit.static, "samples": int(len(channel.data)),
                "model_file": model_file, "params_file": params_file, "firmware": unit.firmware,
                "error": None}
-        row.update(runs)
-        row.update(_problems(name, [("static", static, STATIC_CHECKS)]
-                             + [("thermal", t, THERMAL_CHECKS) for t in thermal]))
+        row.update(facts)
+        row.update(_problems(name, runs))
         row.update(_noise(channel.data, static.rate, settings))
         row.update(_temperature_model(model, name))
         row.update(_bias_over_temperature(model, name, thermal))
@@ -118,7 +120,7 @@ def _run_facts(static, thermal):
 
 def _problems(channel, runs):
     """The reader's problems and the channel checks of each run, as
-    ``role: kind: sentence`` (``problems``) and ``role:kind``
+    sentences (``problems``) and, one for each, ``role:kind``
     (``problem_kinds``, what the limits may allow). A check that names a
     channel belongs to that channel's row only."""
     text, kinds = [], []
@@ -132,13 +134,14 @@ def _problems(channel, runs):
             kinds.append(f"{role}:{p['kind']}")
         if rec.problems_unlisted:
             text.append(f"{role} {where}: {rec.problems_unlisted} more problems not listed")
+            kinds.append(f"{role}:unlisted")
         for c in rec.checks:
             if c["kind"] not in checks or c.get("channel") not in (None, channel) and \
                     c["kind"] != "motion":
                 continue
             text.append(f"{role} {where}: {c['kind']}: {c['message']}")
             kinds.append(f"{role}:{c['kind']}")
-    return {"problems": text, "problem_kinds": sorted(set(kinds))}
+    return {"problems": text, "problem_kinds": kinds}
 
 
 def _noise(data, rate, settings):
