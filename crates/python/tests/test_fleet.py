@@ -67,6 +67,18 @@ def test_the_table_has_every_unit_and_channel_once(first_run):
     page = (out / "fleet.html").read_text(encoding="utf-8")
     for uid in PLANTED:
         assert f'href="units/{uid}.html"' in page
+    # The histograms draw the limits; a unit page has its curves over the
+    # fleet's band, with the limits.
+    # (this line's limits lie far outside the fleet: named at the edges)
+    assert "limit min 1e-06 ←" in page and "limit max 0.01 →" in page
+    inside = fleet.page._histogram("white_noise", "gyro_x", [
+        {"white_noise": v, "flagged": False, "si_unit": "rad/s"} for v in (1e-4, 2e-4, 3e-4)],
+        (None, 2.5e-4))
+    assert 'stroke-dasharray="4,3"><title>limit max 0.00025' in inside and "rad/√s" in inside
+    unit_page = (out / "units" / "U03.html").read_text(encoding="utf-8")
+    assert unit_page.count("OADEV</figcaption>") == 6 and "<polygon" in unit_page
+    assert unit_page.count("compensation</figcaption>") == 12
+    assert "white_noise_min = 1e-06 rad/√s" in unit_page
 
 
 def test_planted_units_are_flagged_for_what_was_planted(first_run):

@@ -20,7 +20,7 @@ STYLE = ("body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0
          "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:.25em .6em;"
          "text-align:right}th{background:#eee}caption{font-weight:bold;text-align:left;padding:.3em 0}"
          "figure.plot{display:inline-block;margin:.5em}figcaption{font-size:.9em;color:#555}"
-         "tr.outside td{background:#fde8e8}td.text{text-align:left}"
+         "tr.outside td{background:#fde8e8}td.text,th.text{text-align:left}"
          "nav.toc{font-size:.9em;line-height:1.6}nav.toc a{margin-right:.8em}"
          # The unit page's own: a status word, reasons that wrap, small
          # unit lines under the headings.
@@ -100,7 +100,7 @@ def _worst(rows, units, status):
     worst = [u for u in order if status[u] != "pass"][:WORST] or order[:min(5, len(order))]
     out = ["<h2 id=\"worst\">Worst units</h2>\n<table>\n<caption>Out of limits first, then "
            "outliers; each unit links to its own page</caption>\n<tr><th>rank</th><th>unit</th>"
-           "<th>status</th><th>why</th></tr>\n"]
+           "<th>status</th><th class=\"text\">why</th></tr>\n"]
     for u in worst:
         reasons = sorted({f"{r['channel']}: {r['reasons']}" if r.get("channel") else r["reasons"]
                           for r in units[u] if r.get("reasons")})
