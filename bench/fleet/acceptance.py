@@ -140,6 +140,18 @@ def accept(a, line, rows, units, limits):
     return ok
 
 
+def timed_run(units, limits, out, workers, progress=None):
+    """``fleet.run`` on a local cluster of ``workers``, timed once the
+    cluster is up (throughput, not the workers' start): its wall time and
+    the CPU time its workers spent."""
+    with fleet.connect(workers=workers) as c:
+        c.run(lambda: __import__("imutherm").__version__)
+        cpu = lambda: sum(c.run(time.process_time).values())
+        before, t = cpu(), time.monotonic()
+        fleet.run(units, limits, out, client=c, progress=progress)
+        return time.monotonic() - t, cpu() - before
+
+
 def compare(a, line, rows, limits):
     # Throughput: the same units on 1 worker and on 2, each from scratch.
     sub = manifest(line, "compare.csv", rows[:a.compare])
@@ -147,15 +159,7 @@ def compare(a, line, rows, limits):
     for w in (1, 2):
         o = os.path.join(a.dir, f"out_w{w}")
         shutil.rmtree(o, ignore_errors=True)
-        # Timed once the cluster is up: throughput, not the workers' start.
-        with fleet.connect(workers=w) as c:
-            c.run(lambda: __import__("imutherm").__version__)
-            cpu = lambda: sum(c.run(time.process_time).values())
-            before = cpu()
-            t = time.time()
-            fleet.run(sub, limits, o, client=c)
-            times[w] = time.time() - t
-            used = cpu() - before
+        times[w], used = timed_run(sub, limits, o, w)
         # CPU seconds the workers spent: what the units cost whatever the
         # machine's other load, against the wall time it took.
         print(f"    workers' CPU {used:.1f} s ({used / a.compare:.2f} s a unit), "

@@ -62,3 +62,16 @@ def write_fleet(folder, ids, planted=PLANTED, firmware="px4", held_out=()):
     manifest.write_text("\n".join(lines) + "\n", encoding="utf-8")
     (folder / "limits.toml").write_text(LIMITS, encoding="utf-8")
     return manifest
+
+
+def cut_mid_line(source, dest, share):
+    """``source`` cut at ``share`` of its bytes, in the middle of a line,
+    as a recording stopped by a full disk or a pulled cable leaves it;
+    returns ``dest``."""
+    data = source.read_bytes()
+    at = int(len(data) * share)
+    while data[at - 1:at] == b"\n" or data[at:at + 1] == b"\n":
+        at += 1  # never on a line's end: the last line must be cut short
+    dest.write_bytes(data[:at])
+    return dest
+

@@ -16,7 +16,11 @@ def test_bad_manifests_and_limits_name_file_and_line(tmp_path):
                        ("unit,static,thermal\nA,a,b\nA,c,d\n", "line 3: unit A already on line 2"),
                        ("unit,static,thermal\n../x,a,b\n", "line 2: unit id '../x'"),
                        ("unit,static,thermal,firmware\nA,a,b,betaflight\n", "firmware 'betaflight'"),
-                       ("unit,static,thermal\nA,a;b,c\n", "one static run")]:
+                       ("unit,static,thermal\nA,a;b,c\n", "one static run"),
+                       ("unit,static,thermal\nA,a,b,c,d\n",
+                        "line 2: unit A: 2 more fields than the header names: 'c', 'd'"),
+                       ("unit,static,thermal\nsn-0001,a,b\nSN-0001,c,d\n",
+                        "line 3: unit SN-0001 already on line 2 as sn-0001")]:
         m.write_text(text)
         with pytest.raises(fleet.FleetInputError, match=says.replace("(", r"\(")):
             manifest.load(m)
@@ -24,7 +28,11 @@ def test_bad_manifests_and_limits_name_file_and_line(tmp_path):
     for text, says in [("[gyro]\nwhite_nose_max = 1\n", r"\[gyro\] white_nose_max"),
                        ("[gyro]\nwhite_noise_max = 'a'\n", "expected a number"),
                        ("[mag]\n", r"\[mag\]"), ("[outliers]\nz_max = 0\n", "above 0"),
-                       ("[gyro\n", "l.toml")]:
+                       ("[gyro\n", "l.toml"),
+                       ("[run]\nstatic_duration_min = -1\n", r"\[run\] static_duration_min"),
+                       ("[run]\nfit_range = [70, 20]\n", "low below high"),
+                       ("[run]\nallow = 'nan'\n", "list of problem kinds"),
+                       ("[run]\nduration_min = 3\n", r"\[run\] duration_min: expected one of")]:
         lim.write_text(text)
         with pytest.raises(fleet.FleetInputError, match=says):
             limits_mod.load(lim)
@@ -42,6 +50,50 @@ def test_a_directory_of_units(tmp_path):
     (tmp_path / "A" / "static_2.txt").write_text("")
     with pytest.raises(fleet.FleetInputError, match="one file named static"):
         manifest.load(tmp_path)
+    (tmp_path / "A" / "static_2.txt").unlink()
+    (tmp_path / "a").mkdir()
+    with pytest.raises(fleet.FleetInputError, match="unit a: the same id as A but for case"):
+        manifest.load(tmp_path)
+
+
+def test_the_run_checks_and_what_the_limits_allow():
+    row = {"unit": "U", "channel": "gyro_x", "si_unit": "rad/s", "static_duration_s": 100.0,
+           "static_rate_hz": 20.0, "thermal_duration_s": 1200.0, "thermal_rate_hz": 20.0,
+           "tcal_t_min_c": 20.0, "tcal_t_max_c": 42.0, "tcal_slope": 3e-3,
+           "problems": ["thermal t.txt line 9: time_gap: 3 samples missing"],
+           "problem_kinds": ["thermal:time_gap"]}
+    judge = lambda doc: screen.judge([dict(row)], limits_mod.parse(doc))[0]
+    r = judge({})
+    assert r["status"] == "fail" and r["reasons"] == "reader: " + row["problems"][0]
+    assert judge({"run": {"allow": ["time_gap"]}})["status"] == "pass"
+    assert judge({"run": {"allow": ["thermal:time_gap"]}})["status"] == "pass"
+    assert judge({"run": {"allow": ["static:time_gap"]}})["status"] == "fail"
+    # Each problem judged by its own kind: one allowed leaves the other.
+    two = dict(row, problems=row["problems"] + ["static s.txt line 4: nan: 2 NaN samples"],
+               problem_kinds=row["problem_kinds"] + ["static:nan"])
+    r = screen.judge([two], limits_mod.parse({"run": {"allow": ["time_gap"]}}))[0]
+    assert r["status"] == "fail" and r["reasons"] == "reader: static s.txt line 4: nan: 2 NaN samples"
+    r = judge({"run": {"allow": ["time_gap"], "static_duration_min": 300, "rate_min": 50,
+                       "temperature_span_min": 40, "fit_range": [20, 70]},
+               "gyro": {"tcal_slope_max": 1e-3}})
+    for says in ("static run 100 s < 300 s", "static run's rate 20 Hz < 50 Hz",
+                 "thermal run's rate 20 Hz < 50 Hz", "fitted over 22 °C < 40 °C",
+                 "fitted over 20.0–42.0 °C, not covering 20–70 °C",
+                 "tcal_slope 0.003 > 0.001 rad/s/°C"):
+        assert says in r["reasons"], r["reasons"]
+
+
+def test_nothing_is_written_when_the_cluster_does_not_answer(tmp_path, monkeypatch):
+    pytest.importorskip("dask.distributed")
+    from imutherm.fleet import dispatch
+
+    monkeypatch.setattr(dispatch, "CONNECT_TIMEOUT", "1s")
+    (tmp_path / "m.csv").write_text("unit,static,thermal\nA,a.txt,b.txt\n")
+    (tmp_path / "l.toml").write_text("")
+    with pytest.raises(fleet.FleetError, match="cannot reach the Dask scheduler"):
+        fleet.run(tmp_path / "m.csv", tmp_path / "l.toml", tmp_path / "out",
+                  scheduler="tcp://127.0.0.1:9")
+    assert not (tmp_path / "out").exists()
 
 
 def test_robust_z_is_unmoved_by_shift_and_scale_and_by_the_outlier_itself():

@@ -1,6 +1,8 @@
 """``imutherm-fleet``: the fleet from a shell. Usage errors exit 2 (as
-argparse does), a run that cannot start or finish exits 1; a unit that
-fails is a row of the table, never a failed run."""
+argparse does), a run that cannot start or finish exits 1, a run stopped
+by Ctrl-C exits 130 (128 + SIGINT, as a shell reports it) after saying
+what it kept; a unit that fails is a row of the table, never a failed
+run."""
 
 import argparse
 import sys
@@ -13,8 +15,15 @@ examples:
 
 UNITS is a manifest (CSV or Parquet; columns unit, static, thermal, held_out,
 instance, firmware) or a folder of unit folders (static*, thermal*, held_out*).
-A rerun into the same --out analyses only units whose inputs or settings changed.
+A rerun into the same --out analyses only units whose inputs or settings changed;
+units already in --out that the manifest does not list stay, unless --prune.
+Each unit is kept as it finishes: after a Ctrl-C or a crash, run the same
+command again to analyse the rest.
 """
+
+
+#: The exit status of a run stopped by Ctrl-C.
+INTERRUPTED = 130
 
 
 def parser():
@@ -35,6 +44,9 @@ def parser():
     p.add_argument("--rate", type=float, metavar="HZ", help="sample rate of files that carry none")
     p.add_argument("--order", default="auto", type=_order, metavar="N|auto",
                    help="temperature polynomial order (default: auto)")
+    p.add_argument("--prune", action="store_true",
+                   help="remove from --out the units this manifest does not list (by default "
+                        "the table keeps every unit earlier runs put there)")
     return p
 
 
@@ -64,19 +76,31 @@ def main(argv=None):
               file=sys.stderr)
         return 1
     from . import run
-    from .errors import FleetError
+    from .errors import FleetError, Interrupted
 
     try:
         result = run(args.units, args.limits, args.out, scheduler=args.scheduler,
                      workers=args.workers, firmware=args.firmware, rate=args.rate,
-                     order=args.order)
+                     order=args.order, prune=args.prune)
+    except Interrupted as e:
+        print(f"imutherm-fleet: {e}", file=sys.stderr)
+        return INTERRUPTED
+    except KeyboardInterrupt:
+        # A second Ctrl-C while the table of the first was written, or one
+        # before any unit ran: every unit finished is in the journal.
+        print(f"imutherm-fleet: interrupted: the units finished so far are kept in {args.out}; "
+              f"run the same command again to analyse the others", file=sys.stderr)
+        return INTERRUPTED
     except FleetError as e:
         print(f"imutherm-fleet: {e}", file=sys.stderr)
         return 1
     c = result.counts
-    print(f"{c['units']} units ({c['analysed']} analysed, {c['reused']} unchanged): "
-          f"{c['units'] - c['flagged']} pass, {c['flagged']} flagged "
-          f"({c['failed']} out of limits or failed, {c['errors']} with errors)")
+    earlier = f"; {c['earlier']} more from earlier runs" if c["earlier"] else ""
+    pruned = f"; {c['pruned']} pruned" if c["pruned"] else ""
+    print(f"{c['units']} units ({c['analysed']} analysed, {c['reused']} unchanged){earlier}"
+          f"{pruned}: the table holds {c['table']} units, {c['table'] - c['flagged']} pass, "
+          f"{c['flagged']} flagged ({c['failed']} out of limits or failed, {c['errors']} with "
+          f"errors)")
     print(f"table: {result.table}")
     print(f"page: {result.page}")
     return 0

@@ -12,15 +12,18 @@ keyed by its id, whichever attempt finished it.
 """
 
 import contextlib
+import logging
 import os
+import signal
 import sys
 import time
 
 from . import table, unit as unit_mod
-from .files import remove_scratch
 from .errors import FleetError
 
 UNITS_DIR = "units"
+#: How long a scheduler named by address has to answer.
+CONNECT_TIMEOUT = "20s"
 
 
 @contextlib.contextmanager
@@ -38,7 +41,7 @@ def connect(client=None, scheduler=None, workers=None):
 
     if scheduler is not None:
         try:
-            c = Client(scheduler, timeout="20s")
+            c = Client(scheduler, timeout=CONNECT_TIMEOUT)
         except OSError as e:
             raise FleetError(f"cannot reach the Dask scheduler at {scheduler}: {e}") from None
         with c:
@@ -52,18 +55,51 @@ def connect(client=None, scheduler=None, workers=None):
     # when its global pool starts, in the worker's own process). A value
     # the user set is kept.
     env = {} if "RAYON_NUM_THREADS" in os.environ else {"RAYON_NUM_THREADS": str(max(1, cores // n))}
-    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                      env=env) as cluster, Client(cluster) as c:
+    with _ignoring_ctrl_c():
+        # Dask's warnings of its own (a task cancelled by Ctrl-C, a worker
+        # killed at close while mid-unit) are not the line's business: a
+        # unit that fails is a row saying why.
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=None, env=env, silence_logs=logging.ERROR)
+    with cluster, Client(cluster) as c:
         yield c
 
 
-def analyse(units, settings, out_dir, client, progress=None):
-    """Analyses the units that need it; returns ``(rows, counts)`` where
-    ``rows`` are every unit's measurement rows (reused or new)."""
+@contextlib.contextmanager
+def _ignoring_ctrl_c():
+    """SIGINT ignored while the local workers start: a Ctrl-C at a
+    terminal reaches every process of its group, and the driver alone is
+    to answer it (keep what finished, close the cluster); a worker process
+    inherits the ignored signal, so it neither dies mid-unit nor prints a
+    traceback. Outside the main thread signals cannot be set: nothing
+    changes."""
+    try:
+        before = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except ValueError:
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, before)
+
+
+def analyse(units, settings, out_dir, client, progress=None, prune=False):
+    """Analyses the units of the manifest that need it, committing each
+    unit's rows as it finishes; returns ``(rows, counts)`` where ``rows``
+    are the whole table's measurement rows: the manifest's units (reused
+    or new) and, unless ``prune``, the units earlier runs into ``out_dir``
+    hold that this manifest does not list. A Ctrl-C stops the run after
+    the units finished so far (``counts["interrupted"]``)."""
     before = table.previous_rows(out_dir)
     units_dir = os.path.join(out_dir, UNITS_DIR)
     os.makedirs(units_dir, exist_ok=True)
-    remove_scratch(units_dir)
+    table.remove_leftovers(out_dir)
+    listed = {u.id for u in units}
+    others = {uid: rows for uid, rows in before.items() if uid not in listed}
+    pruned = sorted(others) if prune else []
+    if prune:
+        _remove_units(out_dir, {uid: others.pop(uid) for uid in pruned})
     rows_by_unit, todo, digests = {}, [], {}
     for u in units:
         d = table.unit_digest(u, settings)
@@ -77,23 +113,57 @@ def analyse(units, settings, out_dir, client, progress=None):
     from dask.distributed import as_completed
 
     futures = {}
-    for u in todo:
-        f = client.submit(unit_mod.analyse, u, settings, units_dir, pure=False,
-                          key=f"imutherm-unit-{u.id}-{digests[u.id] or 'unread'}-{time.time_ns()}")
-        futures[f] = u
-    for f in as_completed(futures):
-        u = futures[f]
-        try:
-            rows = f.result()
-        except Exception as e:  # noqa: BLE001 (a task the cluster gave up on is its unit's row)
-            rows = [unit_mod.error_row(u, e)]
-        for r in rows:
-            r["digest"] = digests[u.id]
-        rows_by_unit[u.id] = rows
-        bar.update()
+    analysed = 0
+    try:
+        for u in todo:
+            f = client.submit(unit_mod.analyse, u, settings, units_dir, pure=False,
+                              key=f"imutherm-unit-{u.id}-{digests[u.id] or 'unread'}-{time.time_ns()}")
+            futures[f] = u
+        for f in as_completed(futures):
+            u = futures[f]
+            try:
+                rows = f.result()
+            except Exception as e:  # noqa: BLE001 (a task the cluster gave up on is its unit's row)
+                rows = [unit_mod.error_row(u, e)]
+            for r in rows:
+                r["digest"] = digests[u.id]
+            table.commit(out_dir, u.id, rows)
+            rows_by_unit[u.id] = rows
+            analysed += 1
+            bar.update()
+        interrupted = False
+    except KeyboardInterrupt:
+        interrupted = True
+        with contextlib.suppress(Exception):
+            client.cancel(list(futures))
     bar.close()
-    ordered = [r for u in units for r in rows_by_unit[u.id]]
-    return ordered, {"units": len(units), "analysed": len(todo), "reused": len(units) - len(todo)}
+    # A unit not reached keeps its earlier rows, if any: the next run,
+    # seeing their digest differ, analyses it.
+    for u in units:
+        if u.id not in rows_by_unit and u.id in before:
+            rows_by_unit[u.id] = [_measurements(r) for r in before[u.id]]
+    ordered = [r for u in units if u.id in rows_by_unit for r in rows_by_unit[u.id]]
+    ordered += [_measurements(r) for uid in sorted(others) for r in others[uid]]
+    finished = sum(1 for u in units if u.id in rows_by_unit and
+                   all(r.get("digest") == digests[u.id] for r in rows_by_unit[u.id]))
+    return ordered, {"units": len(units), "analysed": analysed, "reused": len(units) - len(todo),
+                     "earlier": len(others), "pruned": len(pruned), "finished": finished,
+                     "interrupted": interrupted}
+
+
+def _remove_units(out_dir, rows_by_unit):
+    """Removes pruned units' files: their model and parameter files (the
+    names their rows give, in ``units/`` only: a table moved from another
+    folder never removes files there), their page and their journal
+    entry."""
+    units_dir = os.path.join(out_dir, UNITS_DIR)
+    for uid, rows in rows_by_unit.items():
+        names = {os.path.basename(r[k]) for r in rows for k in ("model_file", "params_file")
+                 if r.get(k)}
+        for name in names | {f"{uid}.html"}:
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(os.path.join(units_dir, name))
+    table.forget(out_dir, rows_by_unit)
 
 
 def _measurements(row):

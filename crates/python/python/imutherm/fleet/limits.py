@@ -17,9 +17,22 @@
     z_max = 5.0                     # robust z (median/MAD) beyond which a unit is an outlier
     terms = ["white_noise", "bias_instability", "tcal_slope"]
 
-Every key is ``<metric>_min`` or ``<metric>_max`` for a metric of the
-table (:data:`METRICS`); an unknown key is refused with its table, so a
-misspelt limit never passes silently.
+    # What the line's runs must be (each optional).
+    [run]
+    static_duration_min = 3600      # s
+    thermal_duration_min = 7200     # s, all thermal runs together
+    temperature_span_min = 40       # degC, the temperature model's fitted range
+    fit_range = [20, 75]            # degC, that range must cover it
+    rate_min = 190                  # Hz, every run
+    rate_max = 210
+    allow = ["thermal:bad_metadata", "time_gap"]   # reader problems that do not fail a unit
+
+Every key of a sensor's table is ``<metric>_min`` or ``<metric>_max`` for
+a metric of the table (:data:`METRICS`); an unknown key is refused with
+its table, so a misspelt limit never passes silently. A problem the reader
+or the channel checks found in a run (a truncated last line, a gap, a
+skipped line, motion, a dead channel: ``problem_kinds``) fails the unit
+unless ``[run] allow`` names it, as ``kind`` or ``role:kind``.
 """
 
 import sys
@@ -41,10 +54,18 @@ DEFAULT_OUTLIER_TERMS = ("white_noise", "bias_instability", "tcal_slope", "tcal_
 class Limits:
     """Limits per channel and the outlier screen's settings."""
 
-    def __init__(self, tables=None, z_max=DEFAULT_Z_MAX, outlier_terms=DEFAULT_OUTLIER_TERMS):
+    def __init__(self, tables=None, z_max=DEFAULT_Z_MAX, outlier_terms=DEFAULT_OUTLIER_TERMS,
+                 run=None):
         self.tables = tables or {}
         self.z_max = z_max
         self.outlier_terms = tuple(outlier_terms)
+        #: The ``[run]`` table: the run checks and ``allow``.
+        self.run = dict(run or {})
+
+    def allows(self, kind):
+        """Whether ``[run] allow`` lets a problem of ``kind`` (``role:kind``) pass."""
+        allowed = self.run.get("allow", ())
+        return kind in allowed or kind.split(":", 1)[-1] in allowed
 
     def for_channel(self, channel):
         """``{metric: (min, max)}`` for ``channel`` (either may be None)."""
@@ -59,7 +80,8 @@ class Limits:
 
     def settings(self):
         """What the limits are, for the digest that decides a rerun."""
-        return {"tables": self.tables, "z_max": self.z_max, "outlier_terms": list(self.outlier_terms)}
+        return {"tables": self.tables, "z_max": self.z_max, "outlier_terms": list(self.outlier_terms),
+                "run": self.run}
 
 
 def _toml():
@@ -84,14 +106,17 @@ def load(path):
 
 
 def parse(doc, path="limits"):
-    tables, z_max, terms = {}, DEFAULT_Z_MAX, DEFAULT_OUTLIER_TERMS
+    tables, z_max, terms, run = {}, DEFAULT_Z_MAX, DEFAULT_OUTLIER_TERMS, {}
     for name, table in doc.items():
         if name == "outliers":
             z_max, terms = _outliers(path, table)
             continue
+        if name == "run" and isinstance(table, dict):
+            run = _run(path, table)
+            continue
         if name not in GROUPS + CHANNELS or not isinstance(table, dict):
             raise FleetInputError(f"{path}: [{name}]: expected a table [gyro], [accel], "
-                                  f"[outliers] or one per channel ({', '.join(CHANNELS)})")
+                                  f"[outliers], [run] or one per channel ({', '.join(CHANNELS)})")
         for key, v in table.items():
             metric, _, bound = key.rpartition("_")
             if metric not in METRICS or bound not in ("min", "max"):
@@ -100,7 +125,7 @@ def parse(doc, path="limits"):
             if isinstance(v, bool) or not isinstance(v, (int, float)) or v != v:
                 raise FleetInputError(f"{path}: [{name}] {key} = {v!r}: expected a number")
         tables[name] = {k: float(v) for k, v in table.items()}
-    return Limits(tables, z_max, terms)
+    return Limits(tables, z_max, terms, run)
 
 
 def _outliers(path, table):
@@ -116,3 +141,36 @@ def _outliers(path, table):
         raise FleetInputError(f"{path}: [outliers] terms = {terms!r}: expected a list of "
                               f"{', '.join(METRICS)}")
     return float(z_max), tuple(terms)
+
+
+#: The ``[run]`` table's numbers, with their units.
+RUN_NUMBERS = {"static_duration_min": "s", "thermal_duration_min": "s",
+               "temperature_span_min": "°C", "rate_min": "Hz", "rate_max": "Hz"}
+
+
+def _number(v):
+    return not isinstance(v, bool) and isinstance(v, (int, float)) and v == v
+
+
+def _run(path, table):
+    run = {}
+    for key, v in table.items():
+        if key in RUN_NUMBERS:
+            if not _number(v) or v < 0:
+                raise FleetInputError(f"{path}: [run] {key} = {v!r}: expected a number of "
+                                      f"{RUN_NUMBERS[key]}, 0 or more")
+            run[key] = float(v)
+        elif key == "fit_range":
+            if not (isinstance(v, list) and len(v) == 2 and all(map(_number, v)) and v[0] < v[1]):
+                raise FleetInputError(f"{path}: [run] fit_range = {v!r}: expected [low, high] in "
+                                      f"°C, low below high")
+            run[key] = [float(v[0]), float(v[1])]
+        elif key == "allow":
+            if not isinstance(v, list) or not all(isinstance(k, str) and k for k in v):
+                raise FleetInputError(f"{path}: [run] allow = {v!r}: expected a list of problem "
+                                      f"kinds (\"time_gap\", \"thermal:bad_line\", ...)")
+            run[key] = list(v)
+        else:
+            raise FleetInputError(f"{path}: [run] {key}: expected one of "
+                                  f"{', '.join(list(RUN_NUMBERS) + ['fit_range', 'allow'])}")
+    return run

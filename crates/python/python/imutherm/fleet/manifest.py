@@ -15,6 +15,11 @@ A manifest has one row per unit; its columns (a header names them):
 Relative paths are relative to the manifest's folder. A directory holds
 one folder per unit (its name is the id) with files named ``static*``,
 ``thermal*`` and optionally ``held_out*``.
+
+Ids are unique without regard to case: ``sn-0001`` and ``SN-0001`` would
+name the same files on a file system that ignores case (macOS, Windows).
+A CSV row with more fields than the header names is refused, naming the
+fields, as a column shifted by a stray comma would be read wrongly.
 """
 
 import csv
@@ -93,9 +98,17 @@ def _rows(path, rows, default_firmware):
         if not ID.fullmatch(uid):
             raise FleetInputError(f"{at}: unit id '{uid}': it names the unit's files, so only "
                                   f"letters, digits, '.', '_' and '-' (not first a '.')")
-        if uid in seen:
-            raise FleetInputError(f"{at}: unit {uid} already on {where} {seen[uid]}")
-        seen[uid] = line
+        extra = r.get(None)
+        if extra:
+            shown = ", ".join(f"'{v}'" for v in extra)
+            raise FleetInputError(f"{at}: unit {uid}: {len(extra)} more field"
+                                  f"{'s' if len(extra) > 1 else ''} than the header names: {shown} (columns: {', '.join(COLUMNS)})")
+        key = uid.casefold()
+        if key in seen:
+            other, first = seen[key]
+            same = "" if other == uid else f" as {other} (ids may not differ only in case)"
+            raise FleetInputError(f"{at}: unit {uid} already on {where} {first}{same}")
+        seen[key] = (uid, line)
         units.append(_unit(at, base, uid, r, default_firmware))
     if not units:
         raise FleetInputError(f"{path}: the manifest lists no unit")
@@ -131,11 +144,15 @@ def _unit(at, base, uid, r, default_firmware):
 
 
 def _directory(root, default_firmware):
-    units = []
+    units, seen = [], {}
     for name in sorted(os.listdir(root)):
         folder = os.path.join(root, name)
         if not os.path.isdir(folder):
             continue
+        if name.casefold() in seen:
+            raise FleetInputError(f"{folder}: unit {name}: the same id as {seen[name.casefold()]} "
+                                  f"but for case (ids may not differ only in case)")
+        seen[name.casefold()] = name
         files = sorted(os.listdir(folder))
         pick = lambda prefix: [os.path.join(folder, f) for f in files if f.startswith(prefix)]
         static, thermal, held = pick("static"), pick("thermal"), pick("held_out")

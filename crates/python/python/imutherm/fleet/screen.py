@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 
+from . import units
+
 #: Terms that are positive and spread multiplicatively (a density, an RMS):
 #: screened on their logarithm, where a unit's scatter is symmetric.
 LOG_TERMS = {"white_noise", "bias_instability", "rate_random_walk", "tcal_residual_rms",
@@ -28,6 +30,7 @@ def judge(rows, limits):
             r["reasons"].append(f"error: {r['error']}")
             continue
         _limits(r, limits.for_channel(r["channel"]))
+        _run_checks(r, limits)
     _outliers(rows, limits)
     for r in rows:
         failed = bool(r["reasons"])
@@ -44,7 +47,7 @@ def judge(rows, limits):
 
 
 def _limits(r, limits):
-    if r.get("static_spread") == 0.0:
+    if dead(r):
         r["reasons"].append(f"dead axis: the output is constant over {r.get('samples')} samples")
     elif r.get("noise_error"):
         r["reasons"].append(f"noise terms: {r['noise_error']}")
@@ -53,10 +56,47 @@ def _limits(r, limits):
         if v is None or (isinstance(v, float) and math.isnan(v)):
             continue
         size = abs(v) if metric == "tcal_slope" else v
+        unit = units.of(metric, r.get("si_unit"))
         if hi is not None and size > hi:
-            r["reasons"].append(f"{metric} {_g(size)} > {_g(hi)} {r.get('si_unit', '')} (limit)")
+            r["reasons"].append(f"{metric} {_g(size)} > {_g(hi)} {unit} (limit)")
         if lo is not None and size < lo:
-            r["reasons"].append(f"{metric} {_g(size)} < {_g(lo)} {r.get('si_unit', '')} (limit)")
+            r["reasons"].append(f"{metric} {_g(size)} < {_g(lo)} {unit} (limit)")
+
+
+def dead(r):
+    """Whether the row's channel is a dead axis (its static output never
+    changes): it has no noise terms and no place in the fleet's spread."""
+    return r.get("static_spread") == 0.0
+
+
+def _run_checks(r, limits):
+    """The reader's problems the limits do not allow, and the runs against
+    the ``[run]`` table: their length, rate and temperature range."""
+    for text, kind in zip(r.get("problems") or [], r.get("problem_kinds") or []):
+        if not limits.allows(kind):
+            r["reasons"].append(f"reader: {text}")
+    run = limits.run
+    for role in ("static", "thermal"):
+        lo = run.get(f"{role}_duration_min")
+        got = r.get(f"{role}_duration_s")
+        if lo is not None and (got is None or got < lo):
+            r["reasons"].append(f"{role} run {_g(got)} s < {_g(lo)} s (limit)")
+        rate = r.get(f"{role}_rate_hz")
+        if run.get("rate_min") is not None and (rate is None or rate < run["rate_min"]):
+            r["reasons"].append(f"{role} run's rate {_g(rate)} Hz < {_g(run['rate_min'])} Hz (limit)")
+        if run.get("rate_max") is not None and (rate is None or rate > run["rate_max"]):
+            r["reasons"].append(f"{role} run's rate {_g(rate)} Hz > {_g(run['rate_max'])} Hz (limit)")
+    t0, t1 = r.get("tcal_t_min_c"), r.get("tcal_t_max_c")
+    span = None if t0 is None or t1 is None else t1 - t0
+    if run.get("temperature_span_min") is not None and (span is None
+                                                        or span < run["temperature_span_min"]):
+        r["reasons"].append(f"temperature model fitted over {_g(span)} °C < "
+                            f"{_g(run['temperature_span_min'])} °C (limit)")
+    want = run.get("fit_range")
+    if want is not None and (span is None or t0 > want[0] or t1 < want[1]):
+        got = "nothing" if span is None else f"{t0:.1f}–{t1:.1f} °C"
+        r["reasons"].append(f"temperature model fitted over {got}, not covering "
+                            f"{want[0]:g}–{want[1]:g} °C (limit)")
 
 
 def robust_z(values):
@@ -76,7 +116,8 @@ def robust_z(values):
 def _outliers(rows, limits):
     by_channel = {}
     for r in rows:
-        if not r.get("error"):
+        # A dead axis's figures are the sensor's absence, not a spread.
+        if not r.get("error") and not dead(r):
             by_channel.setdefault((r["channel"], r.get("instance")), []).append(r)
     for term in limits.outlier_terms:
         for group in by_channel.values():
@@ -89,7 +130,8 @@ def _outliers(rows, limits):
                 if abs(zi) > limits.z_max:
                     median = 10 ** centre if term in LOG_TERMS else centre
                     r["reasons"].append(f"outlier: {term} {_g(r[term])} is robust z {zi:+.1f} "
-                                        f"from the fleet's median {_g(median)} {r.get('si_unit', '')}")
+                                        f"from the fleet's median {_g(median)} "
+                                        f"{units.of(term, r.get('si_unit'))}")
 
 
 def _scale(term, v):
@@ -114,4 +156,6 @@ def _rank(rows):
 
 
 def _g(x):
+    if x is None:
+        return "none"
     return f"{x:.3g}" if isinstance(x, (int, float)) else str(x)
