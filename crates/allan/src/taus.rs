@@ -176,7 +176,12 @@ mod tests {
         assert!(c.contains("m even: nearest 0.9975, 9.9975, 99.9975 s"), "{c}");
         assert!(averaging_factors(&asked, Stat::Theo1, 240_001, 0.005).is_empty());
         assert_eq!(
-            averaging_factors(&TauSpec::List(vec![1.5, 15.0, 150.0]), Stat::Theo1, 240_001, 0.005),
+            averaging_factors(
+                &TauSpec::List(vec![1.5, 15.0, 150.0]),
+                Stat::Theo1,
+                240_001,
+                0.005
+            ),
             [400, 4000, 40000]
         );
         // At 1 Hz the nearest of 1 s is 1.5 s (m = 2), within the data.

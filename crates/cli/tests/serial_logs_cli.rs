@@ -13,7 +13,9 @@ mod support;
 use support::{Refused, imutherm, json_stdout};
 
 fn log(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/bmi270").join(name)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/bmi270")
+        .join(name)
 }
 
 /// (kind, line) of every problem of the first file in an `info --json`.
@@ -23,7 +25,12 @@ fn problems(doc: &serde_json::Value) -> Vec<(String, u64)> {
         .unwrap()
         .iter()
         .filter(|p| !p["line"].is_null())
-        .map(|p| (p["kind"].as_str().unwrap().to_string(), p["line"].as_u64().unwrap()))
+        .map(|p| {
+            (
+                p["kind"].as_str().unwrap().to_string(),
+                p["line"].as_u64().unwrap(),
+            )
+        })
         .collect()
 }
 
@@ -38,7 +45,11 @@ fn a_garbled_line_is_refused_with_the_flag_that_reads_past_it() {
 
 #[test]
 fn the_cold_log_reads_with_one_flag_its_banner_skipped_and_reported() {
-    let doc = json_stdout(imutherm().args(["info", "--json", "--skip-bad-lines"]).arg(log("cold.csv")));
+    let doc = json_stdout(
+        imutherm()
+            .args(["info", "--json", "--skip-bad-lines"])
+            .arg(log("cold.csv")),
+    );
     let f = &doc["files"][0];
     // 3,258 lines: the banner, 3,256 rows, one of them garbled (a gap),
     // and the capture's last line, cut where it stopped.
@@ -53,12 +64,19 @@ fn the_cold_log_reads_with_one_flag_its_banner_skipped_and_reported() {
         ]
     );
     let banner = &f["problems"][0]["message"];
-    assert!(banner.as_str().unwrap().contains("PuTTY log 2026.05.08 15:02:51"), "{banner}");
+    assert!(
+        banner.as_str().unwrap().contains("PuTTY log 2026.05.08 15:02:51"),
+        "{banner}"
+    );
 }
 
 #[test]
 fn the_hot_log_reads_past_its_banner_and_its_cut_first_row() {
-    let doc = json_stdout(imutherm().args(["info", "--json", "--skip-bad-lines"]).arg(log("hot.csv")));
+    let doc = json_stdout(
+        imutherm()
+            .args(["info", "--json", "--skip-bad-lines"])
+            .arg(log("hot.csv")),
+    );
     let f = &doc["files"][0];
     // 6,537 lines: the banner, a first row of 6 fields where the rows
     // have 7, 6,533 rows, one of 8 fields (two rows run together) and a
@@ -81,7 +99,15 @@ fn scale_corrects_the_accelerometers_sensitivity_and_says_so() {
     // The hot run lay with x up: ×4 makes its x axis 1 g.
     let doc = json_stdout(
         imutherm()
-            .args(["info", "--json", "--skip-bad-lines", "--unit", "col2=g", "--scale", "col2=4"])
+            .args([
+                "info",
+                "--json",
+                "--skip-bad-lines",
+                "--unit",
+                "col2=g",
+                "--scale",
+                "col2=4",
+            ])
             .arg(log("hot.csv")),
     );
     let f = &doc["files"][0];

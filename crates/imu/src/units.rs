@@ -327,10 +327,19 @@ mod tests {
     fn column_scales_parse_and_refuse() {
         let s: ColumnScale = " col2 = 4 ".parse().unwrap();
         assert_eq!((s.column.as_str(), s.factor), ("col2", 4.0));
-        assert_eq!("=4".parse::<ColumnScale>().unwrap_err(), ColumnScaleError::Malformed);
-        assert_eq!("a4".parse::<ColumnScale>().unwrap_err(), ColumnScaleError::Malformed);
+        assert_eq!(
+            "=4".parse::<ColumnScale>().unwrap_err(),
+            ColumnScaleError::Malformed
+        );
+        assert_eq!(
+            "a4".parse::<ColumnScale>().unwrap_err(),
+            ColumnScaleError::Malformed
+        );
         for bad in ["a=0", "a=x", "a=inf"] {
-            assert!(matches!(bad.parse::<ColumnScale>(), Err(ColumnScaleError::Factor(_))), "{bad}");
+            assert!(
+                matches!(bad.parse::<ColumnScale>(), Err(ColumnScaleError::Factor(_))),
+                "{bad}"
+            );
         }
     }
 }

@@ -64,7 +64,9 @@ impl Ahead {
     /// where it fails).
     pub(super) fn read(input: &mut dyn BufRead) -> Ahead {
         let mut bytes = Vec::new();
-        let error = Read::take(input, AHEAD_BYTES as u64).read_to_end(&mut bytes).err();
+        let error = Read::take(input, AHEAD_BYTES as u64)
+            .read_to_end(&mut bytes)
+            .err();
         let at_end = bytes.len() < AHEAD_BYTES && error.is_none();
         let mut lines = Vec::new();
         let mut start = 0;
@@ -142,9 +144,8 @@ pub(super) fn is_preamble(line: &str, shape: Shape) -> bool {
 /// Whether `line` is a row of another width than the shape's, in its
 /// delimiter or a lone number: a row cut where the capture began.
 pub(super) fn is_cut_row(line: &str, shape: Shape) -> bool {
-    row_shape(line).is_some_and(|s| {
-        s.fields != shape.fields && (s.delimiter == shape.delimiter || s.fields == 1)
-    })
+    row_shape(line)
+        .is_some_and(|s| s.fields != shape.fields && (s.delimiter == shape.delimiter || s.fields == 1))
 }
 
 /// Where the table starts, once a preamble and cut rows are passed.
@@ -243,7 +244,13 @@ mod tests {
 
     #[test]
     fn the_rows_most_common_width_wins() {
-        let lines = ["banner line", "0,1,2,3,4,5", "1,2,3,4,5,6,7", "# c", "1,2,3,4,5,6,7"];
+        let lines = [
+            "banner line",
+            "0,1,2,3,4,5",
+            "1,2,3,4,5,6,7",
+            "# c",
+            "1,2,3,4,5,6,7",
+        ];
         assert_eq!(common_shape(lines.into_iter()), Some(COMMA7));
         assert_eq!(common_shape(["a b", "x"].into_iter()), None);
         // Equally common: the first seen.

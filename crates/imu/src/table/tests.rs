@@ -461,7 +461,10 @@ fn a_terminal_banner_and_boot_lines_are_skipped_and_reported() {
     );
     // A header after the banner is the header.
     let t = read_all(b"Resetting sensor...\nt,gx\n1,2\n3,4\n").unwrap();
-    assert_eq!((t.names.clone(), t.has_header), (vec!["t".to_string(), "gx".to_string()], true));
+    assert_eq!(
+        (t.names.clone(), t.has_header),
+        (vec!["t".to_string(), "gx".to_string()], true)
+    );
     assert_eq!(t.problems.len(), 1);
     // A file without one reads as before.
     let t = read_all(b"t,gx\n1,2\n").unwrap();
@@ -487,7 +490,16 @@ fn the_rows_width_is_the_most_common_one() {
     assert_eq!(e.line, Some(3));
     // A header of another width than the rows is still refused.
     let e = read_all(b"a,b,c\n1,2\n3,4\n").unwrap_err();
-    assert!(matches!(e.kind, ReadErrorKind::FieldCount { expected: 3, found: 2 }), "{e}");
+    assert!(
+        matches!(
+            e.kind,
+            ReadErrorKind::FieldCount {
+                expected: 3,
+                found: 2
+            }
+        ),
+        "{e}"
+    );
 }
 
 #[test]
