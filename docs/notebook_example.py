@@ -9,7 +9,7 @@
 # It reads a PX4 ULog, plots the gyro's overlapping Allan deviation with its
 # intervals, reads the IEEE Std 952 noise terms off it, and fits and exports a
 # temperature compensation for PX4 from a chamber run. Needs `imutherm`,
-# matplotlib and pandas.
+# matplotlib and pandas: `pip install './crates/python[notebook]'`.
 
 # %%
 import argparse

@@ -260,7 +260,8 @@ fn analyze_series_grids_with_progress(
         .collect();
     settled
         .iter()
-        .map(|g| {
+        .zip(grids)
+        .map(|(g, spec)| {
             let own: Vec<(usize, Estimate, NoiseId)> = g
                 .iter()
                 .filter_map(|&(m, i, id)| {
@@ -312,6 +313,7 @@ fn analyze_series_grids_with_progress(
                     n: n_phase,
                     rate_hz: 1.0 / tau0,
                     max_m: taus::max_factor(stat, n_phase),
+                    constraint: taus::constraint(stat, spec, tau0, taus::max_factor(stat, n_phase)),
                 });
             }
             Ok(points)

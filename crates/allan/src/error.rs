@@ -36,7 +36,7 @@ pub enum AllanError {
     },
     /// None of the requested taus can be supported by the data.
     #[error(
-        "no requested tau can be computed from {n} samples at {rate_hz} Hz with {stat} (largest averaging factor {max_m})"
+        "no requested tau can be computed from {n} samples at {rate_hz} Hz with {stat} (largest averaging factor {max_m}){constraint}"
     )]
     NoUsableTau {
         /// The statistic asked for.
@@ -47,6 +47,9 @@ pub enum AllanError {
         rate_hz: f64,
         /// The largest averaging factor the data supports.
         max_m: usize,
+        /// What the statistic asks of a tau, with the nearest it takes
+        /// (Theo1: τ = 0.75·m·τ0 with m even), or empty.
+        constraint: String,
     },
     /// Gap samples (NaN) in data given to a statistic that cannot skip them.
     #[error(

@@ -90,6 +90,42 @@ pub fn tau_of(stat: Stat, m: usize, tau0: f64) -> f64 {
     }
 }
 
+/// What `stat` asks of the taus of a list, with the nearest ones it takes
+/// to those asked for, for a message when none could be computed; empty
+/// for a statistic that takes every multiple of τ0.
+pub fn constraint(stat: Stat, spec: &TauSpec, tau0: f64, max_m: usize) -> String {
+    let TauSpec::List(asked) = spec else {
+        return String::new();
+    };
+    if stat != Stat::Theo1 || max_m < 2 {
+        return String::new();
+    }
+    let largest_even = max_m - max_m % 2;
+    let nearest: Vec<String> = asked
+        .iter()
+        .map(|&t| {
+            let m = (((t / tau_of(stat, 2, tau0)).round().max(1.0) as usize) * 2).min(largest_even);
+            short_number(tau_of(stat, m, tau0))
+        })
+        .collect();
+    format!(
+        "; theo1 needs τ = 0.75·m/rate with m even: nearest {} s (0.75·m·{} s)",
+        nearest.join(", "),
+        short_number(tau0)
+    )
+}
+
+/// Six significant figures, without trailing zeros.
+fn short_number(x: f64) -> String {
+    let digits = (5 - x.abs().log10().floor() as i32).max(0) as usize;
+    let text = format!("{x:.digits$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
+
 /// The sorted, de-duplicated averaging factors of `spec` for `stat` on
 /// `n_phase` phase points at interval `tau0`. Theo1 takes even factors only.
 pub fn averaging_factors(spec: &TauSpec, stat: Stat, n_phase: usize, tau0: f64) -> Vec<usize> {
@@ -131,6 +167,29 @@ pub fn averaging_factors(spec: &TauSpec, stat: Stat, n_phase: usize, tau0: f64) 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn theo1_says_the_taus_it_takes() {
+        // 200 Hz: τ = 0.75·m/200 with m even, 0.0075 s apart.
+        let asked = TauSpec::List(vec![1.0, 10.0, 100.0]);
+        let c = constraint(Stat::Theo1, &asked, 0.005, 100_000);
+        assert!(c.contains("m even: nearest 0.9975, 9.9975, 99.9975 s"), "{c}");
+        assert!(averaging_factors(&asked, Stat::Theo1, 240_001, 0.005).is_empty());
+        assert_eq!(
+            averaging_factors(
+                &TauSpec::List(vec![1.5, 15.0, 150.0]),
+                Stat::Theo1,
+                240_001,
+                0.005
+            ),
+            [400, 4000, 40000]
+        );
+        // At 1 Hz the nearest of 1 s is 1.5 s (m = 2), within the data.
+        let c = constraint(Stat::Theo1, &TauSpec::List(vec![1.0, 1e9]), 1.0, 101);
+        assert!(c.contains("nearest 1.5, 75 s"), "{c}");
+        assert_eq!(constraint(Stat::Oadev, &asked, 0.005, 100), "");
+        assert_eq!(constraint(Stat::Theo1, &TauSpec::Octave, 0.005, 100), "");
+    }
 
     #[test]
     fn octave_stops_at_stop_ratio() {

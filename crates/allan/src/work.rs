@@ -50,6 +50,35 @@ pub fn workload(samples: usize, opts: &Options) -> Workload {
     Workload { factors, operations }
 }
 
+/// Estimates above this many seconds are announced before the work starts.
+pub const ANNOUNCE_SECONDS: f64 = 3.0;
+
+/// The wall time `operations` of `stat` should take on `cores` cores, from
+/// one operation's time measured here and now.
+pub fn estimated_seconds(stat: Stat, operations: u64, cores: usize) -> f64 {
+    operations as f64 * seconds_per_operation(stat) / cores.max(1) as f64
+}
+
+/// What to say before a long computation (the total deviations and Thêo1
+/// are O(N·m) per τ, so O(N²) over a grid), estimated to take `seconds`
+/// on `cores`: `None` for a short one. The command line and Python say
+/// the same.
+pub fn long_run_note(stat: Stat, operations: u64, seconds: f64, cores: usize) -> Option<String> {
+    (seconds > ANNOUNCE_SECONDS).then(|| {
+        let time = match seconds {
+            s if s < 120.0 => format!("{s:.0} s"),
+            s if s < 7200.0 => format!("{:.0} min", s / 60.0),
+            s => format!("{:.1} h", s / 3600.0),
+        };
+        format!(
+            "{stat} will take about {time} on {} cores ({operations:.3e} operations); \
+             its cost grows with N·m per τ",
+            cores.max(1),
+            operations = operations as f64
+        )
+    })
+}
+
 /// Seconds one operation of `stat` takes on one core of this machine,
 /// measured on the spot (best of three runs of a few milliseconds on a
 /// synthetic series), so that an estimate holds on any hardware.

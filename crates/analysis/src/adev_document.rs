@@ -28,6 +28,9 @@ pub struct AdevDocument {
     pub confidence: f64,
     /// One entry per channel, in the order read.
     pub channels: Vec<AdevChannel>,
+    /// What reading the files found and said (an override against a file,
+    /// a clock, problems), as the text output prints them.
+    pub notes: Vec<String>,
 }
 
 /// One channel's curve.
@@ -74,7 +77,14 @@ impl AdevDocument {
                 .zip(curves)
                 .map(|(ch, c)| AdevChannel::of(ch, c))
                 .collect(),
+            notes: Vec::new(),
         }
+    }
+
+    /// The document with the reading's notes.
+    pub fn with_notes(mut self, notes: Vec<String>) -> Self {
+        self.notes = notes;
+        self
     }
 }
 

@@ -322,6 +322,14 @@ fn longest_repeat(v: &[f64]) -> Option<(f64, usize, usize, usize)> {
     best.map(|(y, n, s)| (y, n, s, finite))
 }
 
+/// A temperature of exactly 0 °C in every sample: a field the logger left
+/// at zero (a sensor not read), not a chamber held at the freezing point,
+/// whose readings would scatter by the sensor's resolution.
+fn temperature_not_read(t: &imu::Channel) -> Option<Finding> {
+    stuck(&t.name, &t.data)
+        .filter(|f| matches!(f, Finding::Stuck { value, samples, of, .. } if *value == 0.0 && samples == of))
+}
+
 fn stuck(name: &str, v: &[f64]) -> Option<Finding> {
     let (value, samples, first, of) = longest_repeat(v)?;
     let whole = samples == of && of >= 2;
@@ -584,6 +592,7 @@ pub fn check(rec: &Recording) -> Checks {
             findings.push(f);
         }
     }
+    findings.extend(rec.temperature().and_then(temperature_not_read));
     let motion = motion(rec, rate);
     let w = window_len(rate);
     let moving: Option<Vec<bool>> = motion.as_ref().map(|m| {
@@ -653,6 +662,26 @@ mod tests {
                 *v += span * (-(k as f64) / 3000.0).exp();
             }
         }
+        assert_eq!(check(&rec).findings, []);
+    }
+
+    #[test]
+    fn a_temperature_stuck_at_zero_is_not_read() {
+        let mut rec = static_rec(2000, 50.0, 2e-3, 2e-2);
+        rec.channels.push(Channel::temperature(vec![0.0; 2000]));
+        let found: Vec<String> = check(&rec).findings.iter().map(|f| f.to_string()).collect();
+        assert_eq!(
+            found,
+            ["temp is stuck at zero in all 2000 samples: the sensor is dead or not read"]
+        );
+        // Held at one other reading, or at zero for a while: a temperature.
+        rec.channels.pop();
+        rec.channels.push(Channel::temperature(vec![25.0; 2000]));
+        assert_eq!(check(&rec).findings, []);
+        rec.channels.pop();
+        let mut t = vec![0.0; 2000];
+        t[1999] = 0.003;
+        rec.channels.push(Channel::temperature(t));
         assert_eq!(check(&rec).findings, []);
     }
 

@@ -44,6 +44,9 @@ pub struct FileEntry {
     pub rate_hz: f64,
     /// Its analysed channels.
     pub channels: Vec<ChannelEntry>,
+    /// What reading it found and said (an override against the file, a
+    /// clock, problems), as the text output prints them.
+    pub notes: Vec<String>,
 }
 
 /// A value with its interval and unit.
@@ -502,8 +505,17 @@ impl NoiseDocument {
                         .filter(|c| c.file_index == i)
                         .map(channel_entry)
                         .collect(),
+                    notes: Vec::new(),
                 })
                 .collect(),
         }
+    }
+
+    /// The document with each file's reading notes, in the files' order.
+    pub fn with_notes(mut self, notes: Vec<Vec<String>>) -> Self {
+        for (f, n) in self.files.iter_mut().zip(notes) {
+            f.notes = n;
+        }
+        self
     }
 }

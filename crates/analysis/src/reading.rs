@@ -63,6 +63,7 @@ pub fn recording_options(c: &ReadingChoices) -> Result<RecordingOptions, Analysi
     Ok(RecordingOptions {
         rate_hz: c.rate_hz,
         units,
+        scales: Vec::new(),
         time_column: c.time_column.clone(),
         time_unit: c.time_unit.clone(),
         skip_bad_lines: c.skip_bad_lines,

@@ -634,6 +634,12 @@ pub struct ReadArgs {
     #[arg(long, value_name = "COL=UNIT", value_parser = flags::unit_override)]
     pub unit: Vec<imu::units::UnitOverride>,
 
+    /// Multiply a column's values by a factor before its unit converts them:
+    /// `--scale col2=4` (repeatable), for a firmware that prints with the
+    /// wrong sensitivity. Said in the notes.
+    #[arg(long, value_name = "COL=FACTOR", value_parser = flags::column_scale)]
+    pub scale: Vec<imu::units::ColumnScale>,
+
     /// The time column (default: one named time, timestamp or t, or with a
     /// time unit in its header).
     #[arg(long, value_name = "NAME")]

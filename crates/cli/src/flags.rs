@@ -213,6 +213,11 @@ pub fn unit_override(text: &str) -> Result<imu::units::UnitOverride, String> {
         .map_err(|e| e.to_string())
 }
 
+/// `--scale`: `COLUMN=FACTOR`.
+pub fn column_scale(text: &str) -> Result<imu::units::ColumnScale, String> {
+    text.parse::<imu::units::ColumnScale>().map_err(|e| e.to_string())
+}
+
 /// `--time-unit`: a unit of time.
 pub fn time_unit(text: &str) -> Result<String, String> {
     match parse_unit(text) {

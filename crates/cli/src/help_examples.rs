@@ -4,7 +4,7 @@
 pub(crate) const RECORD_EXAMPLES: &str = "\
 Examples:
   imutherm record --device sim --rate 200 --duration 10s -o test.txt
-  imutherm record --device sim:white --rate 100 --duration 1h -o long.txt
+  imutherm record --device sim:white --rate 100 --duration 5s -o long.txt   (a real run: --duration 1h)
 
 Devices: i2c:/dev/i2c-1[@0x68|@0x69] (≤ 400 kHz: below 500 Hz only on a Pi 3; `i2c` alone is
 /dev/i2c-1 at 0x68), spi:/dev/spidev0.0 (1 MHz, mode 0; `spi` alone is /dev/spidev0.0), or sim[:PRESET] (a register-level simulated chip fed by the simulator;
@@ -46,8 +46,10 @@ flashing with `tcal eval MODEL.json RUN --export px4|ardupilot`.";
 #[cfg(feature = "analysis")]
 pub(crate) const TCAL_FIT_EXAMPLES: &str = "\
 Examples:
-  imutherm tcal fit cooling.txt -o model.json             order by cross-validation
-  imutherm tcal fit cooling.txt heating.txt --order 3 --tref 25 --rate-term -o model.json
+  imutherm tcal fit cooling.txt --for px4 -o model.json   a cubic PX4 loads; then:
+  imutherm tcal export model.json --firmware px4 -o px4.params
+  imutherm tcal fit cooling.txt -o model_auto.json        order by cross-validation (any firmware: none)
+  imutherm tcal fit cooling.txt heating.txt --order 3 --tref 25 --rate-term -o model_rate.json
 
 The data are averaged into temperature bins (--bin-width, separately for heating and
 cooling) before the least-squares fit on a scaled temperature, so the slow end of a
@@ -77,7 +79,7 @@ A production line (--unit ID: the same board on every run; --seed varies the rea
 #[cfg(feature = "analysis")]
 pub(crate) const NOISE_EXAMPLES: &str = "\
 Examples:
-  imutherm noise imu_34C.txt --rate 200
+  imutherm noise imu_34C.txt
   imutherm noise imu_34C.txt imu_43C.txt imu_62C.txt imu_82C.txt --units datasheet
       per-axis terms, then one table per term: rows = axes, columns = temperatures
   imutherm noise imu_34C.txt --kalibr imu.yaml --json > noise.json
@@ -90,8 +92,15 @@ What the numbers mean (IEEE Std 952-1997 Annex C, on the overlapping ADEV):
      with its τ, as the thesis tables quote it). rad/s, m/s².
   K  rate random walk: σ(3 s) on the +1/2 line. rad/s/√s, m/s²/√s (Kalibr's *_random_walk).
   Q  quantization: σ(√3 s) on the −1 line. R  rate ramp: σ(√2 s) on the +1 line.
-The fit adjusts σ²(τ) = 3Q²/τ² + N²/τ + 0.4413·B² + K²τ/3 + R²τ²/2 to the octave points,
-weighted by their degrees of freedom, and names the terms the data cannot show.";
+One estimator (README, The noise model): the theoretical Allan variance of a sum of
+processes, Q, N, B, K, R and up to two first-order Gauss–Markov processes GM (σ, T), fitted to
+the octave OADEV by least squares on ln σ̂², weighted by the inverse covariance of the points;
+the Bayesian information criterion chooses which processes the data hold. A process enters
+only where it carries half the variance at two or more points of 10 degrees of freedom, and
+none may rise above the measured 99 % interval. A process the data do not hold is printed as
+`≤` its upper bound, never as a value. Each axis says its model (`N + K + GM`), χ²/dof and its
+p-value; below p = 0.01 it says no candidate fits. Intervals: the weighted fit's spread under
+the points' own covariance (a sandwich estimate).";
 
 #[cfg(feature = "analysis")]
 pub(crate) const INFO_EXAMPLES: &str = "\

@@ -62,9 +62,33 @@ fn main() -> ExitCode {
         Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
+            #[cfg(feature = "analysis")]
+            if let Some(hint) = hint(&e) {
+                eprintln!("{hint}");
+            }
             ExitCode::from(if e.is::<flags::UsageError>() { 2 } else { 1 })
         }
     }
+}
+
+/// What a flag does about a refused line, said beside the refusal.
+#[cfg(feature = "analysis")]
+fn hint(e: &anyhow::Error) -> Option<&'static str> {
+    let refused_line = e.chain().any(|c| {
+        let read = c.downcast_ref::<imu::ReadError>().or(match c.downcast_ref() {
+            Some(analysis::AnalysisError::Read(r)) => Some(r),
+            _ => None,
+        });
+        read.is_some_and(|r| {
+            matches!(
+                r.kind,
+                imu::ReadErrorKind::NotANumber { .. } | imu::ReadErrorKind::FieldCount { .. }
+            )
+        })
+    });
+    refused_line.then_some(
+        "hint: --skip-bad-lines reads a malformed line as a gap (one missing sample) and reports it with its line",
+    )
 }
 
 fn is_broken_pipe(e: &anyhow::Error) -> bool {

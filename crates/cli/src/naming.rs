@@ -27,6 +27,7 @@ fn flag(setting: Setting) -> &'static str {
         Setting::TimeColumn => "--time-column",
         Setting::MaxGridFactor => "--max-grid-factor",
         Setting::UnitOverride => "--unit",
+        Setting::ColumnScale => "--scale",
         Setting::Channels => "--channels",
         Setting::Topic => "--topic",
         Setting::Instance => "--instance",

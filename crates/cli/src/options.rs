@@ -47,6 +47,7 @@ impl ReadArgs {
         })?;
         Ok(imu::RecordingOptions {
             units: self.unit.clone(),
+            scales: self.scale.clone(),
             ..checked
         })
     }

@@ -38,6 +38,30 @@ pub enum ReadErrorKind {
         /// Fields found on the last line.
         found: usize,
     },
+    /// Text lines before the table that are not of it: a terminal's banner
+    /// (PuTTY's `=~=~=~= PuTTY log … =~=~=~=`), a firmware's boot messages.
+    #[error(
+        "{} of text before the table, not of it ({}'{first}')",
+        if *lines == 1 { "a line".to_string() } else { format!("{lines} lines") },
+        if *lines == 1 { "" } else { "the first: " }
+    )]
+    Preamble {
+        /// How many lines.
+        lines: u64,
+        /// The first one's text (at most 80 characters).
+        first: String,
+    },
+    /// A row at the table's start with fewer or more fields than the rows
+    /// after it: what a capture that began inside a line leaves.
+    #[error(
+        "a first row of {found} fields where the rows have {expected}: a capture that began inside a line"
+    )]
+    CutFirstRow {
+        /// Fields of most rows.
+        expected: usize,
+        /// Fields of this row.
+        found: usize,
+    },
     /// A column asked for that the file does not have.
     #[error("no column '{wanted}' (the file has: {available})")]
     NoSuchColumn {

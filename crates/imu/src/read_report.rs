@@ -16,6 +16,10 @@ pub enum ProblemKind {
     BadLine,
     /// A last line cut short, dropped.
     TruncatedLastLine,
+    /// Text before the table (a terminal's banner, boot messages), skipped.
+    Preamble,
+    /// A first row cut short (a capture begun inside a line), dropped.
+    CutFirstRow,
     /// A run of NaN samples (gaps in the file itself).
     NanRun,
     /// Infinite values, turned into gaps.
@@ -41,6 +45,8 @@ impl ProblemKind {
         match self {
             ProblemKind::BadLine => "bad_line",
             ProblemKind::TruncatedLastLine => "truncated_last_line",
+            ProblemKind::Preamble => "preamble",
+            ProblemKind::CutFirstRow => "cut_first_row",
             ProblemKind::NanRun => "nan",
             ProblemKind::Infinite => "infinite",
             ProblemKind::TimeGap => "time_gap",
@@ -83,19 +89,26 @@ impl Problem {
     pub(crate) fn from_read_error(e: &ReadError) -> Problem {
         let kind = match e.kind {
             ReadErrorKind::TruncatedLastLine { .. } => ProblemKind::TruncatedLastLine,
+            ReadErrorKind::Preamble { .. } => ProblemKind::Preamble,
+            ReadErrorKind::CutFirstRow { .. } => ProblemKind::CutFirstRow,
             _ => ProblemKind::BadLine,
         };
         let action = match kind {
-            ProblemKind::TruncatedLastLine => "dropped",
+            ProblemKind::TruncatedLastLine | ProblemKind::CutFirstRow => "dropped",
+            ProblemKind::Preamble => "skipped",
             _ => "skipped as a gap",
         };
         let col = e.column.map(|c| format!("column {c}: ")).unwrap_or_default();
+        let count = match e.kind {
+            ReadErrorKind::Preamble { lines, .. } => lines as usize,
+            _ => 1,
+        };
         Problem {
             kind,
             line: e.line,
             column: e.column,
             channel: None,
-            count: 1,
+            count,
             message: format!("{col}{} ({action})", e.kind),
         }
     }

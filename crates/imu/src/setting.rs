@@ -32,6 +32,8 @@ pub enum Setting {
     MaxGridFactor,
     /// A unit given for a column (`COLUMN=UNIT`).
     UnitOverride,
+    /// A factor given for a column's values (`COLUMN=FACTOR`).
+    ColumnScale,
     /// The channels to analyse.
     Channels,
     /// The IMU stream of a robot log, by topic.
@@ -66,12 +68,13 @@ pub enum Setting {
 
 impl Setting {
     /// Every setting, for a front end to check that it names each.
-    pub const ALL: [Setting; 19] = [
+    pub const ALL: [Setting; 20] = [
         Setting::SampleRate,
         Setting::TimeUnit,
         Setting::TimeColumn,
         Setting::MaxGridFactor,
         Setting::UnitOverride,
+        Setting::ColumnScale,
         Setting::Channels,
         Setting::Topic,
         Setting::Instance,
@@ -96,6 +99,7 @@ impl Setting {
             Setting::TimeColumn => "the time column",
             Setting::MaxGridFactor => "the grid's limit",
             Setting::UnitOverride => "the unit override",
+            Setting::ColumnScale => "the column's factor",
             Setting::Channels => "the channel choice",
             Setting::Topic => "the IMU topic",
             Setting::Instance => "the IMU instance",

@@ -225,6 +225,49 @@ impl std::str::FromStr for UnitOverride {
     }
 }
 
+/// A factor for a column's values (`accel_x=4`), applied before its unit
+/// converts them: what a firmware that prints with the wrong sensitivity
+/// needs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ColumnScale {
+    /// The column, by header or imutherm name.
+    pub column: String,
+    /// The factor.
+    pub factor: f64,
+}
+
+/// Why a `COLUMN=FACTOR` pair is not one.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ColumnScaleError {
+    /// Not `COLUMN=FACTOR`, or no column.
+    #[error("expected COLUMN=FACTOR, e.g. accel_x=4")]
+    Malformed,
+    /// A factor that is not a finite number other than zero.
+    #[error("the factor '{0}' is not a finite number other than 0")]
+    Factor(String),
+}
+
+impl std::str::FromStr for ColumnScale {
+    type Err = ColumnScaleError;
+
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        let (column, factor) = text
+            .split_once('=')
+            .map(|(c, f)| (c.trim(), f.trim()))
+            .filter(|(c, _)| !c.is_empty())
+            .ok_or(ColumnScaleError::Malformed)?;
+        let value = factor
+            .parse::<f64>()
+            .ok()
+            .filter(|f| f.is_finite() && *f != 0.0)
+            .ok_or_else(|| ColumnScaleError::Factor(factor.to_string()))?;
+        Ok(ColumnScale {
+            column: column.to_string(),
+            factor: value,
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -275,6 +318,26 @@ mod tests {
             assert_eq!(
                 bad.parse::<UnitOverride>().unwrap_err(),
                 UnitOverrideError::Malformed,
+                "{bad}"
+            );
+        }
+    }
+
+    #[test]
+    fn column_scales_parse_and_refuse() {
+        let s: ColumnScale = " col2 = 4 ".parse().unwrap();
+        assert_eq!((s.column.as_str(), s.factor), ("col2", 4.0));
+        assert_eq!(
+            "=4".parse::<ColumnScale>().unwrap_err(),
+            ColumnScaleError::Malformed
+        );
+        assert_eq!(
+            "a4".parse::<ColumnScale>().unwrap_err(),
+            ColumnScaleError::Malformed
+        );
+        for bad in ["a=0", "a=x", "a=inf"] {
+            assert!(
+                matches!(bad.parse::<ColumnScale>(), Err(ColumnScaleError::Factor(_))),
                 "{bad}"
             );
         }

@@ -109,6 +109,26 @@ pub fn analyze<'py>(
     Ok(dict)
 }
 
+/// What the command line says before a long computation of `stat` on `n`
+/// samples (`None` for a short one), for `analyze` to warn with first.
+#[pyfunction]
+#[pyo3(signature = (stat, n, rate, taus, data_type, confidence))]
+pub fn long_run_note(
+    stat: &str,
+    n: usize,
+    rate: f64,
+    taus: Taus,
+    data_type: &str,
+    confidence: f64,
+) -> PyResult<Option<String>> {
+    let opts = options(stat, data_type, rate, taus, confidence)?;
+    let operations = allan::work::workload(n, &opts).operations;
+    // The cores rayon's pool runs on, as the command line counts them.
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let seconds = allan::work::estimated_seconds(opts.stat, operations, cores);
+    Ok(allan::work::long_run_note(opts.stat, operations, seconds, cores))
+}
+
 /// The best of `runs` timings, in seconds, of the `allan` library's own
 /// `analyze` on the samples, called from Rust with no Python in between:
 /// the yardstick `bench/python_vs_allantools.py` measures the Python call

@@ -46,6 +46,7 @@ fn _imutherm(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ImuthermError", m.py().get_type::<ImuthermError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(curve::analyze, m)?)?;
+    m.add_function(wrap_pyfunction!(curve::long_run_note, m)?)?;
     m.add_function(wrap_pyfunction!(curve::noise_terms, m)?)?;
     m.add_function(wrap_pyfunction!(curve::time_library, m)?)?;
     m.add_function(wrap_pyfunction!(estimates::estimates, m)?)?;

@@ -71,6 +71,7 @@ fn keyword(setting: Setting) -> Option<&'static str> {
         Setting::ExportFirmware => "export",
         Setting::DeviceId => "device_id",
         Setting::TimeUnit
+        | Setting::ColumnScale
         | Setting::TimeColumn
         | Setting::MaxGridFactor
         | Setting::Overwrite

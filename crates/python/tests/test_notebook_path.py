@@ -48,3 +48,24 @@ def test_booleans_are_zeros_and_ones():
     np.testing.assert_array_equal(imutherm.oadev(bits).devs, imutherm.oadev(bits.astype(float)).devs)
     np.testing.assert_array_equal(imutherm.allantools.adev(bits)[1],
                                   imutherm.allantools.adev(bits.astype(float))[1])
+
+
+def test_the_notebook_extra_brings_what_the_notebook_imports():
+    # Every module docs/notebook_example.py imports is the standard
+    # library's, imutherm's own dependency, or in the `notebook` extra.
+    import ast
+    import pathlib
+    import re
+    root = pathlib.Path(__file__).resolve().parents[3]
+    tree = ast.parse((root / "docs" / "notebook_example.py").read_text(encoding="utf-8"))
+    imported = {a.name.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
+    imported |= {n.module.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module}
+    third_party = {m for m in imported if m not in sys.stdlib_module_names} - {"imutherm", "numpy"}
+    text = (root / "docs" / "notebook_example.py").read_text(encoding="utf-8")
+    if "to_pandas(" in text:
+        third_party.add("pandas")  # imported by imutherm's to_pandas
+    pyproject = (root / "crates" / "python" / "pyproject.toml").read_text(encoding="utf-8")
+    extra = re.search(r'^notebook = \[(.*)\]$', pyproject, re.M)
+    assert extra, "no notebook extra in pyproject.toml"
+    listed = set(re.findall(r'"([A-Za-z0-9_.-]+)', extra.group(1)))
+    assert third_party and third_party <= listed, (third_party, listed)

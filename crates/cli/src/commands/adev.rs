@@ -19,8 +19,11 @@ pub fn run(a: &AdevArgs) -> Result<()> {
     let opts = options(a)?;
     let read = a.read.recording_options()?;
     let mut channels: Vec<SelectedChannel> = Vec::new();
+    let mut notes = Vec::new();
     for file in &a.files {
-        channels.extend(read_channels(file, &a.channels, &read)?.channels);
+        let sel = read_channels(file, &a.channels, &read)?;
+        notes.extend(sel.notes);
+        channels.extend(sel.channels);
     }
     refuse_overflowing(&channels)?;
     // The samples are handed over and turned into phase in place.
@@ -79,7 +82,7 @@ pub fn run(a: &AdevArgs) -> Result<()> {
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     if a.json {
-        write_json(&mut out, &opts, &channels, &curves)?;
+        write_json(&mut out, &opts, &channels, &curves, notes)?;
     } else {
         write_tables(&mut out, &opts, &channels, &curves)?;
     }
@@ -87,35 +90,16 @@ pub fn run(a: &AdevArgs) -> Result<()> {
     Ok(())
 }
 
-/// Estimates above this many seconds are announced before the work starts.
-const ANNOUNCE_SECONDS: f64 = 3.0;
-
 /// Estimates above this many seconds get a progress bar (on a terminal).
 const BAR_SECONDS: f64 = 1.0;
 
-/// The wall time `operations` of `stat` should take on all cores, from one
-/// operation's time measured here and now.
 fn estimated_seconds(stat: Stat, operations: u64) -> f64 {
-    let cores = rayon::current_num_threads().max(1) as f64;
-    operations as f64 * allan::work::seconds_per_operation(stat) / cores
+    allan::work::estimated_seconds(stat, operations, rayon::current_num_threads())
 }
 
-/// What to say before a long computation (the total deviations and Thêo1
-/// are O(N·m) per τ, so O(N²) over a grid): `None` for a short one.
 fn estimate_note(stat: Stat, operations: u64, seconds: f64) -> Option<String> {
-    (seconds > ANNOUNCE_SECONDS).then(|| {
-        let time = match seconds {
-            s if s < 120.0 => format!("{s:.0} s"),
-            s if s < 7200.0 => format!("{:.0} min", s / 60.0),
-            s => format!("{:.1} h", s / 3600.0),
-        };
-        format!(
-            "note: {stat} will take about {time} on {} cores ({operations:.3e} operations); \
-             its cost grows with N·m per τ",
-            rayon::current_num_threads().max(1),
-            operations = operations as f64
-        )
-    })
+    allan::work::long_run_note(stat, operations, seconds, rayon::current_num_threads())
+        .map(|n| format!("note: {n}"))
 }
 
 /// A bar on stderr for long runs when stderr is a terminal; hidden
@@ -147,8 +131,9 @@ fn write_json(
     opts: &Options,
     channels: &[SelectedChannel],
     curves: &[Curve],
+    notes: Vec<String>,
 ) -> Result<()> {
-    let doc = AdevDocument::new(env!("CARGO_PKG_VERSION"), opts, channels, curves);
+    let doc = AdevDocument::new(env!("CARGO_PKG_VERSION"), opts, channels, curves).with_notes(notes);
     serde_json::to_writer(&mut *out, &doc)?;
     writeln!(out)?;
     Ok(())

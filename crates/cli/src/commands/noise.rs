@@ -40,6 +40,7 @@ struct Analysis<'a> {
     temps: &'a [Option<f64>],
     rates: &'a [f64],
     confidence: f64,
+    notes: &'a [Vec<String>],
 }
 
 pub fn run(a: &NoiseArgs) -> Result<()> {
@@ -62,8 +63,10 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
     let mut temps = Vec::new();
     let mut rates = Vec::new();
     let mut work = Vec::new();
+    let mut notes = Vec::new();
     for (i, file) in a.files.iter().enumerate() {
         let sel = read_static_channels(file, &a.channels, &read, a.motion.allow_motion)?;
+        notes.push(sel.notes.clone());
         // Noise terms are an inertial sensor's: without a recognised axis
         // (and no explicit choice) the header is not one imutherm knows.
         if a.channels.is_empty()
@@ -140,6 +143,7 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
         temps: &temps,
         rates: &rates,
         confidence,
+        notes: &notes,
     };
     if a.json {
         write_json(&mut out, analysis, units)?;
@@ -375,7 +379,8 @@ fn write_json(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<
         &channels,
         analysis.confidence,
         units,
-    );
+    )
+    .with_notes(analysis.notes.to_vec());
     serde_json::to_writer_pretty(&mut *out, &doc)?;
     writeln!(out)?;
     Ok(())

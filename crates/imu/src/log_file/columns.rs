@@ -66,14 +66,22 @@ pub fn classify_with_sources(
 }
 
 /// Whether `wanted` names the column of `header` (imutherm name `name`):
-/// by the whole header, the header without its unit, or imutherm's name.
+/// by the whole header, the header without its unit, imutherm's name, or
+/// its sensor (`gyro`, `accel`: every axis).
 pub(super) fn names_column(wanted: &str, header: &str, name: &str) -> bool {
     let w = wanted.trim();
     let (bare, _) = split_name_unit(header);
     let stem = split_unit_suffix(bare).map_or(bare, |(s, _)| s);
-    [header, bare, stem, name]
-        .iter()
-        .any(|n| n.eq_ignore_ascii_case(w))
+    // A group, as a channel choice names it: every axis of the sensor.
+    let group = match w.to_ascii_lowercase().as_str() {
+        "gyro" | "gyros" => Some("gyro_"),
+        "accel" | "accels" | "acc" => Some("accel_"),
+        _ => None,
+    };
+    group.is_some_and(|g| name.starts_with(g))
+        || [header, bare, stem, name]
+            .iter()
+            .any(|n| n.eq_ignore_ascii_case(w))
 }
 
 fn classify(header: &str, unit_override: Option<(&str, UnitSource)>) -> ColumnKind {

@@ -11,9 +11,9 @@ use crate::header::split_name_unit;
 use crate::names::{is_time_name, quantity_of_name};
 use crate::read_report::{FileFormat, Problem, ProblemKind};
 use crate::recording::Metadata;
-use crate::setting::Setting;
+use crate::setting::{Setting, Value};
 use crate::table::TableReader;
-use crate::units::Quantity;
+use crate::units::{Quantity, UnitSource};
 
 /// What the header and the metadata say about a log's columns.
 pub(super) struct Layout {
@@ -24,6 +24,9 @@ pub(super) struct Layout {
     pub kinds: Vec<ColumnKind>,
     /// The time column, if any.
     pub time_index: Option<usize>,
+    /// What the options changed against the file: a unit given over the
+    /// header's, a factor.
+    pub notes: Vec<String>,
 }
 
 impl Layout {
@@ -34,11 +37,13 @@ impl Layout {
         meta.source = Some(path.to_path_buf());
         let headers: Vec<String> = reader.names().to_vec();
         let from_meta = metadata_units(&meta);
-        let kinds: Vec<ColumnKind> = headers
+        let mut kinds: Vec<ColumnKind> = headers
             .iter()
             .map(|h| classify_with_sources(h, &opts.units, &from_meta))
             .collect();
         check_units(reader, opts, &headers, &kinds)?;
+        let mut notes = overridden_units(opts, &headers, &kinds);
+        notes.extend(scale_columns(reader, opts, &headers, &mut kinds)?);
         let time_index = match &opts.time_column {
             Some(name) => Some(
                 kinds
@@ -53,6 +58,7 @@ impl Layout {
             headers,
             kinds,
             time_index,
+            notes,
         })
     }
 }
@@ -108,6 +114,74 @@ fn check_units(
         .at(1, Some(i + 1)));
     }
     Ok(())
+}
+
+/// A note for each column whose header writes a unit that a unit given
+/// replaces by another: the values are read in the given one, and both
+/// are said.
+fn overridden_units(opts: &RecordingOptions, headers: &[String], kinds: &[ColumnKind]) -> Vec<String> {
+    let mut notes = Vec::new();
+    for (h, k) in headers.iter().zip(kinds) {
+        let Some(o) = opts.units.iter().find(|o| names_column(&o.column, h, &k.name)) else {
+            continue;
+        };
+        let written = classify_with_sources(h, &[], &[]);
+        if written.unit_source == UnitSource::Header && written.unit != k.unit {
+            notes.push(format!(
+                "column '{h}': its header says {}, {} reads it as {} instead (×{} against the header)",
+                header_unit(h),
+                Setting::UnitOverride.given(Value::text(format!("{}={}", o.column, o.unit_text))),
+                o.unit_text,
+                super::reader::round_rate(k.unit.scale / written.unit.scale),
+            ));
+        }
+    }
+    notes
+}
+
+/// The unit a header writes, as written.
+fn header_unit(header: &str) -> String {
+    let (bare, unit) = split_name_unit(header);
+    if unit.is_empty() {
+        crate::header::split_unit_suffix(bare).map_or_else(String::new, |(_, u)| u.to_string())
+    } else {
+        unit.to_string()
+    }
+}
+
+/// Multiplies the conversion of each column a scale names by its factor,
+/// with a note each; a scale naming no column is refused, as a unit is.
+fn scale_columns(
+    reader: &TableReader,
+    opts: &RecordingOptions,
+    headers: &[String],
+    kinds: &mut [ColumnKind],
+) -> Result<Vec<String>, ReadError> {
+    let mut notes = Vec::new();
+    for s in &opts.scales {
+        let mut named = false;
+        for (h, k) in headers.iter().zip(kinds.iter_mut()) {
+            if names_column(&s.column, h, &k.name) {
+                k.unit.scale *= s.factor;
+                named = true;
+                notes.push(format!(
+                    "column '{h}': its values are multiplied by {} ({}) before their unit converts them",
+                    s.factor,
+                    Setting::ColumnScale.given(Value::text(format!("{}={}", s.column, s.factor))),
+                ));
+            }
+        }
+        if !named {
+            return Err(ReadError::new(
+                reader.path(),
+                ReadErrorKind::NoSuchColumn {
+                    wanted: format!("{} (named by {})", s.column, Setting::ColumnScale),
+                    available: headers.join(", "),
+                },
+            ));
+        }
+    }
+    Ok(notes)
 }
 
 /// A `# sample_rate_hz:` that is not a positive number of Hz, as a problem

@@ -13,7 +13,7 @@ use crate::read_report::{Problem, ReadReport};
 use crate::recording::{Channel, Metadata, Recording};
 use crate::setting::{Setting, Value};
 use crate::table::{ReadPolicy, TableReader};
-use crate::units::{Quantity, UnitOverride, UnitSource};
+use crate::units::{ColumnScale, Quantity, UnitOverride, UnitSource};
 
 /// How to read a recording.
 #[derive(Debug, Clone, Default)]
@@ -23,6 +23,9 @@ pub struct RecordingOptions {
     /// Unit per column (by header name or imutherm name), overriding the
     /// header's: `gyro_x=deg/s`, parsed where it was given.
     pub units: Vec<UnitOverride>,
+    /// Factors for columns' values, applied before their units convert
+    /// them (`accel_x=4`); each is said in the report's notes.
+    pub scales: Vec<ColumnScale>,
     /// The time column, by name; `None` looks for one named as
     /// [`crate::names::is_time_name`] says (`t`, `time`, `timestamp`,
     /// `stamp`, `sec`, …, with or without a unit) or with a time unit
@@ -180,6 +183,21 @@ fn accel_unit_note(channels: &[Channel]) -> Option<String> {
     ))
 }
 
+/// A note when the rate given is not the one the metadata writes: every
+/// figure is then computed at the given one, and both are said.
+fn rate_note(given: Option<f64>, file: Option<f64>) -> Option<String> {
+    let (given, file) = (given?, file?);
+    ((given / file - 1.0).abs() > 1e-3).then(|| {
+        format!(
+            "the file's metadata says {} Hz ('# {KEY_RATE}: {}'); {} replaces it, and every figure is computed at {} Hz",
+            round_rate(file),
+            round_rate(file),
+            Setting::SampleRate.given(Value::number(given)),
+            round_rate(given),
+        )
+    })
+}
+
 /// [`read_recording`], with everything found wrong on the way. NaN and
 /// infinite samples become gaps; with a time column, samples are placed on
 /// the grid of their timestamps (missing ones become gaps, duplicates and
@@ -204,6 +222,7 @@ pub fn read_recording_from(
         headers,
         kinds,
         time_index,
+        notes,
     } = Layout::read(&reader, opts)?;
     let file_rate = metadata_rate(&meta);
     let bad_rate = bad_metadata_rate(&reader, file_rate);
@@ -227,6 +246,8 @@ pub fn read_recording_from(
     if let Some(p) = bad_rate {
         report.push(p);
     }
+    report.notes.extend(notes);
+    report.notes.extend(rate_note(opts.rate_hz, file_rate));
     for e in &table.problems {
         report.push(Problem::from_read_error(e));
     }

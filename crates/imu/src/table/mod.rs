@@ -12,7 +12,7 @@
 //! process may use; blank and comment lines among the rows are kept as
 //! runs, so a file of nothing but newlines costs no memory.
 
-use std::io::BufRead;
+use std::io::{BufRead, Read};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
@@ -21,6 +21,7 @@ use crate::error::{ReadError, ReadErrorKind};
 mod blocks;
 mod budget;
 mod input;
+mod preamble;
 mod rows;
 mod short_lines;
 mod sniff;
@@ -62,6 +63,8 @@ pub struct TableReader {
     pending_terminated: bool,
     /// The last bytes of the stream read so far.
     tail: Arc<Mutex<Vec<u8>>>,
+    /// What was passed before the table: a preamble, rows cut short.
+    passed: Vec<ReadError>,
 }
 
 impl std::fmt::Debug for TableReader {
@@ -214,12 +217,46 @@ impl TableReader {
     }
 
     fn from_input(path: PathBuf, mut input: input::Input) -> Result<TableReader, ReadError> {
-        let head = sniff::read_head(&mut input.reader, &path)?;
+        let mut head = sniff::read_head(&mut input.reader, &path)?;
+        let mut ahead = preamble::Ahead::read(&mut input.reader);
+        let settled = preamble::settle(&head.first, head.line_no, &ahead);
+        let mut passed = Vec::new();
+        if let Some(i) = settled.first {
+            let line = &ahead.lines[i];
+            head.first = line.text.clone().unwrap_or_default();
+            head.terminated = line.terminated;
+            head.line_no += i as u64 + 1;
+            for (text, line) in settled.comments {
+                head.comments.push(text);
+                head.comment_lines.push(line);
+            }
+            if let Some(&line) = settled.preamble.first() {
+                let kind = ReadErrorKind::Preamble {
+                    lines: settled.preamble.len() as u64,
+                    first: settled.preamble_text,
+                };
+                passed.push(ReadError::new(&path, kind).at(line, None));
+            }
+            for (line, found) in settled.cut_rows {
+                let kind = ReadErrorKind::CutFirstRow {
+                    expected: settled.fields,
+                    found,
+                };
+                passed.push(ReadError::new(&path, kind).at(line, None));
+            }
+        }
+        // The bytes read ahead, after the header or first row, are the
+        // body's first.
+        let rest = std::io::Cursor::new(ahead.rest_after(settled.first));
+        let reader: Box<dyn BufRead + Send> = match ahead.error.take() {
+            Some(e) => Box::new(rest.chain(preamble::Failed(Some(e)))),
+            None => Box::new(rest.chain(input.reader)),
+        };
         let (names, has_header, delimiter) = sniff::columns_of(&head.first, head.line_no, &path)?;
         let pending = (!has_header).then_some((head.line_no, head.first));
         Ok(TableReader {
             path,
-            input: input.reader,
+            input: reader,
             names,
             has_header,
             comments: head.comments,
@@ -230,7 +267,14 @@ impl TableReader {
             file_bytes: input.file_bytes,
             pending_terminated: head.terminated,
             tail: input.tail,
+            passed,
         })
+    }
+
+    /// What was skipped before the table (a terminal's banner, a firmware's
+    /// boot messages, rows cut where a capture began), each with its line.
+    pub fn passed(&self) -> &[ReadError] {
+        &self.passed
     }
 
     /// The file, as it was named (`-` for standard input).
@@ -357,6 +401,7 @@ impl TableReader {
             file_bytes,
             pending_terminated,
             tail,
+            passed,
             ..
         } = self;
         let start = blocks::Start {
@@ -370,10 +415,12 @@ impl TableReader {
         let trailer = input::find_trailer(&tail.lock().unwrap_or_else(|p| p.into_inner()));
         let blocks::Collected {
             columns,
-            problems,
+            problems: body_problems,
             skipped_lines,
             ..
         } = got;
+        let mut problems = passed;
+        problems.extend(body_problems);
         if columns.first().is_none_or(Vec::is_empty) {
             return Err(ReadError::new(&path, ReadErrorKind::NoData));
         }

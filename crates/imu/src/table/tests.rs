@@ -439,3 +439,79 @@ fn blocks_of_comments_alone_hold_no_budget() {
         .unwrap();
     assert_eq!(t.columns[0], vec![1.0, 2.0]);
 }
+
+#[test]
+fn a_terminal_banner_and_boot_lines_are_skipped_and_reported() {
+    let t = read_all(
+        b"=~=~=~= PuTTY log 2026.05.08 15:02:51 =~=~=~=\nBMI270 Chip ID Detected: 0x24\n\
+          # rate: 50\n1.5,2,3\n2.5,3,4\n",
+    )
+    .unwrap();
+    assert_eq!(t.names, ["col1", "col2", "col3"]);
+    assert_eq!(t.columns[0], [1.5, 2.5]);
+    assert_eq!(t.comments, ["rate: 50"]);
+    assert_eq!(t.body_start_line, 4);
+    assert_eq!((t.line_of_row(0), t.line_of_row(1)), (4, 5));
+    assert_eq!(t.problems.len(), 1);
+    assert_eq!(t.problems[0].line, Some(1));
+    assert!(
+        matches!(&t.problems[0].kind, ReadErrorKind::Preamble { lines: 2, first } if first.contains("PuTTY log")),
+        "{:?}",
+        t.problems[0]
+    );
+    // A header after the banner is the header.
+    let t = read_all(b"Resetting sensor...\nt,gx\n1,2\n3,4\n").unwrap();
+    assert_eq!(
+        (t.names.clone(), t.has_header),
+        (vec!["t".to_string(), "gx".to_string()], true)
+    );
+    assert_eq!(t.problems.len(), 1);
+    // A file without one reads as before.
+    let t = read_all(b"t,gx\n1,2\n").unwrap();
+    assert!(t.has_header && t.problems.is_empty());
+}
+
+#[test]
+fn the_rows_width_is_the_most_common_one() {
+    // The capture began inside a line: its first row is short.
+    let t = read_all(b"banner\n0,1,2\n1,2,3,4\n5,6,7,8\n9,10,11,12\n").unwrap();
+    assert_eq!(t.names.len(), 4);
+    assert_eq!(t.columns[0], [1.0, 5.0, 9.0]);
+    assert_eq!(t.line_of_row(0), 3);
+    let cut: Vec<_> = t.problems.iter().map(|p| (p.line, p.kind.to_string())).collect();
+    assert_eq!(cut.len(), 2);
+    assert_eq!(cut[1].0, Some(2));
+    assert!(cut[1].1.contains("3 fields where the rows have 4"), "{cut:?}");
+    // Without a banner too.
+    let t = read_all(b"7\n1,2\n3,4\n").unwrap();
+    assert_eq!((t.columns[0].clone(), t.problems.len()), (vec![1.0, 3.0], 1));
+    // A short row later is still an error, at its line.
+    let e = read_all(b"1,2\n3,4\n5\n6,7\n").unwrap_err();
+    assert_eq!(e.line, Some(3));
+    // A header of another width than the rows is still refused.
+    let e = read_all(b"a,b,c\n1,2\n3,4\n").unwrap_err();
+    assert!(
+        matches!(
+            e.kind,
+            ReadErrorKind::FieldCount {
+                expected: 3,
+                found: 2
+            }
+        ),
+        "{e}"
+    );
+}
+
+#[test]
+fn rows_read_ahead_are_read_once_across_the_look_ahead() {
+    // More than the look-ahead of rows: every row is read once, in order.
+    let mut body = b"banner line\n".to_vec();
+    let rows = 3 * super::preamble::AHEAD_BYTES / 10;
+    for i in 0..rows {
+        body.extend_from_slice(format!("{i},{}\n", i % 7).as_bytes());
+    }
+    let t = read_all(&body).unwrap();
+    assert_eq!(t.rows(), rows);
+    assert!(t.columns[0].iter().enumerate().all(|(i, &v)| v == i as f64));
+    assert_eq!(t.line_of_row(rows - 1), rows as u64 + 1);
+}

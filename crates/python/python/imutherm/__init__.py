@@ -66,6 +66,11 @@ def analyze(stat, y, rate=1.0, taus="octave", data_type="freq", confidence=0.683
     """
     data = as_samples(y)
     try:
+        note = _imutherm.long_run_note(str(stat), len(data), float(rate), as_taus(taus), str(data_type),
+                                       float(confidence))
+        if note:
+            # As the command line says it, before the work starts.
+            warnings.warn(note, RuntimeWarning, stacklevel=3)
         fields = _imutherm.analyze(str(stat), data, float(rate), as_taus(taus), str(data_type),
                                    float(confidence))
     except ImuthermError as e:
