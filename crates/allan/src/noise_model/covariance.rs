@@ -47,9 +47,9 @@ pub struct Estimate {
 }
 
 /// The phase's generalised covariance of one process at lag `s` seconds,
-/// for parameters `p` in the fit's log form.
-fn gcov(c: Component, p: &[f64], s: f64, tau0: f64) -> f64 {
-    let size2 = p[0].exp();
+/// for its size² `size2` and (a Gauss–Markov term's) correlation time `t`,
+/// the exponentials of the fit's log form.
+fn gcov(c: Component, size2: f64, t: f64, s: f64, tau0: f64) -> f64 {
     let a = s.abs();
     match c {
         Component::Power(Term::Quantization) => {
@@ -70,7 +70,6 @@ fn gcov(c: Component, p: &[f64], s: f64, tau0: f64) -> f64 {
         Component::Power(Term::RateRandomWalk) => size2 * a * a * a / 12.0,
         Component::Power(Term::RateRamp) => 0.0,
         Component::GaussMarkov => {
-            let t = p[1].exp();
             // 1 − e^{−a/T} loses its digits for a ≪ T: exp_m1 keeps them.
             -size2 * t * (a + t * (-a / t).exp_m1())
         }
@@ -107,11 +106,14 @@ impl Model<'_> {
             if !inside && finite_support(c) {
                 continue;
             }
+            // Once for the nine samples' lags, not once for each.
+            let size2 = p[0].exp();
+            let t = if c == Component::GaussMarkov { p[1].exp() } else { 0.0 };
             let mut v = 0.0;
             for (ka, wa) in WEIGHTS.iter().enumerate() {
                 for (kb, wb) in WEIGHTS.iter().enumerate() {
                     let s = (h + kb as f64 * mj - ka as f64 * mi) * self.tau0;
-                    v += wa * wb * gcov(c, p, s, self.tau0);
+                    v += wa * wb * gcov(c, size2, t, s, self.tau0);
                 }
             }
             total += v;
