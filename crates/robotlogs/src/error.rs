@@ -86,6 +86,15 @@ pub enum LogErrorKind {
     /// A stream choice given for a text log.
     #[error("{0} applies to robot logs (bags, ULog, DataFlash) only")]
     NotARobotLog(Setting),
+    /// A stream choice given for input read as a text table that may hold
+    /// a robot log the readers cannot look into: piped, or compressed.
+    #[error("{setting} applies to robot logs (bags, ULog, DataFlash), and this input is read as a text table: {why}")]
+    ChoiceForTextInput {
+        /// The choice given.
+        setting: Setting,
+        /// Why the input is read as text.
+        why: String,
+    },
     /// The stamps give no clock at all (every one zero, NaN, equal or
     /// running backwards) and no rate was given.
     #[error(
