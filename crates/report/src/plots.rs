@@ -368,7 +368,12 @@ pub fn adev_heatmap(
 
 /// [`adev_heatmap`] of temperature bins' curves alone, without the noise
 /// models of a surface's rows.
-pub fn adev_heatmap_bins(target: Target, title: &str, unit: &str, rows: &[BinCurve]) -> Result<Drawn, PlotError> {
+pub fn adev_heatmap_bins(
+    target: Target,
+    title: &str,
+    unit: &str,
+    rows: &[BinCurve],
+) -> Result<Drawn, PlotError> {
     let slices: Vec<(f64, &[Point])> = rows.iter().map(|r| (r.t_mean_c, r.points.as_slice())).collect();
     adev_heatmap_slices(target, title, unit, &slices)
 }

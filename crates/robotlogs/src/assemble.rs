@@ -717,7 +717,10 @@ mod tests {
              (message 2 at t = 0.161303 s)"
         );
         let later = gap_message(1, 3, &t);
-        assert!(later.starts_with("1 sample missing before message 4 (t = 0.200000 s"), "{later}");
+        assert!(
+            later.starts_with("1 sample missing before message 4 (t = 0.200000 s"),
+            "{later}"
+        );
     }
 
     use super::*;
@@ -743,8 +746,14 @@ mod tests {
         };
         let e = assemble(Path::new("x.mcap"), "MCAP", log_of(&t), &absurd).unwrap_err();
         let text = e.to_string();
-        assert!(matches!(e.kind, LogErrorKind::RateTooHigh { samples: 50, .. }), "{text}");
-        assert!(text.contains("the sample rate given") && text.contains("4.900e11 periods"), "{text}");
+        assert!(
+            matches!(e.kind, LogErrorKind::RateTooHigh { samples: 50, .. }),
+            "{text}"
+        );
+        assert!(
+            text.contains("the sample rate given") && text.contains("4.900e11 periods"),
+            "{text}"
+        );
         // Stamps that no rate places are still the stamps' fault.
         let spread = [0.0, 0.01, 0.02, 0.03, 1000.0];
         let rated = Choice {
@@ -760,7 +769,10 @@ mod tests {
         for (t, says) in [
             (vec![0.0; 5], "5 have a zero, negative or NaN stamp, 0 repeat"),
             (vec![f64::NAN; 5], "5 have a zero, negative or NaN stamp"),
-            (vec![4.0, 3.0, 2.0, 1.0, 0.0], "1 have a zero, negative or NaN stamp, 0 repeat the previous stamp and 3 step back"),
+            (
+                vec![4.0, 3.0, 2.0, 1.0, 0.0],
+                "1 have a zero, negative or NaN stamp, 0 repeat the previous stamp and 3 step back",
+            ),
         ] {
             let e = assemble(Path::new("x.bag"), "ROS 1 bag", log_of(&t), &Choice::default()).unwrap_err();
             let text = e.to_string();

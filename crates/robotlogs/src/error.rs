@@ -88,7 +88,9 @@ pub enum LogErrorKind {
     NotARobotLog(Setting),
     /// A stream choice given for input read as a text table that may hold
     /// a robot log the readers cannot look into: piped, or compressed.
-    #[error("{setting} applies to robot logs (bags, ULog, DataFlash), and this input is read as a text table: {why}")]
+    #[error(
+        "{setting} applies to robot logs (bags, ULog, DataFlash), and this input is read as a text table: {why}"
+    )]
     ChoiceForTextInput {
         /// The choice given.
         setting: Setting,

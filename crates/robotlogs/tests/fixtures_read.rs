@@ -286,7 +286,10 @@ fn a_stream_choice_on_a_compressed_ulog_names_the_compression() {
         matches!(e, robotlogs::Error::Log(ref l) if matches!(l.kind, LogErrorKind::ChoiceForTextInput { setting: imu::Setting::Topic, .. })),
         "{text}"
     );
-    assert!(text.contains("gzip-compressed PX4 ULog") && text.contains("decompress it first"), "{text}");
+    assert!(
+        text.contains("gzip-compressed PX4 ULog") && text.contains("decompress it first"),
+        "{text}"
+    );
 }
 
 #[test]

@@ -231,15 +231,20 @@ pub fn bin_curves_only(
     bin_width_c: f64,
     confidence: f64,
 ) -> Result<Vec<BinCurve>, ThermalError> {
-    let (rows, _) = bin_curves(data, temp, rate_hz, bin_width_c, confidence, |(a, b), label, points| {
-        BinCurve {
+    let (rows, _) = bin_curves(
+        data,
+        temp,
+        rate_hz,
+        bin_width_c,
+        confidence,
+        |(a, b), label, points| BinCurve {
             start: a,
             end: b,
             t_mean_c: label.t_mean_c(),
             samples: label.samples,
             points,
-        }
-    })?;
+        },
+    )?;
     Ok(rows)
 }
 
@@ -495,12 +500,22 @@ mod tests {
     fn the_curves_alone_are_the_surfaces_curves() {
         let (data, temp) = ramp(20_000);
         let conf = allan::DEFAULT_CONFIDENCE;
-        let rows = surface(&data, &temp, 10.0, Slicing::Temperature { bin_width_c: 5.0 }, conf).unwrap();
+        let rows = surface(
+            &data,
+            &temp,
+            10.0,
+            Slicing::Temperature { bin_width_c: 5.0 },
+            conf,
+        )
+        .unwrap();
         let curves = bin_curves_only(&data, &temp, 10.0, 5.0, conf).unwrap();
         assert_eq!(rows.len(), curves.len());
         assert!(rows.len() > 3);
         for (r, c) in rows.iter().zip(&curves) {
-            assert_eq!((r.start, r.end, r.t_mean_c, r.samples), (c.start, c.end, c.t_mean_c, c.samples));
+            assert_eq!(
+                (r.start, r.end, r.t_mean_c, r.samples),
+                (c.start, c.end, c.t_mean_c, c.samples)
+            );
             assert_eq!(r.points, c.points);
         }
     }

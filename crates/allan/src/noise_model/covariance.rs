@@ -108,7 +108,11 @@ impl Model<'_> {
             }
             // Once for the nine samples' lags, not once for each.
             let size2 = p[0].exp();
-            let t = if c == Component::GaussMarkov { p[1].exp() } else { 0.0 };
+            let t = if c == Component::GaussMarkov {
+                p[1].exp()
+            } else {
+                0.0
+            };
             let mut v = 0.0;
             for (ka, wa) in WEIGHTS.iter().enumerate() {
                 for (kb, wb) in WEIGHTS.iter().enumerate() {
