@@ -8,7 +8,7 @@ use std::path::Path;
 use imu::timing::{analyze_timestamps, regularize};
 use imu::{Axis, Channel, Problem, ProblemKind, Quantity, ReadReport, Recording, Setting, Value};
 
-use crate::error::{LogError, LogErrorKind};
+use crate::error::{LogError, LogErrorKind, RateTooHigh};
 use crate::streams::{Decoded, ImuStream, TempSource, TempStream, mean_rate};
 
 /// Which stream to read, as the command line says.
@@ -671,13 +671,13 @@ fn bad_clock(name: &str, t: &[f64], given: Option<f64>, own: Option<f64>, factor
     };
     let stamps_hold = own.is_some_and(|r| r * span_s <= (factor * t.len()) as f64);
     match given {
-        Some(rate) if stamps_hold && span_s > 0.0 => LogErrorKind::RateTooHigh {
+        Some(rate) if stamps_hold && span_s > 0.0 => LogErrorKind::RateTooHigh(Box::new(RateTooHigh {
             stream: name.to_string(),
             given: Setting::SampleRate.given(Value::number(rate)),
             span_s,
             slots: span_s * rate,
             samples: t.len(),
-        },
+        })),
         _ => LogErrorKind::BadClock(name.to_string()),
     }
 }
@@ -747,7 +747,7 @@ mod tests {
         let e = assemble(Path::new("x.mcap"), "MCAP", log_of(&t), &absurd).unwrap_err();
         let text = e.to_string();
         assert!(
-            matches!(e.kind, LogErrorKind::RateTooHigh { samples: 50, .. }),
+            matches!(&e.kind, LogErrorKind::RateTooHigh(r) if r.samples == 50),
             "{text}"
         );
         assert!(

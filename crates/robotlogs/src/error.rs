@@ -115,22 +115,27 @@ pub enum LogErrorKind {
     /// A sample rate was given at which the stamps' span holds far more
     /// periods than the stream has samples: the rate, not the stamps, is
     /// what is wrong.
-    #[error(
-        "the sample rate given, {given}, puts the {span_s:.6} s that the stamps of {stream} span on {slots:.3e} \
-         periods for its {samples} samples: far more than gaps explain; give the stream's own rate, or none to take it from the stamps"
-    )]
-    RateTooHigh {
-        /// The stream.
-        stream: String,
-        /// The rate as given.
-        given: Given,
-        /// The stamps' span, s.
-        span_s: f64,
-        /// Periods of the given rate in that span.
-        slots: f64,
-        /// Samples of the stream.
-        samples: usize,
-    },
+    #[error(transparent)]
+    RateTooHigh(Box<RateTooHigh>),
+}
+
+/// A given sample rate the stamps cannot hold ([`LogErrorKind::RateTooHigh`]).
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "the sample rate given, {given}, puts the {span_s:.6} s that the stamps of {stream} span on {slots:.3e} \
+     periods for its {samples} samples: far more than gaps explain; give the stream's own rate, or none to take it from the stamps"
+)]
+pub struct RateTooHigh {
+    /// The stream.
+    pub stream: String,
+    /// The rate as given.
+    pub given: Given,
+    /// The stamps' span, s.
+    pub span_s: f64,
+    /// Periods of the given rate in that span.
+    pub slots: f64,
+    /// Samples of the stream.
+    pub samples: usize,
 }
 
 impl LogError {

@@ -29,7 +29,7 @@ use std::fs::File;
 use std::path::Path;
 
 pub use assemble::{Choice, StreamInfo};
-pub use error::{LogError, LogErrorKind};
+pub use error::{LogError, LogErrorKind, RateTooHigh};
 pub use format::{Format, detect};
 
 use imu::{InstancePick, ReadReport, Recording, RecordingOptions, Setting};
