@@ -88,16 +88,9 @@ fn place_lone_missing_stamps(t: &mut [f64], ti: usize, rows: &RowLines, report: 
     if t.iter().all(|v| v.is_finite()) {
         return;
     }
-    let mut steps: Vec<f64> = t
-        .windows(2)
-        .map(|w| w[1] - w[0])
-        .filter(|d| d.is_finite() && *d > 0.0)
-        .collect();
-    if steps.is_empty() {
+    let Some(median) = crate::timing::median_step(t) else {
         return;
-    }
-    let mid = steps.len() / 2;
-    let median = *steps.select_nth_unstable_by(mid, f64::total_cmp).1;
+    };
     for k in 0..t.len() {
         if t[k].is_finite() {
             continue;
