@@ -11,7 +11,7 @@ use imu::{Quantity, RecordingOptions};
 use ins::drift::report_times;
 use ins::strapdown::NavOptions;
 use thermal::evaluation::{BinMean, bin_means, slice_minima};
-use thermal::surface::{Slicing, SurfaceRow, surface};
+use thermal::surface::{BinCurve, bin_curves_only};
 use thermal::tcal::{FitOptions, Model, Run, TcalChannel, fit};
 
 use crate::AnalysisError;
@@ -88,8 +88,10 @@ pub struct Experiment {
     pub runs: Vec<RunNoise>,
     /// The cooling run's channels.
     pub cooling: Selection,
-    /// Its ADEV over temperature, one surface per channel.
-    pub surfaces: Vec<Vec<SurfaceRow>>,
+    /// Its ADEV over temperature, one surface per channel: the curves of
+    /// its temperature bins (the report draws them; no noise model is
+    /// fitted to them).
+    pub surfaces: Vec<Vec<BinCurve>>,
     /// Its dynamic ADEV (sliding windows), per channel: raw, and
     /// compensated with [`Experiment::model`] over the same windows.
     pub dynamic: Vec<DynamicPair>,
@@ -115,9 +117,11 @@ impl Experiment {
         mut step: impl FnMut(&str),
     ) -> Result<Experiment, AnalysisError> {
         step("noise terms of the constant-temperature runs");
+        // The runs side by side as well as their channels: a run has fewer
+        // channels than a pool has room for while its files are read.
         let runs: Vec<RunNoise> = inputs
             .constant
-            .iter()
+            .par_iter()
             .map(|p| analyse_run(p, read))
             .collect::<Result<_, _>>()?;
         let mut notes: Vec<String> = runs.iter().flat_map(|r| r.notes.iter().cloned()).collect();
@@ -126,17 +130,15 @@ impl Experiment {
         let cooling = read_channels(&inputs.cooling, &[], read)?;
         notes.extend(cooling.notes.iter().cloned());
         let cool_temp = temperature(&inputs.cooling, &cooling)?;
-        let surfaces: Vec<Vec<SurfaceRow>> = cooling
+        let surfaces: Vec<Vec<BinCurve>> = cooling
             .channels
             .par_iter()
             .map(|c| {
-                surface(
+                bin_curves_only(
                     &c.data,
                     cool_temp,
                     cooling.rate_hz,
-                    Slicing::Temperature {
-                        bin_width_c: SURFACE_BIN_C,
-                    },
+                    SURFACE_BIN_C,
                     allan::DEFAULT_CONFIDENCE,
                 )
                 .map_err(AnalysisError::thermal(format!(

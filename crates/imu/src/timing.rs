@@ -83,21 +83,24 @@ pub fn describe_stamps(t: &[f64], items: &str, unusable: &str) -> String {
     )
 }
 
+/// The median of the finite forward steps of `t`; `None` without one.
+pub fn median_step(t: &[f64]) -> Option<f64> {
+    let mut dts: Vec<f64> = t
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|d| d.is_finite() && *d > 0.0)
+        .collect();
+    if dts.is_empty() {
+        return None;
+    }
+    let mid = dts.len() / 2;
+    Some(*dts.select_nth_unstable_by(mid, f64::total_cmp).1)
+}
+
 /// Studies timestamps in seconds. `None` with fewer than two finite,
 /// increasing timestamps (no rate can be derived).
 pub fn analyze_timestamps(t: &[f64]) -> Option<Timing> {
-    let median = {
-        let mut dts: Vec<f64> = t
-            .windows(2)
-            .map(|w| w[1] - w[0])
-            .filter(|d| d.is_finite() && *d > 0.0)
-            .collect();
-        if dts.is_empty() {
-            return None;
-        }
-        let mid = dts.len() / 2;
-        *dts.select_nth_unstable_by(mid, f64::total_cmp).1
-    };
+    let median = median_step(t)?;
     // The stretches are cut on the median step first, then again on the
     // clock it gives: where the steps are mixed (5 ms and 4.5 ms), the
     // median is one of them and the clock lies between.

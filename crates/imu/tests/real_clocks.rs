@@ -140,3 +140,51 @@ fn duplicate_stamps_on_distinct_samples_are_kept() {
     assert_eq!(report.count(ProblemKind::TimeGap), 0, "{:?}", report.problems);
     assert_rate(&rec, 1000.0);
 }
+
+#[test]
+fn a_nan_time_is_named_and_its_row_kept_where_its_neighbours_place_it() {
+    // Line 5 (row 3) has no time; lines 52 and 53 have none either, and
+    // neither can place the other.
+    let rows: Vec<(String, usize)> = (0..200)
+        .map(|k| {
+            let t = if matches!(k, 3 | 50 | 51) {
+                "nan".to_string()
+            } else {
+                format!("{:.3}", k as f64 * 0.01)
+            };
+            (t, k)
+        })
+        .collect();
+    let (_dir, p) = write("nan_time.csv", "time[s]", &rows);
+    let (rec, report) = read(&p);
+    assert_rate(&rec, 100.0);
+    let nan = |line: u64| {
+        report
+            .problems
+            .iter()
+            .find(|q| q.kind == ProblemKind::NoStamp && q.line == Some(line))
+    };
+    let placed = nan(5).expect("line 5 reported");
+    assert!(
+        placed.message.contains("the time is not a number") && placed.message.contains("t = 0.030000 s"),
+        "{}",
+        placed.message
+    );
+    let lost = nan(52).expect("line 52 reported");
+    assert!(
+        lost.message.contains("the slot after the previous one"),
+        "{}",
+        lost.message
+    );
+    // Every row in its slot, in order.
+    let seq = kept(&rec);
+    assert_eq!(seq, (0..200).collect::<Vec<_>>());
+    assert!(
+        !report
+            .problems
+            .iter()
+            .any(|q| q.kind == ProblemKind::TimeGap && q.line == Some(6)),
+        "no gap before line 6: {:?}",
+        report.problems
+    );
+}

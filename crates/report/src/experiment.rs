@@ -23,7 +23,7 @@ use crate::html::{Page, significant};
 use crate::model_plot::{ModelAxis, evidence, model_plot};
 use crate::navigation_plot::navigation_plot;
 use crate::plots::{
-    Asymptote, Curve, Drawn, Target, adev_heatmap, adev_heatmap_slices, adev_plot, bias_plot,
+    Asymptote, Curve, Drawn, Target, adev_heatmap_bins, adev_heatmap_slices, adev_plot, bias_plot,
     temperature_colour, time_plot,
 };
 
@@ -480,7 +480,7 @@ pub fn surface_section(page: &mut Page, exp: &Experiment, png: &PngDir) -> Resul
             png,
             &format!("adev_over_temperature_{}", c.name),
             &format!("{}: σ(τ, T) over 5 °C bins of the cooling run", c.name),
-            |t| adev_heatmap(t, &c.name, &c.unit, rows),
+            |t| adev_heatmap_bins(t, &c.name, &c.unit, rows),
         )?;
     }
     Ok(())

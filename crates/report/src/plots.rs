@@ -7,7 +7,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use allan::Point;
-use thermal::surface::SurfaceRow;
+use thermal::surface::{BinCurve, SurfaceRow};
 
 use crate::PlotError;
 
@@ -361,6 +361,18 @@ pub fn adev_heatmap(
     title: &str,
     unit: &str,
     rows: &[SurfaceRow],
+) -> Result<Drawn, PlotError> {
+    let slices: Vec<(f64, &[Point])> = rows.iter().map(|r| (r.t_mean_c, r.points.as_slice())).collect();
+    adev_heatmap_slices(target, title, unit, &slices)
+}
+
+/// [`adev_heatmap`] of temperature bins' curves alone, without the noise
+/// models of a surface's rows.
+pub fn adev_heatmap_bins(
+    target: Target,
+    title: &str,
+    unit: &str,
+    rows: &[BinCurve],
 ) -> Result<Drawn, PlotError> {
     let slices: Vec<(f64, &[Point])> = rows.iter().map(|r| (r.t_mean_c, r.points.as_slice())).collect();
     adev_heatmap_slices(target, title, unit, &slices)

@@ -8,7 +8,7 @@ use std::path::Path;
 use imu::timing::{analyze_timestamps, regularize};
 use imu::{Axis, Channel, Problem, ProblemKind, Quantity, ReadReport, Recording, Setting, Value};
 
-use crate::error::{LogError, LogErrorKind};
+use crate::error::{LogError, LogErrorKind, RateTooHigh};
 use crate::streams::{Decoded, ImuStream, TempSource, TempStream, mean_rate};
 
 /// Which stream to read, as the command line says.
@@ -293,9 +293,17 @@ fn bad_messages(skipped: &[crate::streams::BadMessage], read: usize, report: &mu
 }
 
 /// What a stream's stamps are, for a clock that cannot be fitted: how many
-/// are unusable, repeat the previous one or step back.
-fn describe_stamps(t: &[f64]) -> String {
-    imu::timing::describe_stamps(t, "messages", "have a zero, negative or NaN stamp")
+/// are unusable, repeat the previous one or step back. `t` is taken from
+/// its first finite stamp `t0`: a zero or negative stamp is unusable as it
+/// was read, the first one too (all-zero stamps are all zeros, not one
+/// origin and repeats of it).
+fn describe_stamps(t: &[f64], t0: f64) -> String {
+    let read: Vec<f64> = t
+        .iter()
+        .map(|v| v + t0)
+        .map(|v| if v > 0.0 { v } else { f64::NAN })
+        .collect();
+    imu::timing::describe_stamps(&read, "messages", "have a zero, negative or NaN stamp")
 }
 
 /// Value of (t, v) at `at`, linear between neighbours; the end values
@@ -481,7 +489,7 @@ fn build(
         // No two stamps step forward: nothing to fit a clock to. Without
         // a rate this is refused, never a silent 1 Hz; with one, the
         // samples take its period in the order of the log, said loudly.
-        let detail = describe_stamps(&t);
+        let detail = describe_stamps(&t, t0);
         let Some(r) = c.rate_hz else {
             return Err(LogError::new(
                 path,
@@ -528,7 +536,11 @@ fn build(
             &columns,
             c.max_grid_factor.unwrap_or(imu::timing::MAX_GRID_FACTOR),
         )
-        .ok_or_else(|| LogError::new(path, LogErrorKind::BadClock(s.name.clone())))?,
+        .ok_or_else(|| {
+            let own = timing.as_ref().map(|tm| tm.rate_hz);
+            let factor = c.max_grid_factor.unwrap_or(imu::timing::MAX_GRID_FACTOR);
+            LogError::new(path, bad_clock(&s.name, &t, c.rate_hz, own, factor))
+        })?,
         None => (columns, Vec::new()),
     };
     if let Some(tm) = &timing {
@@ -545,13 +557,7 @@ fn build(
                 column: None,
                 channel: None,
                 count: missing,
-                message: format!(
-                    "{missing} sample{} missing before message {} (t = {:.6} s, after {:.6} s without a sample)",
-                    if missing == 1 { "" } else { "s" },
-                    row + 1,
-                    t[row],
-                    t[row] - t[row - 1]
-                ),
+                message: gap_message(missing, row, &t),
             });
         }
         for (kind, rows, what) in [
@@ -655,8 +661,68 @@ fn build(
     Ok((rec, report, streams))
 }
 
+/// Why stamps `t` (s) of stream `name` could not be placed on a grid of
+/// at most `factor` slots a sample: a rate given for them is blamed where
+/// the stamps' own rate `own` would have placed them, else the stamps are.
+fn bad_clock(name: &str, t: &[f64], given: Option<f64>, own: Option<f64>, factor: usize) -> LogErrorKind {
+    let span_s = match (t.first(), t.last()) {
+        (Some(a), Some(b)) => b - a,
+        _ => 0.0,
+    };
+    let stamps_hold = own.is_some_and(|r| r * span_s <= (factor * t.len()) as f64);
+    match given {
+        Some(rate) if stamps_hold && span_s > 0.0 => LogErrorKind::RateTooHigh(Box::new(RateTooHigh {
+            stream: name.to_string(),
+            given: Setting::SampleRate.given(Value::number(rate)),
+            span_s,
+            slots: span_s * rate,
+            samples: t.len(),
+        })),
+        _ => LogErrorKind::BadClock(name.to_string()),
+    }
+}
+
+/// The problem line of `missing` samples lost before message `row` (from
+/// 0) of a stream stamped `t` (s from its first message). A gap right
+/// after the first message is the start of the log: the stream's first
+/// stretch is one message, then nothing, which a cut or a late logger
+/// leaves, and no earlier message stands before it to name.
+fn gap_message(missing: usize, row: usize, t: &[f64]) -> String {
+    let samples = format!("{missing} sample{}", if missing == 1 { "" } else { "s" });
+    if row == 1 {
+        return format!(
+            "{samples} missing at the start of the stream: its first message, then none for {:.6} s \
+             (message 2 at t = {:.6} s)",
+            t[1] - t[0],
+            t[1]
+        );
+    }
+    format!(
+        "{samples} missing before message {} (t = {:.6} s, after {:.6} s without a sample)",
+        row + 1,
+        t[row],
+        t[row] - t[row - 1]
+    )
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_gap_after_the_first_message_is_the_start_of_the_stream() {
+        let t = [0.0, 0.161303, 0.166303, 0.2];
+        let start = gap_message(32, 1, &t);
+        assert_eq!(
+            start,
+            "32 samples missing at the start of the stream: its first message, then none for 0.161303 s \
+             (message 2 at t = 0.161303 s)"
+        );
+        let later = gap_message(1, 3, &t);
+        assert!(
+            later.starts_with("1 sample missing before message 4 (t = 0.200000 s"),
+            "{later}"
+        );
+    }
+
     use super::*;
 
     /// A log of one stream whose stamps and log times are `t`.
@@ -672,11 +738,41 @@ mod tests {
     }
 
     #[test]
+    fn a_rate_the_stamps_cannot_hold_is_blamed_not_the_stamps() {
+        let t: Vec<f64> = (0..50).map(|k| k as f64 * 0.01).collect();
+        let absurd = Choice {
+            rate_hz: Some(1e12),
+            ..Choice::default()
+        };
+        let e = assemble(Path::new("x.mcap"), "MCAP", log_of(&t), &absurd).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            matches!(&e.kind, LogErrorKind::RateTooHigh(r) if r.samples == 50),
+            "{text}"
+        );
+        assert!(
+            text.contains("the sample rate given") && text.contains("4.900e11 periods"),
+            "{text}"
+        );
+        // Stamps that no rate places are still the stamps' fault.
+        let spread = [0.0, 0.01, 0.02, 0.03, 1000.0];
+        let rated = Choice {
+            rate_hz: Some(100.0),
+            ..Choice::default()
+        };
+        let e = assemble(Path::new("x.mcap"), "MCAP", log_of(&spread), &rated).unwrap_err();
+        assert!(matches!(e.kind, LogErrorKind::BadClock(_)), "{e}");
+    }
+
+    #[test]
     fn stamps_without_a_clock_are_refused_unless_a_rate_is_given() {
         for (t, says) in [
-            (vec![0.0; 5], "0 have a zero, negative or NaN stamp, 4 repeat"),
+            (vec![0.0; 5], "5 have a zero, negative or NaN stamp, 0 repeat"),
             (vec![f64::NAN; 5], "5 have a zero, negative or NaN stamp"),
-            (vec![4.0, 3.0, 2.0, 1.0, 0.0], "4 step back"),
+            (
+                vec![4.0, 3.0, 2.0, 1.0, 0.0],
+                "1 have a zero, negative or NaN stamp, 0 repeat the previous stamp and 3 step back",
+            ),
         ] {
             let e = assemble(Path::new("x.bag"), "ROS 1 bag", log_of(&t), &Choice::default()).unwrap_err();
             let text = e.to_string();

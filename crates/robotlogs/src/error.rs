@@ -86,6 +86,17 @@ pub enum LogErrorKind {
     /// A stream choice given for a text log.
     #[error("{0} applies to robot logs (bags, ULog, DataFlash) only")]
     NotARobotLog(Setting),
+    /// A stream choice given for input read as a text table that may hold
+    /// a robot log the readers cannot look into: piped, or compressed.
+    #[error(
+        "{setting} applies to robot logs (bags, ULog, DataFlash), and this input is read as a text table: {why}"
+    )]
+    ChoiceForTextInput {
+        /// The choice given.
+        setting: Setting,
+        /// Why the input is read as text.
+        why: String,
+    },
     /// The stamps give no clock at all (every one zero, NaN, equal or
     /// running backwards) and no rate was given.
     #[error(
@@ -101,6 +112,30 @@ pub enum LogErrorKind {
     /// The samples cannot be placed on a grid (stamps far apart).
     #[error("the stamps of {0} span far more time than its samples fill: they cannot be placed on a clock")]
     BadClock(String),
+    /// A sample rate was given at which the stamps' span holds far more
+    /// periods than the stream has samples: the rate, not the stamps, is
+    /// what is wrong.
+    #[error(transparent)]
+    RateTooHigh(Box<RateTooHigh>),
+}
+
+/// A given sample rate the stamps cannot hold ([`LogErrorKind::RateTooHigh`]).
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "the sample rate given, {given}, puts the {span_s:.6} s that the stamps of {stream} span on {slots:.3e} \
+     periods for its {samples} samples: far more than gaps explain; give the stream's own rate, or none to take it from the stamps"
+)]
+pub struct RateTooHigh {
+    /// The stream.
+    pub stream: String,
+    /// The rate as given.
+    pub given: Given,
+    /// The stamps' span, s.
+    pub span_s: f64,
+    /// Periods of the given rate in that span.
+    pub slots: f64,
+    /// Samples of the stream.
+    pub samples: usize,
 }
 
 impl LogError {

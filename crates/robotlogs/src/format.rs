@@ -84,6 +84,26 @@ pub fn sniff(file: &mut File) -> std::io::Result<Option<Format>> {
     Ok(of_bytes(&head))
 }
 
+/// The format of a gzip-compressed robot log, by the first bytes its
+/// stream decompresses to; `None` for anything else. The file is rewound.
+pub fn compressed_log(file: &mut File) -> Option<Format> {
+    let mut head = Vec::with_capacity(16);
+    let looked = (&mut *file).take(2).read_to_end(&mut head);
+    let format = if looked.is_ok() && head == [0x1f, 0x8b] {
+        file.seek(SeekFrom::Start(0)).ok()?;
+        let mut inflated = Vec::with_capacity(16);
+        flate2::read::GzDecoder::new(&mut *file)
+            .take(16)
+            .read_to_end(&mut inflated)
+            .ok()
+            .and_then(|_| of_bytes(&inflated))
+    } else {
+        None
+    };
+    file.seek(SeekFrom::Start(0)).ok()?;
+    format
+}
+
 /// The storage files of a ROS 2 bag directory, in order: those listed
 /// under `relative_file_paths` in `metadata.yaml` (rosbag2's
 /// `BagMetadata`), and only those. The list is the bag's contract: a

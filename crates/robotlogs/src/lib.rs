@@ -29,7 +29,7 @@ use std::fs::File;
 use std::path::Path;
 
 pub use assemble::{Choice, StreamInfo};
-pub use error::{LogError, LogErrorKind};
+pub use error::{LogError, LogErrorKind, RateTooHigh};
 pub use format::{Format, detect};
 
 use imu::{InstancePick, ReadReport, Recording, RecordingOptions, Setting};
@@ -202,13 +202,24 @@ pub enum Opened {
 /// (its bytes can be read once); a directory is a ROS 2 bag or nothing. A
 /// stream choice given for a text log is an error, not ignored.
 pub fn open(path: &Path, choice: &Choice) -> Result<Opened, Error> {
-    let text = |reader: Result<imu::table::TableReader, imu::ReadError>| -> Result<Opened, Error> {
-        refuse_choice_for_text(path, choice)?;
+    let text_because = |reader: Result<imu::table::TableReader, imu::ReadError>,
+                        why: Option<String>|
+     -> Result<Opened, Error> {
+        refuse_choice_for_text(path, choice).map_err(|e| match (e.kind, why) {
+            (LogErrorKind::NotARobotLog(setting), Some(why)) => {
+                LogError::new(path, LogErrorKind::ChoiceForTextInput { setting, why })
+            }
+            (kind, _) => LogError::new(path, kind),
+        })?;
         Ok(Opened::Text(reader?))
     };
+    let text = |reader| text_because(reader, None);
     let Ok(meta) = std::fs::metadata(path) else {
         // Standard input, or a path the reader names the error of.
-        return text(imu::table::TableReader::open(path));
+        let why = (path == Path::new("-")).then(|| {
+            "standard input is read as text, once and unlooked at; give a robot log as a file".to_string()
+        });
+        return text_because(imu::table::TableReader::open(path), why);
     };
     if meta.is_dir() {
         return match detect(path) {
@@ -217,7 +228,8 @@ pub fn open(path: &Path, choice: &Choice) -> Result<Opened, Error> {
         };
     }
     if !meta.is_file() {
-        return text(imu::table::TableReader::open(path));
+        let why = "a pipe or device is read as text, once and unlooked at; give a robot log as a file";
+        return text_because(imu::table::TableReader::open(path), Some(why.to_string()));
     }
     let mut file = match File::open(path) {
         Ok(f) => f,
@@ -228,7 +240,15 @@ pub fn open(path: &Path, choice: &Choice) -> Result<Opened, Error> {
             format,
             file: Some(file),
         })),
-        Ok(None) => text(imu::table::TableReader::from_file(path, file)),
+        Ok(None) => {
+            let why = format::compressed_log(&mut file).map(|f| {
+                format!(
+                    "it is a gzip-compressed {}, and robot logs are read uncompressed: decompress it first",
+                    f.name()
+                )
+            });
+            text_because(imu::table::TableReader::from_file(path, file), why)
+        }
         // A file that cannot be read or rewound is the text reader's to
         // name.
         Err(_) => text(imu::table::TableReader::open(path)),

@@ -270,6 +270,29 @@ fn a_stream_choice_on_a_text_log_is_an_error() {
 }
 
 #[test]
+fn a_stream_choice_on_a_compressed_ulog_names_the_compression() {
+    let mut f = tempfile::NamedTempFile::new().unwrap();
+    let log = std::fs::read(fixture("px4/sample_log_small.ulg")).unwrap();
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    std::io::Write::write_all(&mut gz, &log).unwrap();
+    std::io::Write::write_all(&mut f, &gz.finish().unwrap()).unwrap();
+    let c = Choice {
+        topic: Some("sensor_combined".into()),
+        ..Choice::default()
+    };
+    let e = robotlogs::read(f.path(), &RecordingOptions::default(), &c).unwrap_err();
+    let text = e.to_string();
+    assert!(
+        matches!(e, robotlogs::Error::Log(ref l) if matches!(l.kind, LogErrorKind::ChoiceForTextInput { setting: imu::Setting::Topic, .. })),
+        "{text}"
+    );
+    assert!(
+        text.contains("gzip-compressed PX4 ULog") && text.contains("decompress it first"),
+        "{text}"
+    );
+}
+
+#[test]
 fn truncated_and_corrupt_logs_are_errors_naming_the_file_not_panics() {
     let dir = tempfile::tempdir().unwrap();
     for f in [

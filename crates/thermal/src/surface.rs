@@ -205,6 +205,49 @@ fn bins(
     Ok(Surface { rows, skipped })
 }
 
+/// One temperature bin's curve without the noise model a [`SurfaceRow`]
+/// fits to it: what a heat map of the surface draws.
+#[derive(Debug, Clone)]
+pub struct BinCurve {
+    /// Lower edge of the bin, °C.
+    pub start: f64,
+    /// Upper edge of the bin, °C.
+    pub end: f64,
+    /// Mean temperature of the samples used, °C.
+    pub t_mean_c: f64,
+    /// Samples used.
+    pub samples: usize,
+    /// The OADEV curve.
+    pub points: Vec<Point>,
+}
+
+/// The OADEV curve of each bin of `bin_width_c`, the rows of [`surface`]
+/// without their noise models: the fit is nearly all of a row's cost, and a
+/// caller that draws the curves has no use for it.
+pub fn bin_curves_only(
+    data: &[f64],
+    temp: &[f64],
+    rate_hz: f64,
+    bin_width_c: f64,
+    confidence: f64,
+) -> Result<Vec<BinCurve>, ThermalError> {
+    let (rows, _) = bin_curves(
+        data,
+        temp,
+        rate_hz,
+        bin_width_c,
+        confidence,
+        |(a, b), label, points| BinCurve {
+            start: a,
+            end: b,
+            t_mean_c: label.t_mean_c(),
+            samples: label.samples,
+            points,
+        },
+    )?;
+    Ok(rows)
+}
+
 /// Each bin's curve, turned by `read` (given the bin's edges in °C, what
 /// its samples hold, and the curve) into what the caller needs: the
 /// noise model's fit is by far the dearest part of a slice, and a caller
@@ -451,6 +494,30 @@ mod tests {
             .min_by(f64::total_cmp);
         assert_eq!(temperature_resolution(&temp), whole);
         assert!(whole.is_some_and(|q| q < 0.01));
+    }
+
+    #[test]
+    fn the_curves_alone_are_the_surfaces_curves() {
+        let (data, temp) = ramp(20_000);
+        let conf = allan::DEFAULT_CONFIDENCE;
+        let rows = surface(
+            &data,
+            &temp,
+            10.0,
+            Slicing::Temperature { bin_width_c: 5.0 },
+            conf,
+        )
+        .unwrap();
+        let curves = bin_curves_only(&data, &temp, 10.0, 5.0, conf).unwrap();
+        assert_eq!(rows.len(), curves.len());
+        assert!(rows.len() > 3);
+        for (r, c) in rows.iter().zip(&curves) {
+            assert_eq!(
+                (r.start, r.end, r.t_mean_c, r.samples),
+                (c.start, c.end, c.t_mean_c, c.samples)
+            );
+            assert_eq!(r.points, c.points);
+        }
     }
 
     #[test]

@@ -47,9 +47,9 @@ pub struct Estimate {
 }
 
 /// The phase's generalised covariance of one process at lag `s` seconds,
-/// for parameters `p` in the fit's log form.
-fn gcov(c: Component, p: &[f64], s: f64, tau0: f64) -> f64 {
-    let size2 = p[0].exp();
+/// for its size² `size2` and (a Gauss–Markov term's) correlation time `t`,
+/// the exponentials of the fit's log form.
+fn gcov(c: Component, size2: f64, t: f64, s: f64, tau0: f64) -> f64 {
     let a = s.abs();
     match c {
         Component::Power(Term::Quantization) => {
@@ -70,7 +70,6 @@ fn gcov(c: Component, p: &[f64], s: f64, tau0: f64) -> f64 {
         Component::Power(Term::RateRandomWalk) => size2 * a * a * a / 12.0,
         Component::Power(Term::RateRamp) => 0.0,
         Component::GaussMarkov => {
-            let t = p[1].exp();
             // 1 − e^{−a/T} loses its digits for a ≪ T: exp_m1 keeps them.
             -size2 * t * (a + t * (-a / t).exp_m1())
         }
@@ -92,6 +91,35 @@ struct Model<'a> {
     comps: &'a [Component],
     theta: &'a [f64],
     tau0: f64,
+    /// Each component's size² and (a Gauss–Markov term's) correlation
+    /// time, the exponentials of its parameters: taken once for every lag
+    /// of every pair.
+    sizes: Vec<(f64, f64)>,
+}
+
+impl<'a> Model<'a> {
+    fn new(comps: &'a [Component], theta: &'a [f64], tau0: f64) -> Self {
+        let mut at = 0;
+        let sizes = comps
+            .iter()
+            .map(|&c| {
+                let p = &theta[at..at + c.arity()];
+                at += c.arity();
+                let t = if c == Component::GaussMarkov {
+                    p[1].exp()
+                } else {
+                    0.0
+                };
+                (p[0].exp(), t)
+            })
+            .collect();
+        Model {
+            comps,
+            theta,
+            tau0,
+            sizes,
+        }
+    }
 }
 
 impl Model<'_> {
@@ -100,10 +128,7 @@ impl Model<'_> {
         let (lo, hi) = (-2.0 * mj, 2.0 * mi);
         let inside = h > lo && h < hi;
         let mut total = 0.0;
-        let mut at = 0;
-        for &c in self.comps {
-            let p = &self.theta[at..at + c.arity()];
-            at += c.arity();
+        for (&c, &(size2, t)) in self.comps.iter().zip(&self.sizes) {
             if !inside && finite_support(c) {
                 continue;
             }
@@ -111,7 +136,7 @@ impl Model<'_> {
             for (ka, wa) in WEIGHTS.iter().enumerate() {
                 for (kb, wb) in WEIGHTS.iter().enumerate() {
                     let s = (h + kb as f64 * mj - ka as f64 * mi) * self.tau0;
-                    v += wa * wb * gcov(c, p, s, self.tau0);
+                    v += wa * wb * gcov(c, size2, t, s, self.tau0);
                 }
             }
             total += v;
@@ -256,7 +281,7 @@ fn covariance(model: &Model, ei: &Estimate, ej: &Estimate) -> f64 {
 pub fn matrix(comps: &[Component], theta: &[f64], points: &[Estimate]) -> DMatrix<f64> {
     let n = points.len();
     let tau0 = points.first().map_or(1.0, |p| p.tau0);
-    let model = Model { comps, theta, tau0 };
+    let model = Model::new(comps, theta, tau0);
     let pairs: Vec<(usize, usize)> = (0..n).flat_map(|i| (i..n).map(move |j| (i, j))).collect();
     let values: Vec<f64> = pairs
         .par_iter()
@@ -295,11 +320,7 @@ mod tests {
         ];
         for (c, p) in cases {
             let comps = [c];
-            let model = Model {
-                comps: &comps,
-                theta: &p,
-                tau0: 0.1,
-            };
+            let model = Model::new(&comps, &p, 0.1);
             for m in [1usize, 3, 16, 500] {
                 let tau = m as f64 * 0.1;
                 let want = model_avar(&comps, &p, tau);
@@ -461,11 +482,7 @@ mod tests {
         let n_phase = 60_000;
         for (mi, mj) in [(2500usize, 5000usize), (5000, 5000), (300, 9000)] {
             for (comps, theta) in &cases {
-                let model = Model {
-                    comps,
-                    theta,
-                    tau0: 0.1,
-                };
+                let model = Model::new(comps, theta, 0.1);
                 let (ei, ej) = (est(mi, n_phase), est(mj, n_phase));
                 let got = covariance(&model, &ei, &ej);
                 let (ni, nj) = (ei.n as i64, ej.n as i64);

@@ -232,16 +232,27 @@ fn standardised(
     let p = theta.len();
     let mut r = Vec::with_capacity(data.len());
     let mut parts = [0.0f64; 16];
+    // Each parameter's exponential once, not once per point: the same
+    // values `Component::avar` takes, so the residuals are bit for bit its.
+    let mut scale = [0.0f64; 16];
+    for (s, t) in scale.iter_mut().zip(theta) {
+        *s = t.exp();
+    }
     for i in 0..data.len() {
         let tau = data.tau[i];
         let mut at = 0;
         let mut m = 0.0;
         for c in comps {
-            let v = c.avar(&theta[at..at + c.arity()], tau);
+            let v = match c {
+                Component::Power(t) => scale[at] * power_basis(*t, tau),
+                Component::GaussMarkov if jac.is_some() => {
+                    let (g, dg) = process::gauss_markov_and_dln_tc(tau, scale[at + 1]);
+                    parts[at + 1] = scale[at] * dg;
+                    scale[at] * g
+                }
+                Component::GaussMarkov => scale[at] * process::gauss_markov(tau, scale[at + 1]),
+            };
             parts[at] = v;
-            if *c == Component::GaussMarkov {
-                parts[at + 1] = theta[at].exp() * process::gauss_markov_dln_tc(tau, theta[at + 1].exp());
-            }
             m += v;
             at += c.arity();
         }

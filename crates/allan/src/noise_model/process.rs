@@ -66,6 +66,19 @@ pub fn gauss_markov_dln_tc(tau: f64, tc: f64) -> f64 {
     -x * dg
 }
 
+/// [`gauss_markov`] and [`gauss_markov_dln_tc`] together, their
+/// exponentials computed once: the same values, bit for bit.
+pub fn gauss_markov_and_dln_tc(tau: f64, tc: f64) -> (f64, f64) {
+    let x = tau / tc;
+    if x < 1e-2 {
+        return (gauss_markov(tau, tc), gauss_markov_dln_tc(tau, tc));
+    }
+    let (e1, e2) = ((-x).exp(), (-2.0 * x).exp());
+    let bracket = 1.0 - (3.0 - 4.0 * e1 + e2) / (2.0 * x);
+    let dg = -2.0 / (x * x) + 2.0 * (3.0 - 4.0 * e1 + e2) / (x * x * x) - (4.0 * e1 - 2.0 * e2) / (x * x);
+    (2.0 / x * bracket, -x * dg)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -91,6 +104,15 @@ mod tests {
                 (num - ana).abs() < 1e-6 * ana.abs().max(1e-3),
                 "{tau}: {num} {ana}"
             );
+        }
+    }
+
+    #[test]
+    fn gauss_markov_and_its_derivative_together_are_each_alone() {
+        for (tau, tc) in [(0.5e-2, 1.0), (0.3, 1.0), (2.0, 1.0), (40.0, 1.0), (7.0, 3e-3)] {
+            let (g, dg) = gauss_markov_and_dln_tc(tau, tc);
+            assert_eq!(g.to_bits(), gauss_markov(tau, tc).to_bits(), "{tau}");
+            assert_eq!(dg.to_bits(), gauss_markov_dln_tc(tau, tc).to_bits(), "{tau}");
         }
     }
 

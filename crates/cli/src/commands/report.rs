@@ -13,8 +13,8 @@ use report::experiment::{
     model_figures, noise_tables, recordings_navigation_section, refuse_foreign_files, time_figures,
 };
 use report::html::Page;
-use report::plots::adev_heatmap;
-use thermal::surface::{Slicing, surface};
+use report::plots::adev_heatmap_bins;
+use thermal::surface::bin_curves_only;
 
 use crate::args::{FigureFormat, ReportArgs};
 use crate::print::notes;
@@ -170,19 +170,13 @@ pub fn run(a: &ReportArgs) -> Result<()> {
                 Err(DynamicAdevError::WindowLongerThanRun { .. }) => {}
                 Err(e) => return Err(e).with_context(|| format!("{}: {}", f.display(), c.name)),
             }
-            let rows = surface(
-                &c.data,
-                temp,
-                sel.rate_hz,
-                Slicing::Temperature { bin_width_c: 5.0 },
-                allan::DEFAULT_CONFIDENCE,
-            )?;
+            let rows = bin_curves_only(&c.data, temp, sel.rate_hz, 5.0, allan::DEFAULT_CONFIDENCE)?;
             figure(
                 &mut page,
                 &png,
                 &format!("adev_over_temperature_{}_{}", f.display(), c.name),
                 &format!("{}: σ(τ, T) over 5 °C bins", c.name),
-                |t| adev_heatmap(t, &c.name, &c.unit, &rows),
+                |t| adev_heatmap_bins(t, &c.name, &c.unit, &rows),
             )?;
         }
     }

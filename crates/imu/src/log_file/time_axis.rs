@@ -46,7 +46,8 @@ pub(super) fn place_on_time(
     let t0 = raw.iter().copied().find(|v| v.is_finite()).unwrap_or(0.0);
     let epoch = t0.abs() * scale > 1e8;
     let origin_raw = if epoch { t0 } else { 0.0 };
-    let t: Vec<f64> = raw.iter().map(|v| (v - origin_raw) * scale).collect();
+    let mut t: Vec<f64> = raw.iter().map(|v| (v - origin_raw) * scale).collect();
+    place_lone_missing_stamps(&mut t, index, rows, report);
     if let Some(timing) = analyze_timestamps(&t) {
         let rate = *rate_hz.get_or_insert(timing.rate_hz);
         if (rate / timing.rate_hz - 1.0).abs() > 1e-3 {
@@ -71,6 +72,55 @@ pub(super) fn place_on_time(
         report.timing = Some(timing);
     }
     Ok(t)
+}
+
+/// Largest departure, as a share of two periods, of the step across a row
+/// without a stamp for its neighbours to place it halfway.
+const LONE_STAMP_TOLERANCE: f64 = 0.1;
+
+/// Places each row whose stamp is missing (NaN, or unreadable) halfway
+/// between its neighbours where they stand two of the clock's median steps
+/// apart: its slot is known, and its samples are kept there rather than
+/// counted as a gap before the next line. Each is reported at its line, by
+/// its cause; a row its neighbours do not fix keeps the slot after the
+/// previous one, as the grid gives it.
+fn place_lone_missing_stamps(t: &mut [f64], ti: usize, rows: &RowLines, report: &mut ReadReport) {
+    if t.iter().all(|v| v.is_finite()) {
+        return;
+    }
+    let Some(median) = crate::timing::median_step(t) else {
+        return;
+    };
+    for k in 0..t.len() {
+        if t[k].is_finite() {
+            continue;
+        }
+        let (before, after) = (k.checked_sub(1).map(|j| t[j]), t.get(k + 1).copied());
+        let placed = match (before, after) {
+            (Some(a), Some(b)) if a.is_finite() && b.is_finite() => {
+                ((b - a) / (2.0 * median) - 1.0).abs() <= LONE_STAMP_TOLERANCE
+            }
+            _ => false,
+        };
+        let message = if placed {
+            let (a, b) = (t[k - 1], t[k + 1]);
+            t[k] = a + (b - a) / 2.0;
+            format!(
+                "the time is not a number; the row is placed halfway between its neighbours (t = {:.6} s) and its samples kept",
+                t[k]
+            )
+        } else {
+            "the time is not a number and its neighbours do not place it: the row takes the slot after the previous one".to_string()
+        };
+        report.push(Problem {
+            kind: ProblemKind::NoStamp,
+            line: Some(rows.line(k)),
+            column: Some(ti + 1),
+            channel: None,
+            count: 1,
+            message,
+        });
+    }
 }
 
 /// Seconds per unit of the time column: the header's unit, else the one
