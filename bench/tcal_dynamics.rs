@@ -35,6 +35,7 @@ fn main() {
         let mut full_floor = vec![Vec::new(); 6];
         let mut full_cubic = vec![Vec::new(); 6];
         let mut cubic_floor = vec![Vec::new(); 6];
+        let mut firmware_cubic = vec![Vec::new(); 6];
         for &seed in &seeds {
             let mut truth = Truth::draw(seed);
             truth.pure_cubic = pure;
@@ -62,24 +63,37 @@ fn main() {
                 truth.hysteresis_c,
                 found.join(", ")
             );
+            // `--for px4`: a cubic at most, projected on the logged temperature.
+            let fw = score::score(
+                &truth,
+                rate,
+                seed,
+                &FitOptions {
+                    max_auto_order: 3,
+                    firmware_projection: true,
+                    ..FitOptions::default()
+                },
+            );
             for k in 0..6 {
+                firmware_cubic[k].push(fw.full[k] / s.cubic[k]);
                 full_floor[k].push(s.full[k] / s.floor[k]);
                 full_cubic[k].push(s.full[k] / s.cubic[k]);
                 cubic_floor[k].push(s.cubic[k] / s.floor[k]);
             }
         }
         println!(
-            "\n{} truths, {} seeds, medians:\n| axis | imutherm / floor | imutherm / cubic | cubic / floor |\n|---|---|---|---|",
+            "\n{} truths, {} seeds, medians:\n| axis | imutherm / floor | imutherm / cubic | cubic / floor | `--for` projection / cubic |\n|---|---|---|---|---|",
             if pure { "pure-cubic" } else { "lag + hysteresis" },
             seeds.len()
         );
         for k in 0..6 {
             println!(
-                "| {} | {:.2} | {:.3} | {:.2} |",
+                "| {} | {:.2} | {:.3} | {:.2} | {:.3} |",
                 AXES[k],
                 median(full_floor[k].clone()),
                 median(full_cubic[k].clone()),
-                median(cubic_floor[k].clone())
+                median(cubic_floor[k].clone()),
+                median(firmware_cubic[k].clone())
             );
         }
         println!();

@@ -199,8 +199,8 @@ pub fn record(truth: &Truth, start_c: f64, legs: &[Leg], rate_hz: f64, seed: u64
     let wander = [(10.0f64 / 3600.0).to_radians(), 50e-6 * G];
     let mut gm = [0.0f64; 6];
     let unit = Normal::new(0.0, 1.0).expect("unit normal");
-    let mut channels = vec![Vec::with_capacity(n); 6];
-    let mut truths = vec![Vec::with_capacity(n); 6];
+    let mut channels = (0..6).map(|_| Vec::with_capacity(n)).collect::<Vec<Vec<f64>>>();
+    let mut truths = (0..6).map(|_| Vec::with_capacity(n)).collect::<Vec<Vec<f64>>>();
     for i in 0..n {
         let te = if lag_on { element[i] } else { die[i] };
         let shift = if hyst_on {

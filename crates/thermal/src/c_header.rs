@@ -201,7 +201,7 @@ typedef struct {{
     double pending_s;  /* time since the last finite temperature */
     double t_in;       /* that temperature */
     double lag[{n}];   /* each channel's element temperature */
-    double dir[{n}];   /* each channel's smoothed temperature (for the rate) */
+    double dir[{n}];   /* that temperature smoothed (for its rate) */
 }} imutherm_tcal_state;
 
 static double imutherm_tcal_poly_at(const double *c, int len, double u)
@@ -234,16 +234,18 @@ static void imutherm_tcal_apply(imutherm_tcal_state *s, double temp_c, double dt
     for (int k = 0; k < IMUTHERM_TCAL_CHANNELS; ++k) {{
         double tau = imutherm_tcal_lag_s[k];
         double sm = imutherm_tcal_hyst_smoothing_s[k];
+        double before = tau > 0.0 ? s->lag[k] : s->t_in;
         if (!s->started) {{
             s->lag[k] = temp_c;
             s->dir[k] = temp_c;
-        }} else {{
-            if (tau > 0.0)
-                s->lag[k] = imutherm_tcal_lag_step(s->lag[k], s->t_in, temp_c, h, tau);
-            if (sm > 0.0)
-                s->dir[k] = imutherm_tcal_lag_step(s->dir[k], s->t_in, temp_c, h, sm);
+        }} else if (tau > 0.0) {{
+            s->lag[k] = imutherm_tcal_lag_step(s->lag[k], s->t_in, temp_c, h, tau);
         }}
-        double te = tau > 0.0 ? s->lag[k] : temp_c;
+        double el = tau > 0.0 ? s->lag[k] : temp_c;
+        /* The hysteresis follows the element's own rate. */
+        if (s->started && sm > 0.0)
+            s->dir[k] = imutherm_tcal_lag_step(s->dir[k], before, el, h, sm);
+        double te = el;
         if (te < imutherm_tcal_t_min_c)
             te = imutherm_tcal_t_min_c;
         if (te > imutherm_tcal_t_max_c)
@@ -253,7 +255,7 @@ static void imutherm_tcal_apply(imutherm_tcal_state *s, double temp_c, double dt
         double corr = imutherm_tcal_poly_at(imutherm_tcal_poly[k], {maxc}, u)
             - imutherm_tcal_poly_at(imutherm_tcal_poly[k], {maxc}, u_ref);
         if (imutherm_tcal_hyst_scale[k] > 0.0) {{
-            double r = (temp_c - s->dir[k]) / sm;
+            double r = (el - s->dir[k]) / sm;
             corr += imutherm_tcal_poly_at(imutherm_tcal_hyst[k], {maxh}, u) * tanh(r / imutherm_tcal_hyst_scale[k]);
         }}
         x[k] -= corr;

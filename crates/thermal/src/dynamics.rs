@@ -230,8 +230,8 @@ fn cells(runs: &[Run], tau: f64, f: &Frame) -> Vec<Cell> {
                 for (s, b) in c.xu[k].iter_mut().zip(&up) {
                     *s += x * b;
                 }
-                for a in 0..NREG {
-                    c.xr[k][a] += x * g[a];
+                for (s, ga) in c.xr[k].iter_mut().zip(&g) {
+                    *s += x * ga;
                 }
             }
         }

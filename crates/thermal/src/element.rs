@@ -96,7 +96,7 @@ pub fn dequantize(temp: &[f64]) -> Vec<f64> {
 /// is bridged by the line between its two sides), starting at rest at the
 /// first finite reading. `tau_s` 0 returns the input. NaN stays NaN.
 pub fn lag(temp: &[f64], rate_hz: f64, tau_s: f64) -> Vec<f64> {
-    if !(tau_s > 0.0) {
+    if tau_s.is_nan() || tau_s <= 0.0 {
         return temp.to_vec();
     }
     let dt = 1.0 / rate_hz;
