@@ -525,6 +525,7 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
             rate_hz: r.rate_hz,
         })
         .collect();
+    gravity_holds(&runs)?;
     let mut model = fit_polynomial(&runs, opts)?;
     model.temperature_step_c = steps.iter().flatten().copied().reduce(f64::max);
     if opts.dynamics && !opts.rate_term {
@@ -568,6 +569,58 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
     }
     model.validate()?;
     Ok(model)
+}
+
+/// Largest angle between runs' mean accelerometer vectors a fit accepts,
+/// degrees: a few mg/°C over 100 °C turn gravity by a few degrees at most.
+pub const MAX_GRAVITY_TURN_DEG: f64 = 10.0;
+
+/// Refuses runs whose mean accelerometer vectors (where the runs carry all
+/// three axes) point more than [`MAX_GRAVITY_TURN_DEG`] apart.
+fn gravity_holds(runs: &[Run]) -> Result<(), ThermalError> {
+    let means: Vec<Option<[f64; 3]>> = runs
+        .iter()
+        .map(|r| {
+            let mut m = [0.0; 3];
+            for (axis, slot) in ["accel_x", "accel_y", "accel_z"].iter().zip(m.iter_mut()) {
+                let c = r.channels.iter().find(|c| c.name == *axis)?;
+                let (s, n) = c
+                    .data
+                    .iter()
+                    .filter(|v| v.is_finite())
+                    .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+                if n == 0 {
+                    return None;
+                }
+                *slot = s / n as f64;
+            }
+            Some(m)
+        })
+        .collect();
+    let norm = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    for i in 0..means.len() {
+        for j in i + 1..means.len() {
+            let (Some(a), Some(b)) = (means[i], means[j]) else {
+                continue;
+            };
+            let (na, nb) = (norm(&a), norm(&b));
+            if !(na > 0.0 && nb > 0.0) {
+                continue;
+            }
+            let cos = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (na * nb);
+            let angle_deg = cos.clamp(-1.0, 1.0).acos().to_degrees();
+            if angle_deg > MAX_GRAVITY_TURN_DEG {
+                return Err(ThermalError::GravityTurned {
+                    first: i + 1,
+                    second: j + 1,
+                    angle_deg,
+                    first_mean: a,
+                    second_mean: b,
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The polynomial of the logged temperature alone.
@@ -1167,6 +1220,42 @@ mod tests {
                 assert!(h.interval_95[0] < offset && offset < h.interval_95[1], "{h:?}");
                 assert!(h.bins > 30);
             }
+        }
+    }
+
+    #[test]
+    fn runs_whose_gravity_turns_are_refused() {
+        // A cold run lying on z and a hot one on x, as the BMI270 logs of
+        // issue 49 were recorded: 90° apart.
+        let temp_a: Vec<f64> = (0..600).map(|i| 10.0 + i as f64 * 0.01).collect();
+        let temp_b: Vec<f64> = (0..600).map(|i| 40.0 + i as f64 * 0.01).collect();
+        let (z, g, zero) = (vec![9.8; 600], vec![9.8; 600], vec![0.0; 600]);
+        let a = vec![
+            TcalChannel::new("accel_x", "m/s^2", zero.as_slice()),
+            TcalChannel::new("accel_y", "m/s^2", zero.as_slice()),
+            TcalChannel::new("accel_z", "m/s^2", z.as_slice()),
+        ];
+        let b = vec![
+            TcalChannel::new("accel_x", "m/s^2", g.as_slice()),
+            TcalChannel::new("accel_y", "m/s^2", zero.as_slice()),
+            TcalChannel::new("accel_z", "m/s^2", zero.as_slice()),
+        ];
+        let runs = [
+            Run {
+                channels: &a,
+                temp: &temp_a,
+                rate_hz: 1.0,
+            },
+            Run {
+                channels: &b,
+                temp: &temp_b,
+                rate_hz: 1.0,
+            },
+        ];
+        let e = fit(&runs, &FitOptions::default()).unwrap_err();
+        match e {
+            ThermalError::GravityTurned { angle_deg, .. } => assert!((angle_deg - 90.0).abs() < 1e-6),
+            other => panic!("{other}"),
         }
     }
 

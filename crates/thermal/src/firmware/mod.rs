@@ -351,17 +351,17 @@ fn cubics(model: &Model, firmware: Firmware, t0: f64) -> Result<Cubics, Firmware
                 key: firmware.key(),
             });
         }
-        if c.lag_s.is_some() || c.hysteresis_term.is_some() {
-            return Err(FirmwareError::Dynamics {
-                channel: c.name.clone(),
-                firmware: firmware.name(),
-                key: firmware.key(),
-            });
-        }
         if c.order > Firmware::MAX_ORDER {
             return Err(FirmwareError::OrderTooHigh {
                 channel: c.name.clone(),
                 order: c.order,
+                firmware: firmware.name(),
+                key: firmware.key(),
+            });
+        }
+        if c.lag_s.is_some() || c.hysteresis_term.is_some() {
+            return Err(FirmwareError::Dynamics {
+                channel: c.name.clone(),
                 firmware: firmware.name(),
                 key: firmware.key(),
             });
