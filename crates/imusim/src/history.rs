@@ -296,15 +296,19 @@ mod tests {
         let (start, legs) = held_out_run();
         let r = record(&truth, start, &legs, 1.0, 9);
         assert_eq!(r.temp.len(), r.channels[0].len());
-        // Mid-ramp, the true bias is that of a colder element.
-        let i = 500;
+        // Late in the ramp (lag and direction settled), the true bias is
+        // that of an element r·τ colder, read X/2 warmer.
+        let i = 900;
         let d = (r.temp[i] - 22.0) - 2.2 / 60.0 * i as f64;
         assert!(d.abs() < 0.1, "the ramp is logged: {d}");
-        let steady = truth.bias(0, r.temp[i]);
-        let lagged = truth.bias(0, r.temp[i] - 2.2 / 60.0 * truth.lag_s + 0.5 * truth.hysteresis_c);
+        let (lag, half) = (2.2 / 60.0 * truth.lag_s, 0.5 * truth.hysteresis_c);
+        let t = r.temp[i];
+        let lagged = truth.bias(0, t - lag + half);
+        let slope = (truth.bias(0, t + 0.01) - truth.bias(0, t - 0.01)) / 0.02;
+        let err = (r.truth[0][i] - lagged).abs();
         assert!(
-            (r.truth[0][i] - lagged).abs() < 0.2 * (steady - lagged).abs(),
-            "{} vs lagged {lagged}, steady {steady}",
+            err < 0.1 * slope.abs() * (lag + half),
+            "{} vs {lagged}",
             r.truth[0][i]
         );
         // The readout is in the register's steps.
