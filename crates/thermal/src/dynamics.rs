@@ -288,6 +288,20 @@ fn solve(
             a[(i, j)] = a[(j, i)];
         }
     }
+    let (sol, inv) = normal_solve(&a, &y, true)?;
+    Some((sol, inv?))
+}
+
+/// The normal equations `a·x = y` solved with each column scaled to a unit
+/// diagonal (the columns' sizes differ by orders), by a pseudo-inverse that
+/// drops what the data cannot determine; with the inverse of `a` where
+/// asked (for the coefficients' covariance).
+pub(crate) fn normal_solve(
+    a: &DMatrix<f64>,
+    y: &DVector<f64>,
+    inverse: bool,
+) -> Option<(Vec<f64>, Option<DMatrix<f64>>)> {
+    let cols = a.nrows();
     let d: Vec<f64> = (0..cols).map(|i| a[(i, i)].sqrt()).collect();
     if d.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
         return None;
@@ -297,8 +311,12 @@ fn solve(
     let svd = scaled.svd(true, true);
     let top = svd.singular_values.max();
     let sol = svd.solve(&rhs, top * 1e-13).ok()?;
-    let inv = svd.pseudo_inverse(top * 1e-13).ok()?;
-    let inv = DMatrix::from_fn(cols, cols, |i, j| inv[(i, j)] / (d[i] * d[j]));
+    let inv = if inverse {
+        let p = svd.pseudo_inverse(top * 1e-13).ok()?;
+        Some(DMatrix::from_fn(cols, cols, |i, j| p[(i, j)] / (d[i] * d[j])))
+    } else {
+        None
+    };
     let sol: Vec<f64> = sol.iter().zip(&d).map(|(v, d)| v / d).collect();
     sol.iter().all(|v| v.is_finite()).then_some((sol, inv))
 }

@@ -456,21 +456,8 @@ fn solve(bins: &[&Bin], w: &[f64], k: usize, order: usize, rate: bool) -> Option
             y[i] += w * if i <= order { b.xu[k][i] } else { b.x[k] * b.dtdt };
         }
     }
-    // Each column scaled to a unit diagonal (dT/dt is a hundredth of u),
-    // then a pseudo-inverse that drops what the data cannot determine.
-    let d: Vec<f64> = (0..cols).map(|i| a[(i, i)].sqrt()).collect();
-    if d.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-        return None;
-    }
-    let scaled = DMatrix::from_fn(cols, cols, |i, j| a[(i, j)] / (d[i] * d[j]));
-    let rhs = DVector::from_fn(cols, |i, _| y[i] / d[i]);
-    let svd = scaled.svd(true, true);
-    let top = svd.singular_values.max();
-    let sol = svd.solve(&rhs, top * 1e-13).ok()?;
-    let sol: Vec<f64> = sol.iter().zip(&d).map(|(v, d)| v / d).collect();
-    if sol.iter().any(|v| !v.is_finite()) {
-        return None;
-    }
+    // Each column scaled to a unit diagonal (dT/dt is a hundredth of u).
+    let (sol, _) = dynamics::normal_solve(&a, &y, false)?;
     let coeffs: Vec<f64> = sol.iter().take(order + 1).copied().collect();
     Some((coeffs, rate.then(|| sol[order + 1])))
 }
