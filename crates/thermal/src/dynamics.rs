@@ -51,6 +51,8 @@ fn combo(c: usize) -> (f64, f64) {
 /// The smaller direction's least share of the samples for a hysteresis
 /// to be tried.
 pub const MIN_BRANCH_SHARE: f64 = 0.1;
+/// Time constants the longest run must span for a lag to be tried.
+pub const MIN_RUN_LAGS: f64 = 5.0;
 /// Time either side of a held-out cell whose cells do not train, s.
 pub const GUARD_S: f64 = 300.0;
 /// χ²(1)'s 95th percentile: the profile's rise that bounds a 95 % interval.
@@ -500,7 +502,12 @@ pub(crate) fn search(runs: &[Run], f: &Frame) -> Vec<Option<Found>> {
     };
     score(&base, 0.0, &mut cands);
     let mut grid_cells: Vec<(f64, Vec<Cell>)> = Vec::new();
-    for &tau in &LAG_GRID_S {
+    // A lag is told from a level only over several of its time constants.
+    let longest = runs
+        .iter()
+        .map(|r| r.temp.len() as f64 / r.rate_hz)
+        .fold(0.0, f64::max);
+    for &tau in LAG_GRID_S.iter().filter(|&&t| t * MIN_RUN_LAGS <= longest) {
         let cs = cells(runs, tau, f);
         score(&cs, tau, &mut cands);
         grid_cells.push((tau, cs));
