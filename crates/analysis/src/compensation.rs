@@ -153,6 +153,8 @@ pub fn fit(files: &[PathBuf], runs: &[RunData], req: &FitRequest) -> Result<Fitt
             Some(_) => Firmware::MAX_ORDER,
             None => thermal::tcal::MAX_AUTO_ORDER,
         },
+        dynamics: true,
+        firmware_projection: req.firmware.is_some(),
     };
     let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
     let mut model = thermal::tcal::fit(&fit_runs, &opts).map_err(|cause| AnalysisError::Compensation {

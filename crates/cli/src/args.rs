@@ -371,8 +371,18 @@ pub struct TcalExportArgs {
     pub model: PathBuf,
 
     /// The flight stack to write for.
-    #[arg(long, value_enum, value_name = "px4|ardupilot")]
-    pub firmware: FirmwareArg,
+    #[arg(
+        long,
+        value_enum,
+        value_name = "px4|ardupilot",
+        required_unless_present = "format"
+    )]
+    pub firmware: Option<FirmwareArg>,
+
+    /// Write the model as a C header instead (`c`): its coefficients and one
+    /// reference function compensating a sample as `tcal apply` does.
+    #[arg(long, value_name = "c", value_parser = ["c"], conflicts_with_all = ["firmware", "instance", "device_id"])]
+    pub format: Option<String>,
 
     /// Where to write the parameter file (default: standard output).
     #[arg(long, short = 'o', value_name = "FILE")]

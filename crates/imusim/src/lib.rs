@@ -63,6 +63,7 @@ mod error;
 pub mod config;
 pub use earth;
 pub mod flicker;
+pub mod history;
 pub mod population;
 pub mod presets;
 pub mod sensor;

@@ -59,6 +59,25 @@ pub enum ThermalError {
         /// Fitted range, °C.
         t_max_c: f64,
     },
+    /// Runs whose gravity points different ways: not one sensor's thermal
+    /// history in one orientation, and a temperature fit across them would
+    /// take the turn for a temperature slope.
+    #[error(
+        "gravity turns by {angle_deg:.1}° between run {first} (accel mean [{:.3}, {:.3}, {:.3}] m/s²) and run {second} ([{:.3}, {:.3}, {:.3}] m/s²), far beyond what temperature moves an accelerometer: the runs are not one orientation; fit them apart",
+        first_mean[0], first_mean[1], first_mean[2], second_mean[0], second_mean[1], second_mean[2]
+    )]
+    GravityTurned {
+        /// The runs, counted from 1.
+        first: usize,
+        /// The other run.
+        second: usize,
+        /// The angle between their mean accelerometer vectors, degrees.
+        angle_deg: f64,
+        /// The first run's mean accelerometer vector, m/s².
+        first_mean: [f64; 3],
+        /// The second's.
+        second_mean: [f64; 3],
+    },
     /// A model that is not a usable compensation.
     #[error(transparent)]
     Model(#[from] crate::model_check::ModelError),

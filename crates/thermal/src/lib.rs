@@ -14,6 +14,9 @@
 //! - [`branch`] and [`hysteresis`]: heating or cooling on the temperature
 //!   smoothed over minutes, and the two branches' difference where the
 //!   data show one;
+//! - [`element`] and [`dynamics`]: the element's temperature behind the
+//!   logged one (a coarse readout smoothed, a first-order lag) and the search
+//!   for lag and hysteresis on held-out cells;
 //! - [`firmware`]: a model as PX4's and ArduPilot's parameter files, and
 //!   those files applied to samples exactly as the firmware applies them;
 //! - [`evaluation`]: what a compensation leaves on a run, the bias over
@@ -39,7 +42,10 @@ mod error;
 mod model_check;
 
 pub mod branch;
+pub mod c_header;
 pub mod dynamic_adev;
+pub mod dynamics;
+pub mod element;
 pub mod evaluation;
 pub mod firmware;
 pub mod hysteresis;

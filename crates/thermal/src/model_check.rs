@@ -373,6 +373,10 @@ mod tests {
             residual_max: 0.0,
             cross_validation: Vec::new(),
             hysteresis: None,
+            lag_s: None,
+            lag_interval_s: None,
+            hysteresis_term: None,
+            projection: None,
         };
         Model {
             schema: SCHEMA.into(),
@@ -388,6 +392,7 @@ mod tests {
             device_id: None,
             accel_device_id: None,
             instance: None,
+            temperature_step_c: None,
             channels: vec![ch("gyro_x", "rad/s"), ch("accel_z", "m/s^2")],
             instances: Vec::new(),
         }

@@ -32,6 +32,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::ThermalError;
 use crate::branch;
+pub use crate::dynamics::HysteresisTerm;
+use crate::dynamics::{self, Frame};
+use crate::element;
 use crate::hysteresis::{BranchResidual, Hysteresis, hysteresis};
 use crate::weights;
 
@@ -69,6 +72,13 @@ pub struct FitOptions {
     /// Highest order `Order::Auto` may choose: a flight stack that takes a
     /// cubic at most needs 3.
     pub max_auto_order: usize,
+    /// Search the element's lag and a direction-following hysteresis on
+    /// held-out cells ([`crate::dynamics`]); ignored with `rate_term`.
+    pub dynamics: bool,
+    /// Project the model on what a flight stack applies, a polynomial of
+    /// the logged temperature: the full model's equilibrium curve, with
+    /// what is lost in each channel's `projection`.
+    pub firmware_projection: bool,
 }
 
 impl Default for FitOptions {
@@ -79,6 +89,8 @@ impl Default for FitOptions {
             bin_width_c: 1.0,
             rate_term: false,
             max_auto_order: MAX_AUTO_ORDER,
+            dynamics: true,
+            firmware_projection: false,
         }
     }
 }
@@ -140,6 +152,47 @@ pub struct ChannelModel {
     /// one beyond its 95 % interval.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hysteresis: Option<Hysteresis>,
+    /// The element's first-order lag behind the logged temperature, s:
+    /// the polynomial is of the logged temperature through it, where the
+    /// held-out cells showed one ([`crate::dynamics`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lag_s: Option<f64>,
+    /// The lag's 95 % interval, s, where the fit's profile bounds it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lag_interval_s: Option<[f64; 2]>,
+    /// A bias following the smoothed direction of change, saturating,
+    /// where the held-out cells showed one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hysteresis_term: Option<HysteresisTerm>,
+    /// What a firmware that applies a polynomial of the logged temperature
+    /// alone loses of the full model (`--for`): the model's polynomial is
+    /// then the full model's equilibrium curve, lag and hysteresis dropped.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub projection: Option<Projection>,
+}
+
+/// What projecting the full model on a polynomial of the logged
+/// temperature costs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Projection {
+    /// The full model's lag, s, dropped.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lag_s: Option<f64>,
+    /// The full model's heating-minus-cooling, dropped.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heating_minus_cooling: Option<f64>,
+    /// A steady climb, °C/min, the next figure is for.
+    pub climb_c_per_min: f64,
+    /// The bias the full model removes on that climb at the reference
+    /// temperature and the projection leaves, in the channel's unit.
+    pub climb_left: f64,
+    /// RMS over the fitted runs' cells (level removed) left by the full
+    /// model, in the channel's unit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub full_residual_rms: Option<f64>,
+    /// The same for the projection, the polynomial alone.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub projected_residual_rms: Option<f64>,
 }
 
 /// A fitted compensation.
@@ -186,6 +239,12 @@ pub struct Model {
     /// model was fitted on, where the log has instances.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub instance: Option<u32>,
+    /// The step of a coarse temperature readout (whole °C, say) the fit
+    /// found and smoothed ([`crate::element::dequantize`]); applying the
+    /// model smooths a coarse readout the same way. Absent: the readings
+    /// are used as logged.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub temperature_step_c: Option<f64>,
     /// Per channel.
     pub channels: Vec<ChannelModel>,
     /// Every IMU instance of a log fitted at once (`tcal fit --instance
@@ -397,21 +456,8 @@ fn solve(bins: &[&Bin], w: &[f64], k: usize, order: usize, rate: bool) -> Option
             y[i] += w * if i <= order { b.xu[k][i] } else { b.x[k] * b.dtdt };
         }
     }
-    // Each column scaled to a unit diagonal (dT/dt is a hundredth of u),
-    // then a pseudo-inverse that drops what the data cannot determine.
-    let d: Vec<f64> = (0..cols).map(|i| a[(i, i)].sqrt()).collect();
-    if d.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-        return None;
-    }
-    let scaled = DMatrix::from_fn(cols, cols, |i, j| a[(i, j)] / (d[i] * d[j]));
-    let rhs = DVector::from_fn(cols, |i, _| y[i] / d[i]);
-    let svd = scaled.svd(true, true);
-    let top = svd.singular_values.max();
-    let sol = svd.solve(&rhs, top * 1e-13).ok()?;
-    let sol: Vec<f64> = sol.iter().zip(&d).map(|(v, d)| v / d).collect();
-    if sol.iter().any(|v| !v.is_finite()) {
-        return None;
-    }
+    // Each column scaled to a unit diagonal (dT/dt is a hundredth of u).
+    let (sol, _) = dynamics::normal_solve(&a, &y, false)?;
     let coeffs: Vec<f64> = sol.iter().take(order + 1).copied().collect();
     Some((coeffs, rate.then(|| sol[order + 1])))
 }
@@ -441,8 +487,131 @@ fn poly(coeffs: &[f64], u: f64) -> f64 {
     coeffs.iter().rev().fold(0.0, |acc, c| acc * u + c)
 }
 
-/// Fits a compensation to one or more runs (the same channels in each).
+/// Fits a compensation to one or more runs (the same channels in each):
+/// the polynomial of the logged temperature, then (with
+/// [`FitOptions::dynamics`]) the element's lag and a hysteresis where the
+/// held-out cells show them; a coarse temperature readout is smoothed
+/// first.
 pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
+    use std::borrow::Cow;
+    let steps: Vec<Option<f64>> = runs.iter().map(|r| element::coarse_step(r.temp)).collect();
+    let smoothed: Vec<Cow<[f64]>> = runs
+        .iter()
+        .zip(&steps)
+        .map(|(r, s)| match s {
+            Some(_) => Cow::Owned(element::dequantize(r.temp)),
+            None => Cow::Borrowed(r.temp),
+        })
+        .collect();
+    let runs: Vec<Run> = runs
+        .iter()
+        .zip(&smoothed)
+        .map(|(r, t)| Run {
+            channels: r.channels,
+            temp: t,
+            rate_hz: r.rate_hz,
+        })
+        .collect();
+    gravity_holds(&runs)?;
+    let mut model = fit_polynomial(&runs, opts)?;
+    model.temperature_step_c = steps.iter().flatten().copied().reduce(f64::max);
+    if opts.dynamics && !opts.rate_term {
+        let frame = Frame {
+            centre: model.centre_c,
+            scale: model.scale_c,
+            width: opts.bin_width_c,
+            t_min: model.t_min_c,
+            t_max: model.t_max_c,
+            orders: match opts.order {
+                Order::Fixed(o) => (o, o),
+                Order::Auto => (0, opts.max_auto_order),
+            },
+        };
+        for (ch, found) in model.channels.iter_mut().zip(dynamics::search(&runs, &frame)) {
+            let Some(f) = found else { continue };
+            ch.order = f.order;
+            ch.coefficients = f.coefficients;
+            ch.lag_s = f.lag_s;
+            ch.lag_interval_s = f.lag_interval_s;
+            ch.hysteresis_term = f.hysteresis;
+            ch.residual_rms = f.residual_rms;
+            ch.residual_max = f.residual_max;
+            ch.cross_validation = f.cross_validation;
+            // The branches' difference: what the fitted term gives, where
+            // there is one, else what its residuals still show.
+            ch.hysteresis = match &ch.hysteresis_term {
+                Some(h) => Some(Hysteresis {
+                    heating_minus_cooling: h.heating_minus_cooling,
+                    interval_95: h.interval_95,
+                    bins: f.branches.len(),
+                    t_range_c: [model.t_min_c, model.t_max_c],
+                }),
+                None => hysteresis(&f.branches),
+            };
+        }
+        if opts.firmware_projection {
+            let projected = dynamics::project(&runs, &model);
+            model = projected;
+        }
+    }
+    model.validate()?;
+    Ok(model)
+}
+
+/// Largest angle between runs' mean accelerometer vectors a fit accepts,
+/// degrees: a few mg/°C over 100 °C turn gravity by a few degrees at most.
+pub const MAX_GRAVITY_TURN_DEG: f64 = 10.0;
+
+/// Refuses runs whose mean accelerometer vectors (where the runs carry all
+/// three axes) point more than [`MAX_GRAVITY_TURN_DEG`] apart.
+fn gravity_holds(runs: &[Run]) -> Result<(), ThermalError> {
+    let means: Vec<Option<[f64; 3]>> = runs
+        .iter()
+        .map(|r| {
+            let mut m = [0.0; 3];
+            for (axis, slot) in ["accel_x", "accel_y", "accel_z"].iter().zip(m.iter_mut()) {
+                let c = r.channels.iter().find(|c| c.name == *axis)?;
+                let (s, n) = c
+                    .data
+                    .iter()
+                    .filter(|v| v.is_finite())
+                    .fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+                if n == 0 {
+                    return None;
+                }
+                *slot = s / n as f64;
+            }
+            Some(m)
+        })
+        .collect();
+    let norm = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    for i in 0..means.len() {
+        for j in i + 1..means.len() {
+            let (Some(a), Some(b)) = (means[i], means[j]) else {
+                continue;
+            };
+            let (na, nb) = (norm(&a), norm(&b));
+            if !(na > 0.0 && nb > 0.0) {
+                continue;
+            }
+            let cos = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (na * nb);
+            let angle_deg = cos.clamp(-1.0, 1.0).acos().to_degrees();
+            if angle_deg > MAX_GRAVITY_TURN_DEG {
+                return Err(ThermalError::GravityTurned {
+                    first: i + 1,
+                    second: j + 1,
+                    angle_deg,
+                    first_mean: a,
+                    second_mean: b,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The polynomial of the logged temperature alone.
+fn fit_polynomial(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
     let Some(first) = runs.first() else {
         return Err(ThermalError::Invalid("no run to fit".into()));
     };
@@ -559,6 +728,10 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
             residual_max,
             cross_validation,
             hysteresis: hysteresis(&branches),
+            lag_s: None,
+            lag_interval_s: None,
+            hysteresis_term: None,
+            projection: None,
         });
     }
     let dtdt_range_c_per_s = opts.rate_term.then(|| {
@@ -581,6 +754,7 @@ pub fn fit(runs: &[Run], opts: &FitOptions) -> Result<Model, ThermalError> {
         device_id: None,
         accel_device_id: None,
         instance: None,
+        temperature_step_c: None,
         channels,
         instances: Vec::new(),
     };
@@ -737,7 +911,9 @@ impl Model {
     }
 
     /// Compensates `data` of channel `name` in place:
-    /// x − (p(T) − p(T_ref)) − k·dT/dt, with T clamped to the fitted range.
+    /// x − (p(T_e) − p(T_ref)) − k·dT/dt − h, T_e the logged temperature (a
+    /// coarse readout smoothed) through the channel's lag, clamped to the
+    /// fitted range, h its hysteresis term.
     pub fn apply(
         &self,
         name: &str,
@@ -762,8 +938,21 @@ impl Model {
         let rates = ch
             .rate_coefficient
             .map(|_| branch::dtdt(temp, rate_hz, RATE_WINDOW_S));
+        // A model without lag, hysteresis or a smoothed readout (every model
+        // before them) applies exactly as before: the logged temperature.
+        let used: std::borrow::Cow<[f64]> = match self.temperature_step_c {
+            Some(_) if element::coarse_step(temp).is_some() => element::dequantize(temp).into(),
+            _ => temp.into(),
+        };
+        let element_t = ch.lag_s.map(|tau| element::lag(&used, rate_hz, tau));
+        // The hysteresis follows the element's own rate of change.
+        let direction = ch
+            .hysteresis_term
+            .as_ref()
+            .map(|h| element::smoothed_rate(element_t.as_deref().unwrap_or(&used), rate_hz, h.smoothing_s));
         let mut report = ApplyReport::default();
-        for (i, (x, &t)) in data.iter_mut().zip(temp).enumerate() {
+        for (i, x) in data.iter_mut().enumerate() {
+            let t = element_t.as_ref().map_or(used[i], |e| e[i]);
             if !t.is_finite() {
                 *x = f64::NAN;
                 continue;
@@ -780,7 +969,11 @@ impl Model {
                 (Some(r), Some(k), Some([lo, hi])) if r[i].is_finite() => k * r[i].clamp(lo, hi),
                 _ => 0.0,
             };
-            *x -= ch.bias(self, tc) - at_ref + lag;
+            let hyst = match (&ch.hysteresis_term, &direction) {
+                (Some(h), Some(r)) => h.at((tc - self.centre_c) / self.scale_c, r[i]),
+                _ => 0.0,
+            };
+            *x -= ch.bias(self, tc) - at_ref + lag + hyst;
         }
         Ok(report)
     }
@@ -1014,6 +1207,42 @@ mod tests {
                 assert!(h.interval_95[0] < offset && offset < h.interval_95[1], "{h:?}");
                 assert!(h.bins > 30);
             }
+        }
+    }
+
+    #[test]
+    fn runs_whose_gravity_turns_are_refused() {
+        // A cold run lying on z and a hot one on x, as the BMI270 logs of
+        // issue 49 were recorded: 90° apart.
+        let temp_a: Vec<f64> = (0..600).map(|i| 10.0 + i as f64 * 0.01).collect();
+        let temp_b: Vec<f64> = (0..600).map(|i| 40.0 + i as f64 * 0.01).collect();
+        let (z, g, zero) = (vec![9.8; 600], vec![9.8; 600], vec![0.0; 600]);
+        let a = vec![
+            TcalChannel::new("accel_x", "m/s^2", zero.as_slice()),
+            TcalChannel::new("accel_y", "m/s^2", zero.as_slice()),
+            TcalChannel::new("accel_z", "m/s^2", z.as_slice()),
+        ];
+        let b = vec![
+            TcalChannel::new("accel_x", "m/s^2", g.as_slice()),
+            TcalChannel::new("accel_y", "m/s^2", zero.as_slice()),
+            TcalChannel::new("accel_z", "m/s^2", zero.as_slice()),
+        ];
+        let runs = [
+            Run {
+                channels: &a,
+                temp: &temp_a,
+                rate_hz: 1.0,
+            },
+            Run {
+                channels: &b,
+                temp: &temp_b,
+                rate_hz: 1.0,
+            },
+        ];
+        let e = fit(&runs, &FitOptions::default()).unwrap_err();
+        match e {
+            ThermalError::GravityTurned { angle_deg, .. } => assert!((angle_deg - 90.0).abs() < 1e-6),
+            other => panic!("{other}"),
         }
     }
 

@@ -45,6 +45,10 @@ fn channel() -> impl Strategy<Value = ChannelModel> {
             residual_max: 0.0,
             cross_validation: Vec::new(),
             hysteresis: None,
+            lag_s: None,
+            lag_interval_s: None,
+            hysteresis_term: None,
+            projection: None,
         })
 }
 
@@ -75,6 +79,7 @@ fn model() -> impl Strategy<Value = Model> {
                 device_id: None,
                 accel_device_id: None,
                 instance: None,
+                temperature_step_c: None,
                 channels,
                 instances: Vec::new(),
             };

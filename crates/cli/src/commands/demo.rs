@@ -136,9 +136,11 @@ pub fn run(a: &DemoArgs) -> Result<()> {
             heating: heating.clone(),
         },
         &RecordingOptions::default(),
-        // Capped at the flight stacks' cubic, so the demo's model exports.
+        // Capped at the flight stacks' cubic and projected on what they
+        // apply, so the demo's model exports.
         &FitOptions {
             max_auto_order: thermal::firmware::Firmware::MAX_ORDER,
+            firmware_projection: true,
             ..FitOptions::default()
         },
         &dynamic,

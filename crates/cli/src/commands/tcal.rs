@@ -90,17 +90,67 @@ pub fn fit(a: &TcalFitArgs) -> Result<()> {
                 _ => String::new(),
             }
         );
+        if let Some(step) = m.temperature_step_c {
+            eprintln!(
+                "  the temperature reads in steps of {step:.4} °C: smoothed between its changes before use"
+            );
+        }
         for c in &m.channels {
             eprintln!(
                 "  {:<8} order {}  residual RMS {:.3e} {}  max {:.3e}",
                 c.name, c.order, c.residual_rms, c.unit, c.residual_max
             );
+            for line in found(c) {
+                eprintln!("           {line}");
+            }
         }
     }
     for w in &warnings {
         eprintln!("warning: {w}");
     }
     Ok(())
+}
+
+/// What the fit found beyond the polynomial, with its intervals.
+fn found(c: &thermal::tcal::ChannelModel) -> Vec<String> {
+    let mut out = Vec::new();
+    if let Some(lag) = c.lag_s {
+        out.push(match c.lag_interval_s {
+            Some([lo, hi]) => format!("element lags the sensor by {lag:.0} s [{lo:.0}, {hi:.0}]"),
+            None => format!("element lags the sensor by {lag:.0} s"),
+        });
+    }
+    if let Some(h) = &c.hysteresis_term {
+        out.push(format!(
+            "heating reads {:.2e} {} above cooling [{:.2e}, {:.2e}] (saturating at {:.2} °C/min)",
+            h.heating_minus_cooling,
+            c.unit,
+            h.interval_95[0],
+            h.interval_95[1],
+            h.rate_scale_c_per_s * 60.0
+        ));
+    }
+    if let Some(p) = &c.projection {
+        let mut what = Vec::new();
+        if let Some(l) = p.lag_s {
+            what.push(format!("a {l:.0} s lag"));
+        }
+        if let Some(h) = p.heating_minus_cooling {
+            what.push(format!("{h:.2e} {} of hysteresis", c.unit));
+        }
+        out.push(format!(
+            "the firmware applies T only ({} dropped, the equilibrium curve kept): a {:.0} °C/min climb leaves {:.2e} {} that the full model removes{}",
+            what.join(" and "),
+            p.climb_c_per_min,
+            p.climb_left.abs(),
+            c.unit,
+            match (p.full_residual_rms, p.projected_residual_rms) {
+                (Some(f), Some(q)) => format!("; on the fitted runs {q:.2e} {} left against the full model's {f:.2e}", c.unit),
+                _ => String::new(),
+            }
+        ));
+    }
+    out
 }
 
 /// The library's name of `--instance N|all`.

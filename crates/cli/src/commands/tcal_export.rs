@@ -12,10 +12,6 @@ use crate::args::TcalExportArgs;
 use crate::args::usage_error;
 
 pub fn run(a: &TcalExportArgs) -> Result<()> {
-    let firmware = Firmware::from(a.firmware);
-    if let Err(e) = analysis::compensation::check_instance(firmware, a.instance) {
-        usage_error(e);
-    }
     // The one check that the output is not the model: a usage error,
     // before anything is read (so it is not repeated when the file is
     // written).
@@ -23,6 +19,13 @@ pub fn run(a: &TcalExportArgs) -> Result<()> {
         && same_file(out, &a.model)
     {
         usage_error(format!("-o {}: that is the model being exported", out.display()));
+    }
+    let Some(firmware) = a.firmware else {
+        return header(a);
+    };
+    let firmware = Firmware::from(firmware);
+    if let Err(e) = analysis::compensation::check_instance(firmware, a.instance) {
+        usage_error(e);
     }
     let model = Model::read(&a.model)?;
     if !model.instances.is_empty() && (a.instance.is_some() || a.device_id.is_some()) {
@@ -45,23 +48,36 @@ pub fn run(a: &TcalExportArgs) -> Result<()> {
     for w in &exported.warnings {
         eprintln!("warning: {w}");
     }
+    emit(a, &exported.text, &format!("{} parameters", firmware.name()))
+}
+
+/// Writes `text` to `-o FILE` (saying so) or to standard output.
+fn emit(a: &TcalExportArgs, text: &str, what: &str) -> Result<()> {
     match &a.output {
         Some(path) => {
             imu::output::write_file(
                 path,
-                exported.text.as_bytes(),
+                text.as_bytes(),
                 &imu::output::OutputPolicy {
                     overwrite: a.overwrite,
                     inputs: &[],
                 },
             )?;
-            eprintln!("wrote {} ({} parameters)", path.display(), firmware.name());
+            eprintln!("wrote {} ({what})", path.display());
         }
         None => {
             let mut out = std::io::stdout().lock();
-            out.write_all(exported.text.as_bytes())?;
+            out.write_all(text.as_bytes())?;
             out.flush()?;
         }
     }
     Ok(())
+}
+
+/// `--format c`: the model as a C header.
+fn header(a: &TcalExportArgs) -> Result<()> {
+    let model = Model::read(&a.model)?;
+    let text = thermal::c_header::render(&model)
+        .with_context(|| format!("{}: cannot be written as a C header", a.model.display()))?;
+    emit(a, &text, "C header")
 }

@@ -166,9 +166,11 @@ class TcalModel:
 
     def apply(self, recording, instance=None):
         """A copy of ``recording`` with every modelled channel compensated,
-        as ``imutherm tcal apply`` writes it: x - (p(T) - p(T_ref)) with T
-        clamped to the fitted range (``out_of_range`` counts the samples
-        clamped). Needs the recording's temperature channel. A model of
+        as ``imutherm tcal apply`` writes it, through the same function:
+        x - (p(T) - p(T_ref)) with T clamped to the fitted range
+        (``out_of_range`` counts the samples clamped); where the model has a
+        lag or a hysteresis term, T is the element's temperature and the
+        hysteresis is subtracted too. Needs the recording's temperature channel. A model of
         several instances compensates with the model of ``instance``
         (``tcal apply --instance N``), by default the instance the recording
         was read with."""

@@ -138,6 +138,19 @@ pub enum FirmwareError {
         /// Firmware key.
         key: &'static str,
     },
+    /// A lag or hysteresis term, which neither stack evaluates.
+    #[error(
+        "{channel} has a thermal lag or hysteresis term, which {firmware} cannot apply: refit {}, which keeps the full model's equilibrium curve",
+        FitCall(Setting::FitFirmware.given(Value::text(*key)))
+    )]
+    Dynamics {
+        /// Channel name.
+        channel: String,
+        /// Firmware name.
+        firmware: &'static str,
+        /// Firmware key.
+        key: &'static str,
+    },
     /// A slot the firmware does not have.
     #[error("instance {instance}: {firmware} has calibration instances {lo} to {hi}")]
     Instance {
@@ -342,6 +355,13 @@ fn cubics(model: &Model, firmware: Firmware, t0: f64) -> Result<Cubics, Firmware
             return Err(FirmwareError::OrderTooHigh {
                 channel: c.name.clone(),
                 order: c.order,
+                firmware: firmware.name(),
+                key: firmware.key(),
+            });
+        }
+        if c.lag_s.is_some() || c.hysteresis_term.is_some() {
+            return Err(FirmwareError::Dynamics {
+                channel: c.name.clone(),
                 firmware: firmware.name(),
                 key: firmware.key(),
             });
