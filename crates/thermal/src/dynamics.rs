@@ -502,12 +502,20 @@ pub(crate) fn search(runs: &[Run], f: &Frame) -> Vec<Option<Found>> {
     };
     score(&base, 0.0, &mut cands);
     let mut grid_cells: Vec<(f64, Vec<Cell>)> = Vec::new();
-    // A lag is told from a level only over several of its time constants.
+    // A lag is told from a level only over several of its time constants,
+    // and from a change of the polynomial only where the temperature moves
+    // both ways: on runs that all heat (or all cool), T lagged by τ is T
+    // shifted by the rate times τ, which a polynomial of T absorbs, and a
+    // chance gain on held-out cells then projects into an equilibrium curve
+    // shifted by degrees (a single 45 min PX4 heating took a 350 s lag).
     let longest = runs
         .iter()
         .map(|r| r.temp.len() as f64 / r.rate_hz)
         .fold(0.0, f64::max);
-    for &tau in LAG_GRID_S.iter().filter(|&&t| t * MIN_RUN_LAGS <= longest) {
+    for &tau in LAG_GRID_S
+        .iter()
+        .filter(|&&t| both_ways && t * MIN_RUN_LAGS <= longest)
+    {
         let cs = cells(runs, tau, f);
         score(&cs, tau, &mut cands);
         grid_cells.push((tau, cs));
