@@ -221,8 +221,7 @@ pub struct ModelEntry {
     /// (null where the model fits).
     pub defeat: Option<DefeatEntry>,
     /// Whether the model fits within the points' own noise (p ≥ 0.01);
-    /// `fits` also holds where every point lies within its interval or
-    /// within 5 % of the model, the misfit widening the intervals.
+    /// `fits` also holds where every point lies within 5 % of the model, the misfit widening the intervals.
     pub within_noise: bool,
     /// The τ range the model was fitted over (null without a model).
     pub fit_range: Option<FitRangeEntry>,

@@ -179,8 +179,8 @@ pub struct NoiseModel {
     /// candidate was admissible.
     pub label: String,
     /// Whether the selected model describes the curve over `fit_range`:
-    /// p ≥ [`FIT_P_VALUE`], or every point within its interval or within
-    /// [`range::TOLERANCE`] of the model (the misfit then widens the
+    /// p ≥ [`FIT_P_VALUE`], or every point within [`range::TOLERANCE`] of
+    /// the model (the misfit then widens the
     /// intervals). Its terms are values only then.
     pub fits: bool,
     /// Whether it fits within the points' own noise (p ≥ [`FIT_P_VALUE`]).
@@ -282,13 +282,19 @@ pub(crate) struct Attempt {
 
 impl Attempt {
     /// Whether the selected model describes the points it was fitted to:
-    /// p at least [`FIT_P_VALUE`], or every point within its own 95 %
-    /// interval or [`range::TOLERANCE`] of the model.
+    /// p at least [`FIT_P_VALUE`], or every point within
+    /// [`range::TOLERANCE`] of the model.
     fn describes(&self) -> bool {
         let Some(best) = &self.sel.best else {
             return false;
         };
         fits(best.quality.p_value) || range::within_tolerance(&best.components, &best.theta, &self.used)
+    }
+
+    /// The index of the point the selected model misses as an outlier
+    /// (`select::outlier`), if any.
+    fn outlier_at(&self) -> Option<usize> {
+        self.sel.best.as_ref().and_then(|b| select::outlier(&b.resid))
     }
 
     /// τ where the best candidate parts from the points: where its worst

@@ -18,8 +18,7 @@ use crate::Point;
 pub const MIN_POINTS: usize = 6;
 
 /// A model whose χ² exceeds what the points' noise allows still describes
-/// them where its deviation lies within this share of every point's (or
-/// inside the point's own interval): a misfit the χ² scale then widens the
+/// them where its deviation lies within this share of every point's: a misfit the χ² scale then widens the
 /// intervals by (`select::Best::spreads`). Real sensors' curves carry
 /// 10^5 degrees of freedom at short τ, a 0.3 % interval that no
 /// idealised process meets.
@@ -103,12 +102,14 @@ impl FitRange {
     }
 }
 
-/// Whether the model's deviation is inside each point's interval or
-/// within [`TOLERANCE`] of its deviation.
+/// Whether the model's deviation is within [`TOLERANCE`] of every
+/// point's. A point's own interval is no such licence: a model that misses
+/// every point by two of its standard deviations lies inside each 95 %
+/// interval and describes none of them.
 pub fn within_tolerance(comps: &[Component], theta: &[f64], pts: &[Point]) -> bool {
     pts.iter().all(|p| {
         let m = model_avar(comps, theta, p.tau).sqrt();
-        (m >= p.dev_lo && m <= p.dev_hi) || (m / p.dev - 1.0).abs() <= TOLERANCE
+        (m / p.dev - 1.0).abs() <= TOLERANCE
     })
 }
 
@@ -211,7 +212,12 @@ fn with_features(
                 .total_cmp(&(pts[kept[b]].tau / t).ln().abs())
         })?;
         let room = ((MAX_SKIPPED * (hi - lo) as f64) as usize) > skipped.len();
-        if k < END || k + END >= kept.len() || !room {
+        // Only a point the model misses as an outlier (many of its standard
+        // deviations, and many times the median miss) is a feature: a curve
+        // that no candidate follows anywhere is not whittled down to the
+        // points one does.
+        let outlier = attempt.outlier_at().is_some_and(|o| o == k);
+        if k < END || k + END >= kept.len() || !room || !outlier {
             return None;
         }
         skipped.push(kept[k]);
