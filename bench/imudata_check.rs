@@ -54,21 +54,43 @@ struct Verdict {
     broken: bool,
 }
 
-fn check(file: &str, axis: &str, unit: &str, points: &[Point], m: &NoiseModel) -> Verdict {
+fn check(file: &str, axis: &str, unit: &str, all: &[Point], m: &NoiseModel) -> Verdict {
+    // Kept terms and the model's curve are held to the points of the τ
+    // range the model was fitted over; beyond it the output names the
+    // misses itself (`FitRange::describe`). Bounds are held to every point.
+    let fitted: Vec<Point> = all
+        .iter()
+        .filter(|p| {
+            m.fit_range
+                .as_ref()
+                .is_none_or(|r| p.tau >= r.lo * (1.0 - 1e-9) && p.tau <= r.hi * (1.0 + 1e-9))
+        })
+        .copied()
+        .collect();
+    let points = &fitted[..];
     let mut kept = Vec::new();
     let mut bounds = Vec::new();
     let mut broken = false;
     for t in Term::ALL {
         match m.get(t) {
             TermEstimate::Value(v) => {
-                let (r, at) = worst(points, |tau| v.value * power_basis(t, tau).sqrt(), |p| p.dev_hi);
+                // White noise through the sensor's filter has the filtered
+                // process's curve, below N²/τ at the shortest τ.
+                let own = |tau: f64| match (&m.low_pass, t) {
+                    (Some(f), Term::WhiteNoise) => {
+                        let tc = f.tau_c.value;
+                        v.value * (process::gauss_markov(tau, tc) / (2.0 * tc)).sqrt()
+                    }
+                    _ => v.value * power_basis(t, tau).sqrt(),
+                };
+                let (r, at) = worst(points, own, |p| p.dev_hi);
                 broken |= r > 1.0;
                 kept.push(format!("{} {:.3e} ({r:.2} at {at:.3} s)", t.symbol(), v.value));
             }
             TermEstimate::NotIdentifiable(_) => {
                 if let Some(b) = m.bound(t) {
                     let line = |tau: f64| b * power_basis(t, tau).sqrt();
-                    let (r, at) = worst(points, line, |p| upper(p, CEILING_CONFIDENCE));
+                    let (r, at) = worst(all, line, |p| upper(p, CEILING_CONFIDENCE));
                     broken |= r > 1.0 + 1e-9;
                     bounds.push(if r > 1.0 + 1e-9 {
                         format!("{} ≤ {b:.3e} ({r:.2} at {at:.3} s)", t.symbol())
@@ -128,9 +150,21 @@ fn check(file: &str, axis: &str, unit: &str, points: &[Point], m: &NoiseModel) -
     } else {
         ("none fits".to_string(), "no curve; said".to_string())
     };
-    // Where no candidate fits, where the output says the best one fails.
+    // Where no candidate fits, where the output says the best one fails;
+    // where the range is narrowed, the range and the misses beyond it.
     let model = match &m.defeat {
         Some(d) => format!("{model}; {}", d.describe()),
+        None => model,
+    };
+    let model = match m.fit_range.as_ref().filter(|r| !r.whole) {
+        Some(r) => format!("{model}; {}", r.describe()),
+        None => model,
+    };
+    let model = match &m.low_pass {
+        Some(f) => format!(
+            "{model}; low-pass Tc {:.3e} s ({:.2} Hz)",
+            f.tau_c.value, f.cutoff_hz
+        ),
         None => model,
     };
     let row = format!(
@@ -162,6 +196,11 @@ fn main() {
         rate_hz: Some(rate),
         ..RecordingOptions::default()
     };
+    // IMUDATA_TERMS=FILE: one tab-separated line per axis with N and B in
+    // SI (value, lo, hi; "bound" and the bound where not held), the model,
+    // its τ range and filter, for `imudata/table.py`.
+    let terms_out = std::env::var_os("IMUDATA_TERMS");
+    let mut terms: Vec<String> = Vec::new();
     println!(
         "| file | axis | model | kept terms (largest σ_term/σ̂ 95 % upper) | bounds (largest σ_bound/σ̂ 99 % upper) | model curve vs 95 % intervals |"
     );
@@ -182,10 +221,44 @@ fn main() {
             let v = check(&name, &c.channel.name, &c.channel.unit, &c.points, &c.terms.model);
             println!("{}", v.row);
             broken |= v.broken;
+            if terms_out.is_some() {
+                terms.push(terms_line(&name, c));
+            }
         }
+    }
+    if let Some(out) = &terms_out
+        && let Err(e) = std::fs::write(out, terms.join(""))
+    {
+        eprintln!("{}: {e}", Path::new(out).display());
+        std::process::exit(1);
     }
     if broken {
         eprintln!("a rule is broken (a ratio above 1, or the model leaves the intervals unsaid)");
         std::process::exit(1);
     }
+}
+
+/// One axis's line of the IMUDATA_TERMS file.
+fn terms_line(file: &str, c: &analysis::noise::ChannelNoise) -> String {
+    let m = &c.terms.model;
+    let term = |t: Term| match m.get(t) {
+        TermEstimate::Value(v) => format!("value\t{:.6e}\t{:.6e}\t{:.6e}", v.value, v.lo, v.hi),
+        TermEstimate::NotIdentifiable(_) => format!("bound\t{:.6e}\t\t", m.bound(t).unwrap_or(f64::NAN)),
+    };
+    let range = m
+        .fit_range
+        .as_ref()
+        .map_or("—".to_string(), |r| format!("{}–{}", r.lo, r.hi));
+    let filter = m.low_pass.map_or("—".to_string(), |f| {
+        format!("{:.3e} s ({:.2} Hz)", f.tau_c.value, f.cutoff_hz)
+    });
+    format!(
+        "{file}\t{}\t{}\t{}\t{}\t{}\t{range}\t{filter}\t{}\n",
+        c.channel.name,
+        term(Term::WhiteNoise),
+        term(Term::BiasInstability),
+        m.label,
+        m.fits,
+        m.within_noise
+    )
 }

@@ -223,6 +223,39 @@ pub struct ModelEntry {
     /// Where no candidate fits: where the best one parts from the curve
     /// (null where the model fits).
     pub defeat: Option<DefeatEntry>,
+    /// Whether the model fits within the points' own noise (p ≥ 0.01);
+    /// `fits` also holds where every point lies within 5 % of the model, the misfit widening the intervals.
+    pub within_noise: bool,
+    /// The τ range the model was fitted over (null without a model).
+    pub fit_range: Option<FitRangeEntry>,
+    /// The low-pass filter the white noise passes through, where the
+    /// curve's shortest τ show one (null otherwise): N is the white noise
+    /// before it.
+    pub low_pass: Option<LowPassEntry>,
+}
+
+/// The τ range a model was fitted over.
+#[derive(Debug, Serialize)]
+pub struct FitRangeEntry {
+    /// Shortest τ, s.
+    pub lo: f64,
+    /// Longest τ, s.
+    pub hi: f64,
+    /// Whether it is the whole curve.
+    pub whole: bool,
+    /// Each point beyond it: τ (s) and measured/model.
+    pub misses: Vec<(f64, f64)>,
+    /// The same in one sentence.
+    pub text: String,
+}
+
+/// A first-order low-pass filter on the white noise.
+#[derive(Debug, Serialize)]
+pub struct LowPassEntry {
+    /// Its time constant, s.
+    pub tau_c: JsonValue,
+    /// Its −3 dB frequency, Hz.
+    pub cutoff_hz: f64,
 }
 
 /// One channel.
@@ -379,6 +412,18 @@ pub fn model_entry(m: &NoiseModel, unit: &str) -> ModelEntry {
             ratio: d.ratio,
             sigmas: d.sigmas,
             text: d.describe(),
+        }),
+        within_noise: m.within_noise,
+        fit_range: m.fit_range.as_ref().map(|r| FitRangeEntry {
+            lo: r.lo,
+            hi: r.hi,
+            whole: r.whole,
+            misses: r.misses.iter().map(|x| (x.tau, x.ratio)).collect(),
+            text: r.describe(),
+        }),
+        low_pass: m.low_pass.map(|f| LowPassEntry {
+            tau_c: interval(&f.tau_c, "s"),
+            cutoff_hz: f.cutoff_hz,
         }),
     }
 }

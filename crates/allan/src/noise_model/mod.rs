@@ -35,7 +35,9 @@
 pub mod ceiling;
 pub mod covariance;
 pub mod lm;
+pub mod lowpass;
 pub mod process;
+pub mod range;
 mod select;
 
 use statrs::distribution::{ContinuousCDF, Normal, StudentsT};
@@ -166,13 +168,26 @@ pub struct NoiseModel {
     /// Each term's upper bound (the smallest ceiling along its line), where
     /// the curve has a point to set one.
     pub bounds: PerTerm<Option<f64>>,
-    /// Gauss–Markov terms of the model, by correlation time.
+    /// Gauss–Markov terms of the model, by correlation time (never the
+    /// sensor's filter: see `low_pass`).
     pub gauss_markov: Vec<GaussMarkovTerm>,
+    /// The first-order low-pass filter the white noise passes through,
+    /// where the curve shows one at its shortest τ ([`lowpass`]): N is
+    /// then the white noise before the filter.
+    pub low_pass: Option<lowpass::LowPass>,
     /// The model, as its processes' symbols ("N + B + K"); "none" when no
     /// candidate was admissible.
     pub label: String,
-    /// Whether the selected model describes the curve (p ≥ [`FIT_P_VALUE`]).
+    /// Whether the selected model describes the curve over `fit_range`:
+    /// p ≥ [`FIT_P_VALUE`], or every point within [`range::TOLERANCE`] of
+    /// the model (the misfit then widens the
+    /// intervals). Its terms are values only then.
     pub fits: bool,
+    /// Whether it fits within the points' own noise (p ≥ [`FIT_P_VALUE`]).
+    pub within_noise: bool,
+    /// The τ range the model was fitted over, and the curve beyond it
+    /// against the model (`None` without a model).
+    pub fit_range: Option<range::FitRange>,
     /// Its goodness of fit.
     pub quality: Option<Quality>,
     /// χ²/dof, as [`Quality::chi2_reduced`].
@@ -237,8 +252,14 @@ impl NoiseModel {
 /// The selected noise model of an overlapping ADEV curve of rate data
 /// (octave taus are best: nearly independent points), intervals at
 /// `confidence`.
+///
+/// Where no candidate describes the whole curve, the curve is fitted over
+/// a narrower τ range ([`range`]): the end the best candidate parts from
+/// is dropped, one point at a time, until a candidate keeps the rules and
+/// describes the points left; the range is printed and the curve's misses
+/// beyond it are named ([`FitRange`]).
 pub fn estimate(points: &[Point], confidence: f64) -> NoiseModel {
-    let mut pts: Vec<Point> = points
+    let pts: Vec<Point> = points
         .iter()
         .copied()
         .filter(|p| p.dev.is_finite() && p.dev > 0.0 && p.edf.is_finite() && p.edf > 0.0 && p.tau > 0.0)
@@ -247,10 +268,55 @@ pub fn estimate(points: &[Point], confidence: f64) -> NoiseModel {
     // left-out points too: a point the model cannot describe is still a
     // deviation no bound may exceed.
     let ceilings = ceiling::ceilings(&pts);
+    let found = range::search(&pts, fit_window);
+    build(&pts, found, &ceilings, confidence)
+}
+
+/// One fit of a run of points: the selection, the points as last
+/// weighted, and the τ of points left out as no candidate process.
+pub(crate) struct Attempt {
+    used: Vec<Point>,
+    sel: select::Selection,
+    left_out: Vec<f64>,
+}
+
+impl Attempt {
+    /// Whether the selected model describes the points it was fitted to:
+    /// p at least [`FIT_P_VALUE`], or every point within
+    /// [`range::TOLERANCE`] of the model.
+    fn describes(&self) -> bool {
+        let Some(best) = &self.sel.best else {
+            return false;
+        };
+        fits(best.quality.p_value) || range::within_tolerance(&best.components, &best.theta, &self.used)
+    }
+
+    /// The index of the point the selected model misses as an outlier
+    /// (`select::outlier`), if any.
+    fn outlier_at(&self) -> Option<usize> {
+        self.sel.best.as_ref().and_then(|b| select::outlier(&b.resid))
+    }
+
+    /// τ where the best candidate parts from the points: where its worst
+    /// process exceeds the ceiling, or where the selected model misses
+    /// most.
+    fn parting_tau(&self) -> Option<f64> {
+        match &self.sel.best {
+            Some(best) => misfit(best, &self.used).map(|d| d.tau),
+            None => self.sel.defeated.as_ref().map(|d| d.tau),
+        }
+    }
+}
+
+/// Selects on `pts`, leaving out the worst-missed point (a bump, a tone)
+/// while no candidate fits, up to a quarter of the points; the ceiling
+/// times `slack` holds the kept processes.
+fn fit_window(points: &[Point], slack: f64) -> Attempt {
+    let mut pts = points.to_vec();
     let mut left_out = Vec::new();
     let budget = pts.len() / 4;
     loop {
-        let (used, sel) = select_reweighed(&pts);
+        let (used, sel) = select_reweighed(&pts, slack);
         if let Some(best) = &sel.best
             && !fits(best.quality.p_value)
             && left_out.len() < budget
@@ -262,7 +328,7 @@ pub fn estimate(points: &[Point], confidence: f64) -> NoiseModel {
             continue;
         }
         left_out.sort_unstable_by(f64::total_cmp);
-        return build(&used, &ceilings, sel, confidence, left_out);
+        return Attempt { used, sel, left_out };
     }
 }
 
@@ -336,19 +402,19 @@ fn efficient(best: &select::Best, pts: &[Point]) -> Option<(Vec<Point>, DMatrix<
 /// alone): the two-step GMWM, whose second step fits with the efficient
 /// weights of the first step's model. Returns the points as last weighted
 /// and the selection.
-fn select_reweighed(pts: &[Point]) -> (Vec<Point>, select::Selection) {
+fn select_reweighed(pts: &[Point], slack: f64) -> (Vec<Point>, select::Selection) {
     let mut used = cautious(pts);
-    let mut sel = select::select(&used, None);
+    let mut sel = select::select(&used, None, slack);
     for _ in 0..MODEL_PASSES {
         let Some(best) = &sel.best else { break };
         let next = match efficient(best, pts) {
             Some((next_used, corr)) => {
-                let next = select::select(&next_used, Some(&corr));
+                let next = select::select(&next_used, Some(&corr), slack);
                 (next_used, next)
             }
             None => {
                 let next_used = best.reweigh(pts);
-                let next = select::select(&next_used, None);
+                let next = select::select(&next_used, None, slack);
                 (next_used, next)
             }
         };
@@ -366,14 +432,28 @@ fn fits(p: f64) -> bool {
     p >= FIT_P_VALUE
 }
 
-fn build(
-    pts: &[Point],
-    ceilings: &[Ceiling],
-    sel: select::Selection,
-    confidence: f64,
-    left_out: Vec<f64>,
-) -> NoiseModel {
+fn build(all: &[Point], found: range::Found, ceilings: &[Ceiling], confidence: f64) -> NoiseModel {
+    let range::Found {
+        start,
+        end,
+        skipped,
+        slack,
+        attempt: Attempt {
+            used: pts,
+            sel,
+            mut left_out,
+        },
+    } = found;
+    left_out.extend(skipped.iter().map(|&i| all[i].tau));
+    left_out.sort_unstable_by(f64::total_cmp);
+    let pts = &pts[..];
     let bounds = PerTerm::from_fn(|t| ceiling::bound(ceilings, |tau| lm::power_basis(t, tau)));
+    // A kept term's interval is capped by the points it was fitted to: a
+    // point beyond the range (the filter's dip) bounds no term in it.
+    let in_range = ceiling::ceilings(&all[start..end]);
+    let caps = PerTerm::from_fn(|t| {
+        ceiling::bound(&in_range, |tau| lm::power_basis(t, tau)).map(|b| b * slack.sqrt())
+    });
     let Some(best) = sel.best else {
         let why = if pts.len() < 2 {
             "not identifiable: fewer than 2 points on the curve".to_string()
@@ -391,8 +471,11 @@ fn build(
             terms: PerTerm::from_fn(|_| TermEstimate::NotIdentifiable(why.clone())),
             bounds,
             gauss_markov: Vec::new(),
+            low_pass: None,
             label: "none".to_string(),
             fits: false,
+            within_noise: false,
+            fit_range: None,
             quality: None,
             chi2_reduced: None,
             points: pts.len(),
@@ -407,7 +490,8 @@ fn build(
         };
     };
     let q = best.quality;
-    let ok = fits(q.p_value);
+    let within_noise = fits(q.p_value);
+    let ok = within_noise || range::within_tolerance(&best.components, &best.theta, pts);
     let defeat = (!ok).then(|| misfit(&best, pts)).flatten();
     let spreads = best.spreads();
     // Student's t on the fit's degrees of freedom where the spreads rest on
@@ -430,14 +514,21 @@ fn build(
             ((th + z * sd) * half).exp(),
         )
     };
+    // A Gauss–Markov process whose T lies at the sampling interval is the
+    // sensor's filter on its white noise: it is reported as N and the
+    // filter, never as a GM.
+    let tau_first = pts.first().map_or(0.0, |p| p.tau);
+    let filter = lowpass::find(&best.components, &best.theta, tau_first);
     let mut found: Vec<(Term, TermValue)> = Vec::new();
     let mut gauss_markov = Vec::new();
+    let mut low_pass = None;
     let mut at = 0;
-    for c in &best.components {
+    for (k, c) in best.components.iter().enumerate() {
         match c {
+            Component::Power(Term::WhiteNoise) if filter.is_some() => {}
             Component::Power(t) => {
                 let (v, lo, hi) = interval(at, 0.5);
-                let cap = bounds.get(*t).unwrap_or(f64::INFINITY);
+                let cap = caps.get(*t).unwrap_or(f64::INFINITY);
                 found.push((
                     *t,
                     TermValue {
@@ -447,6 +538,30 @@ fn build(
                         tau: None,
                     },
                 ));
+            }
+            Component::GaussMarkov if filter == Some(k) => {
+                let (t, tlo, thi) = interval(at + 1, 1.0);
+                let n = lowpass::white_noise(&best.components, &best.theta, k, &spreads, z);
+                // Capped along the filtered process's own curve.
+                let tc = best.theta[at + 1].exp();
+                let cap = ceiling::bound(&in_range, |tau| process::gauss_markov(tau, tc) / (2.0 * tc))
+                    .map_or(f64::INFINITY, |b| b * slack.sqrt());
+                found.push((
+                    Term::WhiteNoise,
+                    TermValue {
+                        hi: n.hi.min(cap.max(n.value)),
+                        ..n
+                    },
+                ));
+                low_pass = Some(lowpass::LowPass {
+                    tau_c: TermValue {
+                        value: t,
+                        lo: tlo,
+                        hi: thi,
+                        tau: None,
+                    },
+                    cutoff_hz: 1.0 / (std::f64::consts::TAU * t),
+                });
             }
             Component::GaussMarkov => {
                 let (s, slo, shi) = interval(at, 0.5);
@@ -470,6 +585,7 @@ fn build(
         at += c.arity();
     }
     gauss_markov.sort_by(|a, b| a.tau_c.value.total_cmp(&b.tau_c.value));
+    let label = lowpass::label(&best.components, filter);
     // The reasons carry no number: the bound is in `bounds`, to be shown
     // in whatever unit the reader asked for.
     let terms = PerTerm::from_fn(|t| {
@@ -488,8 +604,7 @@ fn build(
         match found.iter().find(|(ft, _)| *ft == t) {
             Some((_, v)) => TermEstimate::Value(*v),
             None => TermEstimate::NotIdentifiable(format!(
-                "not in the selected model ({}): the information criterion keeps the curve without it",
-                best.label
+                "not in the selected model ({label}): the information criterion keeps the curve without it"
             )),
         }
     });
@@ -501,12 +616,26 @@ fn build(
         })
         .map(|p| p.tau)
         .collect();
+    let miss = |p: &Point| range::Miss {
+        tau: p.tau,
+        ratio: p.dev / model_avar(&best.components, &best.theta, p.tau).sqrt(),
+    };
+    let fit_range = (start < end).then(|| range::FitRange {
+        lo: all[start].tau,
+        hi: all[end - 1].tau,
+        whole: start == 0 && end == all.len(),
+        misses: all[..start].iter().chain(&all[end..]).map(miss).collect(),
+        features: skipped.iter().map(|&i| miss(&all[i])).collect(),
+    });
     NoiseModel {
         terms,
         bounds,
         gauss_markov: if ok { gauss_markov } else { Vec::new() },
-        label: best.label.clone(),
+        low_pass: if ok { low_pass } else { None },
+        label,
         fits: ok,
+        within_noise,
+        fit_range,
         quality: Some(q),
         chi2_reduced: Some(q.chi2_reduced),
         points: pts.len(),

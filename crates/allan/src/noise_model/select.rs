@@ -29,6 +29,10 @@ pub struct Candidate {
 pub(super) struct Spreads {
     /// One per parameter.
     pub sd: Vec<f64>,
+    /// The correlations between the parameters (the identity where they
+    /// are unknown): what a quantity read from two of them, such as the
+    /// white noise 2σ²T of a filter-shaped Gauss–Markov term, needs.
+    pub corr: DMatrix<f64>,
     /// Whether they were scaled up by the fit's measured misfit: their
     /// scale then rests on the residuals, an estimate on the fit's degrees
     /// of freedom, and not on the points' known covariance alone.
@@ -81,6 +85,7 @@ impl Best {
         let Some(cov) = (self.jac.transpose() * &self.jac).try_inverse() else {
             return Spreads {
                 sd: vec![f64::INFINITY; p],
+                corr: DMatrix::identity(p, p),
                 rescaled: false,
             };
         };
@@ -102,6 +107,7 @@ impl Best {
             .collect();
         Spreads {
             sd,
+            corr: correlation(&cov),
             rescaled: inflate > 1.0,
         }
     }
@@ -118,6 +124,7 @@ impl Best {
         let Some(root) = l.clone().solve_lower_triangular(&dl) else {
             return Spreads {
                 sd: vec![f64::INFINITY; p],
+                corr: DMatrix::identity(p, p),
                 rescaled: false,
             };
         };
@@ -133,9 +140,26 @@ impl Best {
         };
         Spreads {
             sd: (0..p).map(|k| (cov[(k, k)].max(0.0) * inflate).sqrt()).collect(),
+            corr: correlation(&cov),
             rescaled: inflate > 1.0,
         }
     }
+}
+
+/// The correlation matrix of a covariance (zero where a variance is not
+/// positive).
+fn correlation(cov: &DMatrix<f64>) -> DMatrix<f64> {
+    let p = cov.nrows();
+    DMatrix::from_fn(p, p, |i, j| {
+        let d = (cov[(i, i)] * cov[(j, j)]).sqrt();
+        if i == j {
+            1.0
+        } else if d > 0.0 && d.is_finite() {
+            (cov[(i, j)] / d).clamp(-1.0, 1.0)
+        } else {
+            0.0
+        }
+    })
 }
 
 pub(super) struct Selection {
@@ -287,7 +311,13 @@ enum Breach {
 /// variance at [`MIN_POINTS`] points holding [`MIN_TERM_EDF`]) and stays
 /// under the measured curve's ceiling ([`ceiling`]); if not, the first rule
 /// it breaks.
-fn admissible(comps: &[Component], theta: &[f64], pts: &[Point], ceilings: &[Ceiling]) -> Result<(), Breach> {
+fn admissible(
+    comps: &[Component],
+    theta: &[f64],
+    pts: &[Point],
+    ceilings: &[Ceiling],
+    min_points: usize,
+) -> Result<(), Breach> {
     let mut at = 0;
     let mut above: Option<(f64, usize, Ceiling)> = None;
     let mut unshown = false;
@@ -302,7 +332,7 @@ fn admissible(comps: &[Component], theta: &[f64], pts: &[Point], ceilings: &[Cei
                 edf += p.edf;
             }
         }
-        unshown |= count < MIN_POINTS || edf < MIN_TERM_EDF;
+        unshown |= count < min_points || edf < MIN_TERM_EDF;
         if let Some(worst) = ceiling::worst_breach(ceilings, |tau| c.avar(own, tau)) {
             let factor = c.avar(own, worst.tau) / worst.avar;
             if above.is_none_or(|(f, _, _)| factor > f) {
@@ -347,8 +377,9 @@ struct Scored {
 }
 
 /// Fits every candidate to `pts`, correlated as `corr` says (independent
-/// without it), and selects.
-pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>) -> Selection {
+/// without it), and selects, each kept process held under the measured
+/// ceiling times `slack` (1: the ceiling itself).
+pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>, slack: f64) -> Selection {
     let n = pts.len();
     let none = || Selection {
         best: None,
@@ -384,7 +415,17 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>) -> Selection {
             ..*p
         })
         .collect();
-    let ceilings = ceiling::ceilings(&weighed);
+    let ceilings: Vec<Ceiling> = ceiling::ceilings(&weighed)
+        .into_iter()
+        .map(|c| Ceiling {
+            avar: c.avar * slack,
+            ..c
+        })
+        .collect();
+    // Past the strict ceiling, a process must show over two octaves (three
+    // points), not two: two points at the short end are as much the shape
+    // of a filter or of a tone near the sampling rate as a process.
+    let min_points = if slack > 1.0 { MIN_POINTS + 1 } else { MIN_POINTS };
     let tc = TcRange {
         lo: data.tau[0].ln(),
         hi: data.tau[n - 1].ln(),
@@ -416,7 +457,7 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>) -> Selection {
         .into_iter()
         .filter_map(|s| {
             let fit = lm::fit(&data, &s.comps, s.fit.theta, tc, FULL_ITERATIONS)?;
-            match admissible(&s.comps, &fit.theta, pts, &ceilings) {
+            match admissible(&s.comps, &fit.theta, pts, &ceilings, min_points) {
                 Ok(()) => Some(score(s.comps, fit)),
                 Err(Breach::Above(k, at)) => {
                     let criterion = fit.chi2 + fit.theta.len() as f64 * penalty;

@@ -303,7 +303,7 @@ fn write_compact(out: &mut impl Write, analysis: Analysis, units: Units) -> Resu
                     |q| format!("χ²/dof {:.2}, p = {:.2}", q.chi2_reduced, q.p_value),
                 );
                 let verdict = if m.fits {
-                    String::new()
+                    model_notes(m).iter().map(|n| format!("; {n}")).collect()
                 } else {
                     format!(
                         " — does not fit: terms are bounds{}",
@@ -433,13 +433,18 @@ fn write_text(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<
                     q.chi2_reduced,
                     q.p_value,
                     q.criterion,
-                    if m.fits {
+                    if m.within_noise {
                         "it fits the curve"
+                    } else if m.fits {
+                        "it describes the curve to within 5 %, not within the points' noise: the misfit widens the intervals"
                     } else {
                         "no candidate fits the curve: every term is given as its upper bound"
                     }
                 )?,
                 None => writeln!(out, "  model: none admissible on {} points", m.points)?,
+            }
+            for note in model_notes(m) {
+                writeln!(out, "  {note}")?;
             }
             if let Some(d) = &m.defeat {
                 writeln!(out, "  where no candidate fits: {}", d.describe())?;
@@ -686,4 +691,22 @@ fn write_kalibr(path: &Path, analysis: Analysis, overwrite: bool) -> Result<()> 
         },
     )?;
     Ok(())
+}
+
+/// What a reader must know of a model beyond its terms: the τ range it
+/// was fitted over where that is not the whole curve, and the filter its
+/// white noise passes through.
+fn model_notes(m: &allan::noise_model::NoiseModel) -> Vec<String> {
+    let mut notes = Vec::new();
+    if let Some(r) = m.fit_range.as_ref().filter(|r| !r.whole) {
+        notes.push(r.describe());
+    }
+    if let Some(f) = &m.low_pass {
+        notes.push(format!(
+            "N is the white noise before a first-order low-pass the curve shows at its shortest τ: \
+             Tc = {:.3e} s [{:.3e}, {:.3e}], −3 dB at {:.2} Hz",
+            f.tau_c.value, f.tau_c.lo, f.tau_c.hi, f.cutoff_hz
+        ));
+    }
+    notes
 }
