@@ -63,10 +63,13 @@ def main():
         b_value += is_flat and b_is
         b_within += is_flat and b_is and abs(b / b_ref - 1) <= 0.30
         nb = "end" if a["nb"] == "end" else f"{float(a['nb']):.2f}"
+        n_ratio = f"{n / a['s1']:.3f}" if n_is else "—"
+        b_ratio = f"{b / b_ref:.2f}" if b_is else "—"
         print(f"| {key[0].split('.')[0]} | {key[1]} | {t[10]} ({t[12]}) "
               f"| {'' if n_is else '≤ '}{n:.3e} | {a['s1']:.3e}, {a['slope']:.2f} "
-              f"| {n / a['s1']:.3f} | {'' if b_is else '≤ '}{b:.3e} "
-              f"| {b_ref:.3e} ({a['tmin']} s, {nb}) | {b / b_ref:.2f} |")
+              f"| {n_ratio} "
+              f"| {'' if b_is else '≤ '}{b:.3e} "
+              f"| {b_ref:.3e} ({a['tmin']} s, {nb}) | {b_ratio} |")
     print()
     print(f"N a value on {n_value} of {len(terms)} axes; slope −½ at 1 s on {n_white}, "
           f"of which N a value within 10 % of σ(1 s) on {n_within}.")
