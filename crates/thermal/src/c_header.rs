@@ -112,31 +112,16 @@ pub fn render(model: &Model) -> Result<String, CHeaderError> {
     for (i, c) in model.channels.iter().enumerate() {
         let _ = writeln!(w, "#define IMUTHERM_TCAL_{} {i}", ident(&c.name));
     }
-    let _ = writeln!(
-        w,
-        "\nstatic const double imutherm_tcal_t_min_c = {};",
-        num(model.t_min_c)
-    );
-    let _ = writeln!(
-        w,
-        "static const double imutherm_tcal_t_max_c = {};",
-        num(model.t_max_c)
-    );
-    let _ = writeln!(
-        w,
-        "static const double imutherm_tcal_t_ref_c = {};",
-        num(model.t_ref_c)
-    );
-    let _ = writeln!(
-        w,
-        "static const double imutherm_tcal_centre_c = {};",
-        num(model.centre_c)
-    );
-    let _ = writeln!(
-        w,
-        "static const double imutherm_tcal_scale_c = {};",
-        num(model.scale_c)
-    );
+    let _ = writeln!(w);
+    for (name, value) in [
+        ("t_min_c", model.t_min_c),
+        ("t_max_c", model.t_max_c),
+        ("t_ref_c", model.t_ref_c),
+        ("centre_c", model.centre_c),
+        ("scale_c", model.scale_c),
+    ] {
+        let _ = writeln!(w, "static const double imutherm_tcal_{name} = {};", num(value));
+    }
     let rows = |f: &dyn Fn(&ChannelModel) -> Vec<f64>, len: usize| -> String {
         model
             .channels
