@@ -205,15 +205,19 @@ pub enum UnitOverrideError {
     },
 }
 
+/// `COLUMN=VALUE`, both trimmed, with a column named: the form of
+/// `--unit` and `--scale` alike.
+fn column_pair(text: &str) -> Option<(&str, &str)> {
+    text.split_once('=')
+        .map(|(c, v)| (c.trim(), v.trim()))
+        .filter(|(c, _)| !c.is_empty())
+}
+
 impl std::str::FromStr for UnitOverride {
     type Err = UnitOverrideError;
 
     fn from_str(text: &str) -> Result<Self, Self::Err> {
-        let (column, unit_text) = text
-            .split_once('=')
-            .map(|(c, u)| (c.trim(), u.trim()))
-            .filter(|(c, _)| !c.is_empty())
-            .ok_or(UnitOverrideError::Malformed)?;
+        let (column, unit_text) = column_pair(text).ok_or(UnitOverrideError::Malformed)?;
         let unit = parse_unit(unit_text).ok_or_else(|| UnitOverrideError::UnknownUnit {
             unit: unit_text.to_string(),
         })?;
@@ -251,11 +255,7 @@ impl std::str::FromStr for ColumnScale {
     type Err = ColumnScaleError;
 
     fn from_str(text: &str) -> Result<Self, Self::Err> {
-        let (column, factor) = text
-            .split_once('=')
-            .map(|(c, f)| (c.trim(), f.trim()))
-            .filter(|(c, _)| !c.is_empty())
-            .ok_or(ColumnScaleError::Malformed)?;
+        let (column, factor) = column_pair(text).ok_or(ColumnScaleError::Malformed)?;
         let value = factor
             .parse::<f64>()
             .ok()
