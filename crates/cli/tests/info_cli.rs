@@ -53,18 +53,7 @@ fn json_reports_channels_rate_temperature_and_problems_with_lines() {
         stuck,
         ["accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z"]
     );
-    let problems: Vec<(String, u64)> = f["problems"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|p| !p["line"].is_null())
-        .map(|p| {
-            (
-                p["kind"].as_str().unwrap().to_string(),
-                p["line"].as_u64().unwrap(),
-            )
-        })
-        .collect();
+    let problems = support::problem_lines(f);
     assert_eq!(
         problems,
         [("nan".to_string(), 15), ("truncated_last_line".to_string(), 105)]

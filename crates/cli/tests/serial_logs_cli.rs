@@ -10,28 +10,12 @@
 use std::path::PathBuf;
 
 mod support;
-use support::{Refused, imutherm, json_stdout};
+use support::{Refused, imutherm, json_stdout, problem_lines};
 
 fn log(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/bmi270")
         .join(name)
-}
-
-/// (kind, line) of every problem of the first file in an `info --json`.
-fn problems(doc: &serde_json::Value) -> Vec<(String, u64)> {
-    doc["files"][0]["problems"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|p| !p["line"].is_null())
-        .map(|p| {
-            (
-                p["kind"].as_str().unwrap().to_string(),
-                p["line"].as_u64().unwrap(),
-            )
-        })
-        .collect()
 }
 
 #[test]
@@ -56,7 +40,7 @@ fn the_cold_log_reads_with_one_flag_its_banner_skipped_and_reported() {
     assert_eq!(f["samples"], 3256);
     assert_eq!(f["channels"].as_array().unwrap().len(), 7);
     assert_eq!(
-        problems(&doc),
+        problem_lines(f),
         [
             ("preamble".to_string(), 1),
             ("bad_line".to_string(), 9),
@@ -84,7 +68,7 @@ fn the_hot_log_reads_past_its_banner_and_its_cut_first_row() {
     assert_eq!(f["samples"], 6534);
     assert_eq!(f["channels"].as_array().unwrap().len(), 7);
     assert_eq!(
-        problems(&doc),
+        problem_lines(f),
         [
             ("preamble".to_string(), 1),
             ("cut_first_row".to_string(), 2),

@@ -179,6 +179,23 @@ pub fn entry<'a>(list: &'a Value, key: &str, value: &str) -> &'a Value {
         .unwrap_or_else(|| panic!("no {key} {value:?} in {list}"))
 }
 
+/// (kind, line) of every problem of one file of an `info --json` document
+/// that names a line.
+pub fn problem_lines(file: &Value) -> Vec<(String, u64)> {
+    file["problems"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|p| !p["line"].is_null())
+        .map(|p| {
+            (
+                p["kind"].as_str().unwrap().to_string(),
+                p["line"].as_u64().unwrap(),
+            )
+        })
+        .collect()
+}
+
 /// A JSON file.
 pub fn read_json(path: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
