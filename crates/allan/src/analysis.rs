@@ -308,12 +308,13 @@ fn analyze_series_grids_with_progress(
                 })
                 .collect();
             if points.is_empty() {
+                let max_m = taus::max_factor(stat, n_phase);
                 return Err(AllanError::NoUsableTau {
                     stat: stat.name(),
                     n: n_phase,
                     rate_hz: 1.0 / tau0,
-                    max_m: taus::max_factor(stat, n_phase),
-                    constraint: taus::constraint(stat, spec, tau0, taus::max_factor(stat, n_phase)),
+                    max_m,
+                    constraint: taus::constraint(stat, spec, tau0, max_m),
                 });
             }
             Ok(points)

@@ -433,6 +433,7 @@ fn fits(p: f64) -> bool {
 }
 
 fn build(all: &[Point], found: range::Found, ceilings: &[Ceiling], confidence: f64) -> NoiseModel {
+    let describes = found.attempt.describes();
     let range::Found {
         start,
         end,
@@ -491,8 +492,7 @@ fn build(all: &[Point], found: range::Found, ceilings: &[Ceiling], confidence: f
     };
     let q = best.quality;
     let within_noise = fits(q.p_value);
-    let ok = within_noise || range::within_tolerance(&best.components, &best.theta, pts);
-    let defeat = (!ok).then(|| misfit(&best, pts)).flatten();
+    let defeat = (!describes).then(|| misfit(&best, pts)).flatten();
     let spreads = best.spreads();
     // Student's t on the fit's degrees of freedom where the spreads rest on
     // the fit's own residual scatter (it exceeds what the points' covariance
@@ -543,8 +543,7 @@ fn build(all: &[Point], found: range::Found, ceilings: &[Ceiling], confidence: f
                 let (t, tlo, thi) = interval(at + 1, 1.0);
                 let n = lowpass::white_noise(&best.components, &best.theta, k, &spreads, z);
                 // Capped along the filtered process's own curve.
-                let tc = best.theta[at + 1].exp();
-                let cap = ceiling::bound(&in_range, |tau| process::gauss_markov(tau, tc) / (2.0 * tc))
+                let cap = ceiling::bound(&in_range, |tau| process::gauss_markov(tau, t) / (2.0 * t))
                     .map_or(f64::INFINITY, |b| b * slack.sqrt());
                 found.push((
                     Term::WhiteNoise,
@@ -589,7 +588,7 @@ fn build(all: &[Point], found: range::Found, ceilings: &[Ceiling], confidence: f
     // The reasons carry no number: the bound is in `bounds`, to be shown
     // in whatever unit the reader asked for.
     let terms = PerTerm::from_fn(|t| {
-        if !ok {
+        if !describes {
             return TermEstimate::NotIdentifiable(format!(
                 "no candidate model fits the curve (best {}: χ²/dof = {:.2}, p = {:.2e}){}",
                 best.label,
@@ -630,10 +629,10 @@ fn build(all: &[Point], found: range::Found, ceilings: &[Ceiling], confidence: f
     NoiseModel {
         terms,
         bounds,
-        gauss_markov: if ok { gauss_markov } else { Vec::new() },
-        low_pass: if ok { low_pass } else { None },
+        gauss_markov: if describes { gauss_markov } else { Vec::new() },
+        low_pass: if describes { low_pass } else { None },
         label,
-        fits: ok,
+        fits: describes,
         within_noise,
         fit_range,
         quality: Some(q),
