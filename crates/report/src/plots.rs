@@ -7,7 +7,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use allan::Point;
-use thermal::surface::{BinCurve, SurfaceRow};
+use thermal::surface::BinCurve;
 
 use crate::PlotError;
 
@@ -354,20 +354,9 @@ fn heat(v: f64) -> RGBColor {
     RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
-/// The ADEV over temperature as a heat map: τ (log) across, the slices'
-/// mean temperature up, σ as a log colour scale.
-pub fn adev_heatmap(
-    target: Target,
-    title: &str,
-    unit: &str,
-    rows: &[SurfaceRow],
-) -> Result<Drawn, PlotError> {
-    let slices: Vec<(f64, &[Point])> = rows.iter().map(|r| (r.t_mean_c, r.points.as_slice())).collect();
-    adev_heatmap_slices(target, title, unit, &slices)
-}
-
-/// [`adev_heatmap`] of temperature bins' curves alone, without the noise
-/// models of a surface's rows.
+/// The ADEV over temperature as a heat map: τ (log) across, the
+/// temperature bins' mean temperature up, σ as a log colour scale; from
+/// the bins' curves alone, without the noise models of a surface's rows.
 pub fn adev_heatmap_bins(
     target: Target,
     title: &str,
@@ -378,7 +367,7 @@ pub fn adev_heatmap_bins(
     adev_heatmap_slices(target, title, unit, &slices)
 }
 
-/// [`adev_heatmap`] of any slices, (mean temperature °C, OADEV points)
+/// [`adev_heatmap_bins`] of any slices, (mean temperature °C, OADEV points)
 /// each: the dynamic ADEV's windows as well as temperature bins. Each
 /// slice fills the band halfway to its neighbours in temperature.
 pub fn adev_heatmap_slices(

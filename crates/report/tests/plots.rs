@@ -2,8 +2,8 @@
 
 use allan::{Options, TauSpec, analyze};
 use report::PlotError;
-use report::plots::{Curve, Drawn, Target, adev_heatmap, adev_plot, bias_plot};
-use thermal::surface::{Slicing, surface};
+use report::plots::{Curve, Drawn, Target, adev_heatmap_bins, adev_plot, bias_plot};
+use thermal::surface::bin_curves_only;
 
 fn noise(n: usize, seed: u64) -> Vec<f64> {
     let mut s = seed;
@@ -61,8 +61,8 @@ fn adev_plot_is_svg_with_escaped_labels() {
 fn heatmap_and_bias_plot_draw() {
     let x = noise(20_000, 2);
     let t: Vec<f64> = (0..20_000).map(|i| 20.0 + i as f64 * 0.002).collect();
-    let rows = surface(&x, &t, 10.0, Slicing::Temperature { bin_width_c: 10.0 }, 0.683).unwrap();
-    let svg = svg_of(adev_heatmap(Target::Svg, "gyro_x", "rad/s", &rows));
+    let rows = bin_curves_only(&x, &t, 10.0, 10.0, 0.683).unwrap();
+    let svg = svg_of(adev_heatmap_bins(Target::Svg, "gyro_x", "rad/s", &rows));
     assert!(svg.matches("<rect").count() > 20);
     let bins: Vec<(f64, f64)> = (0..10).map(|i| (20.0 + i as f64, i as f64 * 0.1)).collect();
     let svg = svg_of(bias_plot(Target::Svg, "bias", "rad/s", &bins, &bins, &|t| {
