@@ -214,6 +214,14 @@ pub enum AnalysisError {
         /// Its reason.
         cause: ins::InsError,
     },
+    /// The Monte Carlo of the identified model gave no figures.
+    #[error("{context}: {cause}")]
+    MonteCarlo {
+        /// The file.
+        context: String,
+        /// Its reason.
+        cause: crate::monte_carlo::MonteCarloError,
+    },
 }
 
 impl AnalysisError {
@@ -249,5 +257,12 @@ impl AnalysisError {
     pub(crate) fn ins(context: impl Into<String>) -> impl FnOnce(ins::InsError) -> Self {
         let context = context.into();
         move |cause| AnalysisError::Ins { context, cause }
+    }
+
+    pub(crate) fn monte_carlo(
+        context: impl Into<String>,
+    ) -> impl FnOnce(crate::monte_carlo::MonteCarloError) -> Self {
+        let context = context.into();
+        move |cause| AnalysisError::MonteCarlo { context, cause }
     }
 }

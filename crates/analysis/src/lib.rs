@@ -72,6 +72,7 @@ pub mod file_identity;
 pub mod filters;
 pub mod info_document;
 pub mod kalibr;
+pub mod monte_carlo;
 pub mod navigation;
 pub mod navigation_document;
 pub mod noise;

@@ -26,6 +26,12 @@
 //! assert_eq!(c, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
 //! ```
 
+/// Standard gravity, m/s²: the conventional value of the 3rd CGPM (1901),
+/// the "g" of every datasheet's mg and LSB/g, of ArduPilot's `GRAVITY_MSS`
+/// and of PX4's `CONSTANTS_ONE_G`. Not the local gravity, which
+/// [`normal_gravity`] gives.
+pub const STANDARD_GRAVITY: f64 = 9.806_65;
+
 /// Earth's rotation rate, rad/s (WGS-84, Table 3.1).
 pub const EARTH_RATE: f64 = 7.292_115e-5;
 /// Semi-major axis, m (WGS-84, Table 3.1).
@@ -58,8 +64,8 @@ pub fn earth_rate_level(lat: f64) -> [f64; 3] {
 }
 
 /// The rotation from the sensor's axes to the local-level frame for a roll,
-/// pitch and heading (radians), row-major: the same roll and pitch as
-/// [`crate::sensor::gravity`], then the heading about the vertical
+/// pitch and heading (radians), row-major: the roll and pitch of a static
+/// accelerometer's reading (x = −g·sin pitch), then the heading about the vertical
 /// (clockwise from north, hence the minus sign about z up).
 pub fn body_to_level(roll: f64, pitch: f64, heading: f64) -> [[f64; 3]; 3] {
     let (sr, cr) = roll.sin_cos();

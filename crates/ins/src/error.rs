@@ -19,7 +19,4 @@ pub enum InsError {
     /// Every window held a gap.
     #[error("every window crosses a gap (NaN samples): none could be navigated")]
     NoWindow,
-    /// The Monte Carlo's simulator refused the model.
-    #[error("simulating the identified model: {0}")]
-    Simulation(#[from] imusim::SimError),
 }

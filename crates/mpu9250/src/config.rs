@@ -87,7 +87,7 @@ impl AccelRange {
 
     /// One LSB in m/s².
     pub fn lsb_si(self) -> f64 {
-        9.806_65 / self.lsb_per_g()
+        earth::STANDARD_GRAVITY / self.lsb_per_g()
     }
 }
 
