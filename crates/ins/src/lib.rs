@@ -46,6 +46,8 @@
 //! assert!((at60 - earth::STANDARD_GRAVITY * 1e-4 * 60f64.powi(3) / 6.0).abs() < 0.01 * at60);
 //! ```
 
+#![deny(missing_docs)]
+
 mod error;
 
 pub mod drift;
