@@ -88,6 +88,9 @@ struct SurfaceSlice {
     p: Vec<[f64; 2]>,
 }
 
+/// A 3D view's slices: each temperature with its (τ, σ) points.
+pub type Slices = [(f64, Vec<(f64, f64)>)];
+
 const PAGE_TEMPLATE: &str = include_str!("../templates/page.html");
 
 impl Page {
@@ -156,7 +159,7 @@ impl Page {
 
     /// Two 3D views meant to be compared (raw and compensated), drawn on
     /// one σ scale: the range of both.
-    pub fn surface3d_pair(&mut self, titles: [&str; 2], unit: &str, rows: [&[(f64, Vec<(f64, f64)>)]; 2]) {
+    pub fn surface3d_pair(&mut self, titles: [&str; 2], unit: &str, rows: [&Slices; 2]) {
         let (lo, hi) = rows
             .iter()
             .flat_map(|r| r.iter().filter(|(t, _)| t.is_finite()))
