@@ -187,8 +187,8 @@ pub fn run(a: &DemoArgs) -> Result<()> {
     // 6. Summary.
     println!("report: {}", report_path.display());
     println!(
-        "{:<8} {:>12} {:>12} {:<7} {:>12} {:>12} {}",
-        "axis", "N 34 °C", "N 82 °C", "N unit", "bias raw", "bias comp", "bias unit"
+        "{:<8} {:>12} {:>12} {:<7} {:>12} {:>12} bias unit",
+        "axis", "N 34 °C", "N 82 °C", "N unit", "bias raw", "bias comp"
     );
     let (compensation, analysed) = (&exp.compensation, &exp.runs);
     for (i, r) in analysed[0].channels.iter().enumerate() {
