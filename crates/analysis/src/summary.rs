@@ -519,6 +519,61 @@ mod tests {
         }
     }
 
+    /// The answer's second figure: the gyro axis whose bias moves most (by
+    /// magnitude), and the least and most of the gyro's bias compensation
+    /// removes; accelerometer axes take no part.
+    #[test]
+    fn the_answer_takes_the_steepest_gyro_and_the_gyros_range_removed() {
+        let axis = |name: &str, sensor: &'static str, slope: f64| AxisSummary {
+            name: name.to_string(),
+            sensor,
+            terms: Vec::new(),
+            bias_slope: Some(Slope {
+                value: slope,
+                half_width: 0.001,
+                unit: if sensor == "gyroscope" {
+                    "°/s/°C"
+                } else {
+                    "mg/°C"
+                },
+                from: "held-out run",
+            }),
+            bias_datasheet: DatasheetCell::NoDatasheet,
+            noise_growth: None,
+        };
+        let gain = |name: &str, unit: &'static str, pct: f64| CompensationGain {
+            name: name.to_string(),
+            raw: 1.0,
+            compensated: 1.0 - pct / 100.0,
+            unit,
+            reduction_pct: pct,
+        };
+        let s = Summary {
+            datasheet: None,
+            terms_run_c: None,
+            coldest_c: None,
+            hottest_c: None,
+            axes: vec![
+                axis("accel_x", "accelerometer", 9.0),
+                axis("gyro_x", "gyroscope", 0.02),
+                axis("gyro_y", "gyroscope", -0.03),
+            ],
+            compensation: vec![
+                gain("accel_x", "mg", 50.0),
+                gain("gyro_x", "°/s", 97.0),
+                gain("gyro_y", "°/s", 94.5),
+            ],
+            drift_60s: None,
+            gyro_noise_by_run: Vec::new(),
+            steepest_gyro: None,
+            gyro_removed_pct: None,
+        }
+        .with_answer();
+        let (name, slope) = s.steepest_gyro.unwrap();
+        assert_eq!((name.as_str(), slope.value), ("gyro_y", -0.03));
+        assert_eq!(s.gyro_removed_pct, Some([94.5, 97.0]));
+    }
+
     #[test]
     fn a_straight_line_gives_its_slope_with_a_null_interval() {
         let pts: Vec<(f64, f64)> = (0..10)
