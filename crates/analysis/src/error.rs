@@ -191,7 +191,7 @@ pub enum AnalysisError {
     /// A calibration slot the firmware does not have. A usage error.
     #[error(
         "{}: {} has calibration instances {} to {}",
-        Setting::Instance.given(Value::number(instance)),
+        Setting::CalibrationSlot.given(Value::number(instance)),
         firmware.name(),
         firmware.instances().start(),
         firmware.instances().end()

@@ -273,6 +273,45 @@ fn arducopter_3_2_stamps_in_milliseconds_and_says_so() {
     );
 }
 
+/// A PXF log (erle-robotics, copter 23-9-2014/53.BIN) logs IMU only part
+/// of the time: 866 messages at 50 Hz over a 131 s span. The stream table
+/// once gave the mean over the span (6.59 Hz) beside `rate 50 Hz`; it now
+/// gives the rate between messages, the clock's, and says the gaps.
+#[test]
+fn a_stream_logged_part_of_the_time_shows_its_rate_and_its_gaps() {
+    let (_d, dir) = dir();
+    let path = dir.join("partly_logged.bin");
+    // 25 Hz for 40 s, nothing for 340 s, 25 Hz for 40 s: 420 s in all.
+    let rows = static_rows(2000, 25.0, 9);
+    let rows: Vec<_> = rows[..1000]
+        .iter()
+        .cloned()
+        .chain(rows[1000..].iter().map(|r| (r.0 + 340.0, r.1, r.2, r.3)))
+        .collect();
+    dataflash(&path, DfLayout::Copter34, &rows);
+    let f = info(&path);
+    let imu = &f["streams"][0];
+    let span = rows.last().unwrap().0 - rows[0].0;
+    assert!(
+        (imu["rate_hz"].as_f64().unwrap() - 1999.0 / span).abs() < 1e-6,
+        "{imu}"
+    );
+    assert!(
+        (imu["step_rate_hz"].as_f64().unwrap() - 25.0).abs() < 1e-6,
+        "{imu}"
+    );
+    let text = String::from_utf8(succeed(&mut cli!["info", &path]).stdout).unwrap();
+    let row = text.lines().find(|l| l.starts_with("  read IMU/0")).unwrap();
+    assert!(row.contains(" 25 Hz"), "{text}");
+    assert!(
+        text.contains(
+            "IMU/0 logs at 25 Hz for about 19 % of its 420.0 s (4.75998 Hz on average): the rest are gaps"
+        ),
+        "{text}"
+    );
+    assert!(text.contains("  rate         25 Hz"), "{text}");
+}
+
 #[test]
 fn an_fmuv5_clock_with_unlogged_messages_keeps_its_rate() {
     // sensor_combined as an FMUv5 logged it: 5 ms steps, with stretches
