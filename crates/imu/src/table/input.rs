@@ -6,6 +6,7 @@
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use super::MAX_LINE_BYTES;
@@ -24,6 +25,9 @@ pub(super) struct Input {
     pub file_bytes: Option<u64>,
     /// The last bytes of the stream read so far.
     pub tail: Arc<Mutex<Vec<u8>>>,
+    /// The bytes of the stream read so far, decompressed: what bounds the
+    /// columns of an input of unknown size.
+    pub decoded: Arc<AtomicU64>,
 }
 
 /// Opens `path` (`-`: standard input), decompressing gzip.
@@ -62,17 +66,20 @@ pub(super) fn from_raw(
         Box::new(buffered)
     };
     let tail = Arc::new(Mutex::new(Vec::new()));
+    let counted = Arc::new(AtomicU64::new(0));
     let reader = Box::new(BufReader::with_capacity(
         1 << 16,
         TailKeeper {
             inner: decoded,
             tail: Arc::clone(&tail),
+            decoded: Arc::clone(&counted),
         },
     ));
     Ok(Input {
         reader,
         file_bytes: if gz { None } else { regular_bytes },
         tail,
+        decoded: counted,
     })
 }
 
@@ -118,17 +125,19 @@ pub(super) fn read_line_bounded(input: &mut dyn BufRead, raw: &mut Vec<u8>) -> s
     }
 }
 
-/// Passes a stream through, keeping its last [`TAIL_BYTES`]: the trailer
+/// Passes a stream through, counting its bytes and keeping its last [`TAIL_BYTES`]: the trailer
 /// is found there without reading the input a second time (which a pipe
 /// cannot give, and a live stream would lose bytes to).
 struct TailKeeper {
     inner: Box<dyn Read + Send>,
     tail: Arc<Mutex<Vec<u8>>>,
+    decoded: Arc<AtomicU64>,
 }
 
 impl Read for TailKeeper {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
         let n = self.inner.read(buf)?;
+        self.decoded.fetch_add(n as u64, Ordering::Relaxed);
         let mut tail = self.tail.lock().unwrap_or_else(|p| p.into_inner());
         // Only the last TAIL_BYTES of a read can still be the tail: a block
         // read of a megabyte copies 64 KiB, not all of it (the copy was a
