@@ -22,7 +22,8 @@
 //! error too.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
+
+use super::input::Seen;
 
 use crate::error::{LimitBound, ReadErrorKind};
 
@@ -36,6 +37,9 @@ pub const FLOOR: u64 = 64 << 20;
 /// The most the columns of an input of unknown size (gzip, a pipe) may
 /// take, on any machine.
 pub const STREAM_CAP: u64 = 640 << 20;
+
+// Ten million rows of seven columns fit the cap.
+const _: () = assert!(10_000_000 * 7 * VALUE_BYTES <= STREAM_CAP);
 
 /// The bytes the columns may take, or `None` when nothing bounds them:
 /// the machine's and the process's bounds.
@@ -58,7 +62,7 @@ fn machine_limit() -> Option<(u64, LimitBound)> {
 #[derive(Debug, Clone, Default)]
 pub(super) struct Limit {
     ceiling: Option<(u64, LimitBound)>,
-    read: Option<Arc<AtomicU64>>,
+    read: Option<Arc<Seen>>,
 }
 
 impl Limit {
@@ -73,12 +77,12 @@ impl Limit {
 
     /// The limit of an input: a regular file of `file_bytes`, or a stream
     /// whose decoded bytes so far `read` counts.
-    pub fn of_input(file_bytes: Option<u64>, read: &Arc<AtomicU64>) -> Self {
+    pub fn of_input(file_bytes: Option<u64>, read: &Arc<Seen>) -> Self {
         Self::of_input_capped(file_bytes, read, STREAM_CAP)
     }
 
     /// [`Limit::of_input`] with a stream's cap of `cap` bytes.
-    pub fn of_input_capped(file_bytes: Option<u64>, read: &Arc<AtomicU64>, cap: u64) -> Self {
+    pub fn of_input_capped(file_bytes: Option<u64>, read: &Arc<Seen>, cap: u64) -> Self {
         let input = match file_bytes {
             Some(b) if b.saturating_mul(BYTES_PER_BYTE_READ) <= FLOOR => (FLOOR, LimitBound::Floor),
             Some(b) => (
@@ -108,7 +112,7 @@ impl Limit {
         let Some(read) = &self.read else {
             return Some(ceiling);
         };
-        let bytes = read.load(Ordering::Relaxed);
+        let bytes = read.bytes();
         let grown = bytes.saturating_mul(BYTES_PER_BYTE_READ);
         Some(if grown >= ceiling.0 {
             ceiling
@@ -302,7 +306,8 @@ mod tests {
 
     #[test]
     fn a_streams_limit_grows_with_its_bytes_up_to_its_cap_and_a_files_is_its_size() {
-        let read = Arc::new(AtomicU64::new(0));
+        use std::sync::atomic::Ordering;
+        let read = Arc::new(Seen::default());
         let cap = 640 << 20;
         let stream = Limit::of_input_capped(None, &read, cap);
         let machine = machine_limit().map_or(u64::MAX, |(l, _)| l);
@@ -314,18 +319,16 @@ mod tests {
             }
         };
         assert_eq!(stream.now(), expect(FLOOR, LimitBound::Floor));
-        read.store(20 << 20, Ordering::Relaxed);
+        read.bytes.store(20 << 20, Ordering::Relaxed);
         assert_eq!(
             stream.now(),
             expect(160 << 20, LimitBound::BytesRead { bytes: 20 << 20 })
         );
         // A bomb's gigabytes of text: the cap, wherever it runs.
-        read.store(4 << 30, Ordering::Relaxed);
+        read.bytes.store(4 << 30, Ordering::Relaxed);
         assert_eq!(stream.now(), expect(cap, LimitBound::StreamCap));
-        // Ten million rows of seven columns fit the cap.
-        assert!(10_000_000 * 7 * VALUE_BYTES <= STREAM_CAP);
         // A regular file: its size, known before the body, whatever is read.
-        read.store(0, Ordering::Relaxed);
+        read.bytes.store(0, Ordering::Relaxed);
         let file = Limit::of_input_capped(Some(1 << 30), &read, cap);
         assert_eq!(
             file.now(),

@@ -23,11 +23,25 @@ pub(super) struct Input {
     /// The file's size when it is a regular, uncompressed file (a pipe's
     /// or a gzip file's size says nothing of the data).
     pub file_bytes: Option<u64>,
+    /// What of the stream has gone by.
+    pub seen: Arc<Seen>,
+}
+
+/// What of a stream has gone by, shared with its reader.
+#[derive(Debug, Default)]
+pub(super) struct Seen {
     /// The last bytes of the stream read so far.
-    pub tail: Arc<Mutex<Vec<u8>>>,
+    pub tail: Mutex<Vec<u8>>,
     /// The bytes of the stream read so far, decompressed: what bounds the
     /// columns of an input of unknown size.
-    pub decoded: Arc<AtomicU64>,
+    pub bytes: AtomicU64,
+}
+
+impl Seen {
+    /// The bytes read so far.
+    pub fn bytes(&self) -> u64 {
+        self.bytes.load(Ordering::Relaxed)
+    }
 }
 
 /// Opens `path` (`-`: standard input), decompressing gzip.
@@ -65,21 +79,18 @@ pub(super) fn from_raw(
     } else {
         Box::new(buffered)
     };
-    let tail = Arc::new(Mutex::new(Vec::new()));
-    let counted = Arc::new(AtomicU64::new(0));
+    let seen = Arc::new(Seen::default());
     let reader = Box::new(BufReader::with_capacity(
         1 << 16,
         TailKeeper {
             inner: decoded,
-            tail: Arc::clone(&tail),
-            decoded: Arc::clone(&counted),
+            seen: Arc::clone(&seen),
         },
     ));
     Ok(Input {
         reader,
         file_bytes: if gz { None } else { regular_bytes },
-        tail,
-        decoded: counted,
+        seen,
     })
 }
 
@@ -130,15 +141,14 @@ pub(super) fn read_line_bounded(input: &mut dyn BufRead, raw: &mut Vec<u8>) -> s
 /// cannot give, and a live stream would lose bytes to).
 struct TailKeeper {
     inner: Box<dyn Read + Send>,
-    tail: Arc<Mutex<Vec<u8>>>,
-    decoded: Arc<AtomicU64>,
+    seen: Arc<Seen>,
 }
 
 impl Read for TailKeeper {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
         let n = self.inner.read(buf)?;
-        self.decoded.fetch_add(n as u64, Ordering::Relaxed);
-        let mut tail = self.tail.lock().unwrap_or_else(|p| p.into_inner());
+        self.seen.bytes.fetch_add(n as u64, Ordering::Relaxed);
+        let mut tail = self.seen.tail.lock().unwrap_or_else(|p| p.into_inner());
         // Only the last TAIL_BYTES of a read can still be the tail: a block
         // read of a megabyte copies 64 KiB, not all of it (the copy was a
         // tenth of the reading time).

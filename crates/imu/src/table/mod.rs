@@ -15,7 +15,6 @@
 
 use std::io::{BufRead, Read};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicU64;
 use std::sync::{Arc, Mutex};
 
 use crate::error::{ReadError, ReadErrorKind};
@@ -63,10 +62,8 @@ pub struct TableReader {
     /// Whether the first data row (when there is no header) ended with a
     /// newline.
     pending_terminated: bool,
-    /// The last bytes of the stream read so far.
-    tail: Arc<Mutex<Vec<u8>>>,
-    /// The bytes of the stream read so far, decompressed.
-    decoded: Arc<AtomicU64>,
+    /// What of the stream has gone by: its last bytes, its length.
+    seen: Arc<input::Seen>,
     /// What was passed before the table: a preamble, rows cut short.
     passed: Vec<ReadError>,
 }
@@ -270,8 +267,7 @@ impl TableReader {
             line_no: head.line_no,
             file_bytes: input.file_bytes,
             pending_terminated: head.terminated,
-            tail: input.tail,
-            decoded: input.decoded,
+            seen: input.seen,
             passed,
         })
     }
@@ -353,7 +349,7 @@ impl TableReader {
 
     /// [`TableReader::read`] under a policy for bad rows.
     pub fn read_with(self, select: Option<&[usize]>, policy: &ReadPolicy) -> Result<Table, ReadError> {
-        let limit = budget::Limit::of_input(self.file_bytes, &self.decoded);
+        let limit = budget::Limit::of_input(self.file_bytes, &self.seen);
         self.read_limited(select, policy, limit)
     }
 
@@ -416,7 +412,7 @@ impl TableReader {
             line_no,
             file_bytes,
             pending_terminated,
-            tail,
+            seen,
             passed,
             ..
         } = self;
@@ -428,7 +424,7 @@ impl TableReader {
             file_bytes,
         };
         let lines = blocks::read_body(&mut input, &path, &layout, start, &mut got)?;
-        let trailer = input::find_trailer(&tail.lock().unwrap_or_else(|p| p.into_inner()));
+        let trailer = input::find_trailer(&seen.tail.lock().unwrap_or_else(|p| p.into_inner()));
         let blocks::Collected {
             columns,
             problems: body_problems,

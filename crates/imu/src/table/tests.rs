@@ -528,7 +528,7 @@ fn a_gzip_of_long_rows_is_held_to_the_streams_cap_and_the_same_rows_plain_read()
     let read = |bytes: &[u8]| {
         let f = file(bytes);
         let r = TableReader::open(f.path()).unwrap();
-        let limit = super::budget::Limit::of_input_capped(r.file_bytes, &r.decoded, cap);
+        let limit = super::budget::Limit::of_input_capped(r.file_bytes, &r.seen, cap);
         r.read_limited(None, &ReadPolicy::default(), limit)
     };
     let e = read(&gzip(content.as_bytes())).unwrap_err();
