@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use imu::timing::{analyze_timestamps, regularize};
+use imu::timing::{analyze_timestamps, regularize_gapped};
 use imu::{Axis, Channel, Problem, ProblemKind, Quantity, ReadReport, Recording, Setting, Value};
 
 use crate::error::{LogError, LogErrorKind, RateTooHigh};
@@ -547,19 +547,26 @@ fn build(
             .is_some_and(|tm| tm.gaps.is_empty() && tm.duplicates.is_empty());
     let (grid, dropped) = match rate {
         Some(_) if in_place => (columns, Vec::new()),
-        Some(r) => regularize(
-            &t,
-            r,
-            &columns,
-            c.max_grid_factor.unwrap_or(imu::timing::MAX_GRID_FACTOR),
-        )
-        .ok_or_else(|| {
-            let own = timing.as_ref().map(|tm| tm.rate_hz);
-            let factor = c.max_grid_factor.unwrap_or(imu::timing::MAX_GRID_FACTOR);
-            LogError::new(path, bad_clock(&s.name, &t, c.rate_hz, own, factor))
-        })?,
+        Some(r) => {
+            let factor = timing
+                .as_ref()
+                .map_or(c.max_grid_factor.unwrap_or(imu::timing::MAX_GRID_FACTOR), |tm| {
+                    tm.grid_factor(c.max_grid_factor, r)
+                });
+            let gap_above = timing
+                .as_ref()
+                .map_or(imu::timing::GAP_FACTOR / r, |tm| tm.gap_above_for(r));
+            regularize_gapped(&t, r, gap_above, &columns, factor).ok_or_else(|| {
+                let own = timing.as_ref().map(|tm| tm.rate_hz);
+                LogError::new(path, bad_clock(&s.name, &t, c.rate_hz, own, factor))
+            })?
+        }
         None => (columns, Vec::new()),
     };
+    if let Some(tm) = &timing {
+        let slots = grid.first().map_or(0, Vec::len);
+        report.notes.extend(tm.pattern_note(messages, slots));
+    }
     if let Some(tm) = &timing {
         let mut since = 0usize;
         for &(row, missing) in &tm.gaps {
