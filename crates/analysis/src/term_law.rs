@@ -5,13 +5,14 @@
 //! every pair of temperatures compared by a two-sample z test on ln(term).
 //!
 //! **The weights are the noise model's own intervals.** `allan::noise_model`
-//! gives a term as `exp(θ/2)` with the interval `exp((θ ± z·sd)/2)`: it is
-//! symmetric in ln(term), z being the normal quantile of its confidence (or
-//! Student's t on the fit's degrees of freedom where a misfit widened it),
-//! and only its upper end may be cut by the measured ceiling. The standard
-//! deviation of ln(term) is therefore read from the lower half,
-//! ln(value/lo)/z with the normal z: where the model took Student's t this
-//! overstates it, a conservative weight.
+//! gives a term as `exp(θ/2)` with the interval `exp((θ ± q·sd)/2)`: it is
+//! symmetric in ln(term), and only its upper end may be cut by the measured
+//! ceiling. q is the normal quantile of its confidence where the spread
+//! rests on the points' covariance alone, and Student's t on the fit's
+//! degrees of freedom where the fit's own scatter exceeds it (χ² above its
+//! expectation) and scales it. The standard deviation of ln(term) is
+//! therefore read from the lower half, ln(value/lo)/q, with q taken as the
+//! model took it: Student's t where χ²/dof exceeds 1 ([`model_quantile`]).
 //!
 //! **A bound is not a value.** A term the model holds only as an upper
 //! bound at some temperature is left out of the fit and of the comparisons,
@@ -24,9 +25,11 @@
 //! a spurious dependence nearly every time. The intervals keep the
 //! confidence asked for.
 
+use allan::noise_model::NoiseModel;
 use allan::noise_terms::{Chosen, NoiseTerms, Term};
 use serde::Serialize;
 use statrs::distribution::{ChiSquared, ContinuousCDF, Normal, StudentsT};
+use thermal::surface::{Slicing, Surface};
 
 /// The p-value below which a slope or a difference is called real.
 pub const SIGNIFICANCE: f64 = 0.01;
@@ -56,7 +59,7 @@ impl Reading {
     /// `term` of a run's noise terms, its interval read at `confidence`
     /// (the model's, [`allan::noise_model::NoiseModel::confidence`]).
     pub fn of(terms: &NoiseTerms, term: Term) -> Reading {
-        let z = quantile(terms.model.confidence);
+        let z = model_quantile(&terms.model);
         match terms.choose(term).chosen {
             Chosen::Model(v) => {
                 let sd_ln = (v.value / v.lo).ln() / z;
@@ -213,6 +216,21 @@ pub struct Law {
     pub differences: Vec<Difference>,
 }
 
+/// The quantile the noise model set its intervals with: Student's t on
+/// its degrees of freedom where its spreads were scaled by the fit's own
+/// scatter (χ² above its expectation, which is the degrees of freedom for
+/// independent points and near them for the correlated octave points),
+/// the normal quantile otherwise.
+pub fn model_quantile(m: &NoiseModel) -> f64 {
+    let p = 0.5 + m.confidence / 2.0;
+    match m.quality {
+        Some(q) if q.chi2_reduced > 1.0 && q.dof > 0 => {
+            StudentsT::new(0.0, 1.0, q.dof as f64).map_or(f64::INFINITY, |t| t.inverse_cdf(p))
+        }
+        _ => quantile(m.confidence),
+    }
+}
+
 /// The normal quantile of a two-sided `confidence`.
 fn quantile(confidence: f64) -> f64 {
     Normal::standard().inverse_cdf(0.5 + confidence / 2.0)
@@ -289,10 +307,12 @@ impl Law {
     pub fn describe(&self, channel: &str) -> String {
         let symbol = self.term.symbol();
         let mut text = match &self.fit {
+            None if self.used_c.is_empty() => {
+                format!("{channel} {symbol}: no value at any temperature, no law over temperature")
+            }
             None => format!(
-                "{channel} {symbol}: a value at {} temperature{}, no law over temperature",
-                self.used_c.len(),
-                if self.used_c.len() == 1 { "" } else { "s" }
+                "{channel} {symbol}: a value at one temperature only ({}), no law over temperature",
+                temp_text(self.used_c[0])
             ),
             Some(f) => {
                 let change = format!(
@@ -607,6 +627,35 @@ impl LawEntry {
             widened: f.is_some_and(|f| f.widened),
         }
     }
+}
+
+/// The laws of [`LAW_TERMS`] over a surface's slices (`thermal`'s bins),
+/// each slice at its mean temperature; `None` where the slices share
+/// samples (time windows stepped by less than their length): their terms
+/// are not independent, and a law weighing them as if they were would
+/// claim more than the data hold.
+pub fn surface_laws(surface: &Surface, slicing: Slicing, confidence: f64) -> Option<Vec<Law>> {
+    if let Slicing::Time { window_s, step_s } = slicing
+        && step_s < window_s
+    {
+        return None;
+    }
+    Some(
+        LAW_TERMS
+            .iter()
+            .map(|&term| {
+                let at: Vec<At> = surface
+                    .rows
+                    .iter()
+                    .map(|r| At {
+                        t_c: r.t_mean_c,
+                        reading: Reading::of(&r.terms, term),
+                    })
+                    .collect();
+                Law::fit(term, &at, confidence)
+            })
+            .collect(),
+    )
 }
 
 /// The terms whose laws the outputs give: white noise, bias instability

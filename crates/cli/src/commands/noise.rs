@@ -643,6 +643,22 @@ fn write_thesis_tables(out: &mut impl Write, analysis: Analysis, units: Units) -
             writeln!(out)?;
         }
     }
+    if tables.over_temperature() {
+        writeln!(
+            out,
+            "Over temperature: ln(term) linear in T, each run weighted by its interval ({:.0} %); a dependence or \
+             a difference is called at p < {}",
+            100.0 * analysis.confidence,
+            analysis::term_law::SIGNIFICANCE
+        )?;
+        for (name, law) in tables.laws(analysis.confidence) {
+            writeln!(out, "  {}", law.describe(name))?;
+            if !law.differences.is_empty() {
+                writeln!(out, "    {}", law.describe_differences())?;
+            }
+        }
+        writeln!(out)?;
+    }
     Ok(())
 }
 

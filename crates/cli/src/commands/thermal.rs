@@ -105,6 +105,17 @@ pub fn run(a: &ThermalArgs) -> Result<()> {
                 }
                 writeln!(out, "{line}")?;
             }
+            match analysis::term_law::surface_laws(surface, slicing, confidence) {
+                Some(laws) => {
+                    for law in laws {
+                        writeln!(out, "# {}", law.describe(name))?;
+                    }
+                }
+                None => writeln!(
+                    out,
+                    "# no law over temperature: the windows overlap, their terms are not independent"
+                )?,
+            }
             for k in &surface.skipped {
                 writeln!(
                     out,
