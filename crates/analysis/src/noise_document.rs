@@ -45,7 +45,8 @@ pub struct NoiseDocument {
 pub struct FileEntry {
     /// Its path.
     pub file: String,
-    /// Its mean temperature, °C.
+    /// Its temperature column's mean, °C; where it has no such column,
+    /// the temperature its metadata states (`temperature_c`).
     pub mean_temperature_c: Option<f64>,
     /// Its sample rate, Hz.
     pub rate_hz: f64,

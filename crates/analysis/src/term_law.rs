@@ -184,17 +184,14 @@ impl Difference {
         let (a, b) = (temp_text(self.a_c), temp_text(self.b_c));
         if self.significant() {
             format!(
-                "{a} and {b} differ in {symbol}: ×{:.3} [{:.3}, {:.3}] (p = {})",
+                "{a} and {b} differ in {symbol}: ×{:.3} [{:.3}, {:.3}] ({})",
                 self.ratio.value,
                 self.ratio.lo,
                 self.ratio.hi,
                 p_text(self.p_value)
             )
         } else {
-            format!(
-                "{a} and {b} do not differ in {symbol} (p = {})",
-                p_text(self.p_value)
-            )
+            format!("{a} and {b} do not differ in {symbol} ({})", p_text(self.p_value))
         }
     }
 }
@@ -340,7 +337,7 @@ impl Law {
                             )
                         };
                         format!(
-                            "{channel} {symbol} {word} {} % [{}, {}] from {} to {} °C (p = {})",
+                            "{channel} {symbol} {word} {} % [{}, {}] from {} to {} °C ({})",
                             size(c.value),
                             size(c.lo),
                             size(c.hi),
@@ -350,7 +347,7 @@ impl Law {
                         )
                     }
                     _ => format!(
-                        "{channel} {symbol} shows no temperature dependence here: {change} (p = {})",
+                        "{channel} {symbol} shows no temperature dependence here: {change} ({})",
                         p_text(f.p_value)
                     ),
                 }
@@ -405,10 +402,7 @@ impl Law {
                 .iter()
                 .map(|d| d.p_value)
                 .fold(f64::INFINITY, f64::min);
-            format!(
-                "no two temperatures differ in {symbol} (smallest p = {})",
-                p_text(p)
-            )
+            format!("no two temperatures differ in {symbol} (smallest {})", p_text(p))
         } else {
             differ.join("; ")
         }
@@ -524,14 +518,18 @@ fn temp_text(t: f64) -> String {
     format!("{} °C", number(t))
 }
 
-/// A p-value: two decimals from 0.01, three from 0.001, scientific below.
+/// A p-value as the sentences give it: "p = 0.41" (two decimals from
+/// 0.01, three from 0.001, scientific below), "p < 1e-12" below that, where
+/// the normal tail no longer says anything of the data.
 pub fn p_text(p: f64) -> String {
     if p >= 0.01 {
-        format!("{p:.2}")
+        format!("p = {p:.2}")
     } else if p >= 0.001 {
-        format!("{p:.3}")
+        format!("p = {p:.3}")
+    } else if p >= 1e-12 {
+        format!("p = {p:.1e}")
     } else {
-        format!("{p:.1e}")
+        "p < 1e-12".to_string()
     }
 }
 
@@ -658,6 +656,25 @@ pub fn surface_laws(surface: &Surface, slicing: Slicing, confidence: f64) -> Opt
     )
 }
 
+/// One sentence naming the channels' terms of `laws` that have no law
+/// (a value at fewer than two temperatures; bounds are left out), for a
+/// table that lists only the laws there are; `None` where every term has
+/// one.
+pub fn without_law(laws: &[(&str, Law)]) -> Option<String> {
+    let names: Vec<String> = laws
+        .iter()
+        .filter(|(_, l)| l.fit.is_none())
+        .map(|(c, l)| format!("{c} {}", l.term.symbol()))
+        .collect();
+    (!names.is_empty()).then(|| {
+        format!(
+            "no law over temperature (a value at fewer than two temperatures; an upper bound is left out, \
+             never taken for a value): {}",
+            names.join(", ")
+        )
+    })
+}
+
 /// The terms whose laws the outputs give: white noise, bias instability
 /// and rate random walk, the three every model is asked about.
 pub const LAW_TERMS: [Term; 3] = [Term::WhiteNoise, Term::BiasInstability, Term::RateRandomWalk];
@@ -735,7 +752,7 @@ mod tests {
         assert!((d.ratio.lo - (0.095_31 - 1.959_96 * 0.05f64).exp()).abs() < 1e-4);
         assert_eq!(
             d.describe("N"),
-            format!("34 °C and 43 °C do not differ in N (p = {})", p_text(d.p_value))
+            format!("34 °C and 43 °C do not differ in N ({})", p_text(d.p_value))
         );
         // Two points fix the line: no χ² to test it by.
         assert_eq!(law.fit.unwrap().fit_p_value, None);
@@ -805,12 +822,51 @@ mod tests {
     }
 
     #[test]
+    fn a_run_gives_its_value_with_the_models_spread_and_its_bounds() {
+        // Uniform white noise: the model holds N and bounds K.
+        let y: Vec<f64> = allan::work::uniform(0x9e37_79b9_7f4a_7c15)
+            .take(20_000)
+            .map(|u| u - 0.5)
+            .collect();
+        let (_, terms) = allan::noise_terms::analyze_terms(&y, 10.0, 0.95).unwrap();
+        let v = *terms.model.get(Term::WhiteNoise).value().unwrap();
+        let Reading::Value { value, sd_ln } = Reading::of(&terms, Term::WhiteNoise) else {
+            panic!("N is a value of white noise's model")
+        };
+        assert_eq!(value, v.value);
+        // The model's lower end, at the quantile it took.
+        let q = model_quantile(&terms.model);
+        assert!(((value.ln() - q * sd_ln).exp() - v.lo).abs() < 1e-12 * v.lo);
+        assert!(matches!(
+            Reading::of(&terms, Term::RateRandomWalk),
+            Reading::Bound(_)
+        ));
+    }
+
+    #[test]
+    fn overlapping_windows_get_no_law() {
+        let surface = Surface {
+            rows: Vec::new(),
+            skipped: Vec::new(),
+        };
+        let time = |step_s| Slicing::Time {
+            window_s: 10.0,
+            step_s,
+        };
+        assert!(surface_laws(&surface, time(5.0), 0.95).is_none());
+        assert_eq!(surface_laws(&surface, time(10.0), 0.95).unwrap().len(), 3);
+        let bins = Slicing::Temperature { bin_width_c: 5.0 };
+        assert!(surface_laws(&surface, bins, 0.95).is_some());
+    }
+
+    #[test]
     fn percent_and_p_texts() {
         assert_eq!(pct(0.13), "+13 %");
         assert_eq!(pct(-0.042), "−4.2 %");
         assert_eq!(pct(-0.0001), "+0.0 %");
-        assert_eq!(p_text(0.41), "0.41");
-        assert_eq!(p_text(0.0031), "0.003");
-        assert_eq!(p_text(3.1e-5), "3.1e-5");
+        assert_eq!(p_text(0.41), "p = 0.41");
+        assert_eq!(p_text(0.0031), "p = 0.003");
+        assert_eq!(p_text(3.1e-5), "p = 3.1e-5");
+        assert_eq!(p_text(0.0), "p < 1e-12");
     }
 }

@@ -11,7 +11,7 @@ use analysis::experiment::{COMPARED_AT_S, Experiment};
 use analysis::navigation::{Navigated, Plan, Row};
 use analysis::noise::{ChannelNoise, FIGURE_CONFIDENCE, RunNoise, held_value};
 use analysis::selection::Selection;
-use analysis::term_law::SIGNIFICANCE;
+use analysis::term_law::{SIGNIFICANCE, without_law};
 use analysis::thesis::ThesisTables;
 use analysis::units::{deg, si_unit};
 use imu::Quantity;
@@ -246,11 +246,13 @@ pub fn noise_tables(page: &mut Page, runs: &[RunNoise]) {
     // Which of the tables' differences are real: each axis's law over the
     // runs' temperatures and every pair of runs compared.
     if tables.over_temperature() {
-        let rows: Vec<Vec<String>> = tables
-            .laws(FIGURE_CONFIDENCE)
+        let laws = tables.laws(FIGURE_CONFIDENCE);
+        let mut rows: Vec<Vec<String>> = laws
             .iter()
+            .filter(|(_, l)| l.fit.is_some())
             .map(|(name, law)| vec![law.describe(name), law.describe_differences()])
             .collect();
+        rows.extend(without_law(&laws).map(|rest| vec![rest, "—".to_string()]));
         page.table(
             &format!(
                 "Over temperature: ln(term) linear in T, each run weighted by its 95 % interval; a dependence or a \
