@@ -496,7 +496,7 @@ fn pct(x: f64) -> String {
     } else {
         format!("{:.1}", v.abs())
     };
-    let sign = if v < 0.0 && text.trim_start_matches(['0', '.']) != "" {
+    let sign = if v < 0.0 && !text.trim_start_matches(['0', '.']).is_empty() {
         "−"
     } else {
         "+"
