@@ -31,6 +31,10 @@
 //!   its temperature sensitivity, the compensation's gain, the drift at 60 s;
 //! - [`thesis`]: the thesis's noise tables as one model, drawn as text or
 //!   HTML by their callers;
+//! - [`term_law`]: each noise term's law over temperature across runs or
+//!   bins, its interval and whether it is real, and every pair of
+//!   temperatures compared (a regression on the models' results, the one
+//!   statistic of this crate's own);
 //! - [`kalibr`]: Kalibr's `imu.yaml`;
 //! - [`navigation`]: what the noise costs in metres without GNSS;
 //! - [`compensation`]: the temperature compensation's fit, checks,
@@ -91,6 +95,7 @@ pub mod source;
 pub mod source_facts;
 pub mod summary;
 pub mod tcal_instances;
+pub mod term_law;
 pub mod thermal_document;
 pub mod thesis;
 pub mod units;

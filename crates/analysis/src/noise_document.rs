@@ -2,7 +2,8 @@
 //! types. The schema only gains fields: those of the former slope method
 //! and fit (`slope`, `fit`, `chosen`, `fit_chi2_reduced`, `fit_points`,
 //! `fit_left_out_taus`, `disagreements`) are kept and filled from the one
-//! selected noise model; `model`, `filters` and `state_space` are new.
+//! selected noise model; `model`, `filters` and `state_space` are new, and
+//! `over_temperature` (the terms' law over the files' temperatures).
 
 use std::path::PathBuf;
 
@@ -12,6 +13,8 @@ use serde::Serialize;
 
 use crate::filters::{FilterParams, StateSpaceTerm, filter_params, gauss_markov_state_space};
 use crate::selection::SelectedChannel;
+use crate::term_law::LawEntry;
+use crate::thesis::ThesisTables;
 use crate::units::{Units, density_of, unit_of};
 
 /// The schema's name and version.
@@ -31,6 +34,10 @@ pub struct NoiseDocument {
     pub units: &'static str,
     /// One entry per input file.
     pub files: Vec<FileEntry>,
+    /// With two or more files at known temperatures: each axis's N, B
+    /// and K over the files' temperatures, its law and every pair of
+    /// files compared ([`crate::term_law`]); empty otherwise.
+    pub over_temperature: Vec<LawEntry>,
 }
 
 /// One input file.
@@ -38,7 +45,8 @@ pub struct NoiseDocument {
 pub struct FileEntry {
     /// Its path.
     pub file: String,
-    /// Its mean temperature, °C.
+    /// Its temperature column's mean, °C; where it has no such column,
+    /// the temperature its metadata states (`temperature_c`).
     pub mean_temperature_c: Option<f64>,
     /// Its sample rate, Hz.
     pub rate_hz: f64,
@@ -530,7 +538,21 @@ impl NoiseDocument {
         confidence: f64,
         units: Units,
     ) -> NoiseDocument {
+        let tables = ThesisTables::new(
+            temps.to_vec(),
+            channels.iter().map(|c| (c.file_index, c.channel, c.terms)),
+        );
+        let over_temperature = if tables.over_temperature() {
+            tables
+                .laws(confidence)
+                .iter()
+                .map(|(name, law)| LawEntry::new(name, law))
+                .collect()
+        } else {
+            Vec::new()
+        };
         NoiseDocument {
+            over_temperature,
             schema: SCHEMA,
             imutherm_version: env!("CARGO_PKG_VERSION"),
             confidence,

@@ -20,7 +20,15 @@ pub struct RecordingFacts {
     pub problems: Vec<Problem>,
     /// Problems beyond those listed.
     pub unlisted: usize,
+    /// The run's temperature as its metadata states it
+    /// ([`TEMPERATURE_KEY`]), °C: a constant-temperature run logged
+    /// without a temperature column.
+    pub temperature_c: Option<f64>,
 }
+
+/// The metadata entry that states a run's temperature, °C
+/// (`# temperature_c: 34` in a text log).
+pub const TEMPERATURE_KEY: &str = "temperature_c";
 
 impl RecordingFacts {
     /// The facts of `rec`, read with `report`, before any channel of it is
@@ -33,6 +41,11 @@ impl RecordingFacts {
             duration_s: rec.duration_s(),
             problems: report.problems.clone(),
             unlisted: report.unlisted,
+            temperature_c: rec
+                .meta
+                .get(TEMPERATURE_KEY)
+                .and_then(|v| v.trim().parse::<f64>().ok())
+                .filter(|t| t.is_finite()),
         }
     }
 }

@@ -6,12 +6,15 @@
 //! serialises with their keys sorted; its consumers read that order, so
 //! every struct below declares its fields in the byte order of their JSON
 //! names (capitals first: `B`, `K`, `N`, `sigma_min`). The schema only
-//! gains fields.
+//! gains fields (`over_temperature`, each term's law over the slices, is
+//! new).
 
 use allan::Point;
 use allan::noise_terms::{Term, TermEstimate, TermValue};
 use serde::Serialize;
 use thermal::surface::{SkippedSlice, Slicing, Surface, SurfaceRow};
+
+use crate::term_law::{LawEntry, surface_laws};
 
 /// The schema's name and version.
 pub const SCHEMA: &str = "imutherm.thermal/1";
@@ -51,6 +54,10 @@ pub struct ThermalDocument {
 pub struct ThermalChannel {
     /// Its name.
     pub name: String,
+    /// N, B and K over the slices' mean temperatures: each term's law and
+    /// every pair of slices compared ([`crate::term_law`]); empty where
+    /// time windows overlap (their terms are not independent).
+    pub over_temperature: Vec<LawEntry>,
     /// One row per slice with a curve, in order.
     pub rows: Vec<ThermalRow>,
     /// The slices with samples but no curve.
@@ -174,7 +181,10 @@ impl ThermalDocument {
     ) -> Self {
         ThermalDocument {
             by: slicing_name(slicing),
-            channels: channels.iter().map(ThermalChannel::of).collect(),
+            channels: channels
+                .iter()
+                .map(|c| ThermalChannel::of(c, slicing, confidence))
+                .collect(),
             confidence,
             file,
             imutherm_version,
@@ -185,9 +195,14 @@ impl ThermalDocument {
 }
 
 impl ThermalChannel {
-    fn of(ch: &SlicedChannel<'_>) -> Self {
+    fn of(ch: &SlicedChannel<'_>, slicing: Slicing, confidence: f64) -> Self {
         ThermalChannel {
             name: ch.name.to_owned(),
+            over_temperature: surface_laws(ch.surface, slicing, confidence)
+                .unwrap_or_default()
+                .iter()
+                .map(|law| LawEntry::new(ch.name, law))
+                .collect(),
             rows: ch.surface.rows.iter().map(ThermalRow::of).collect(),
             skipped: ch.surface.skipped.iter().map(ThermalSkipped::of).collect(),
             unit: ch.unit.to_owned(),

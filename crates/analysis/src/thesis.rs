@@ -3,10 +3,11 @@
 //! `imutherm noise` and the HTML tables of a report are both drawn from
 //! this one model; only their cell formats differ.
 
-use allan::noise_terms::NoiseTerms;
+use allan::noise_terms::{NoiseTerms, Term};
 use imu::Quantity;
 
 use crate::selection::SelectedChannel;
+use crate::term_law::{At, LAW_TERMS, Law, Reading};
 
 /// The tables.
 pub struct ThesisTables<'a> {
@@ -94,9 +95,49 @@ impl<'a> ThesisTables<'a> {
         ThesisTables { columns, groups }
     }
 
+    /// Every axis's law of each of [`LAW_TERMS`] over the runs'
+    /// temperatures ([`ThesisRow::law`]), axis by axis: the table's
+    /// differences, which are real and which are not.
+    pub fn laws(&self, confidence: f64) -> Vec<(&'a str, Law)> {
+        self.groups
+            .iter()
+            .flat_map(|g| &g.rows)
+            .flat_map(|row| {
+                LAW_TERMS
+                    .iter()
+                    .map(|&t| (row.name, row.law(&self.columns, t, confidence)))
+            })
+            .collect()
+    }
+
+    /// Whether at least two runs have a temperature: a law needs two.
+    pub fn over_temperature(&self) -> bool {
+        self.columns.iter().flatten().count() >= 2
+    }
+
     /// The group of `quantity`, if any channel measures it.
     pub fn group(&self, quantity: Quantity) -> Option<&ThesisGroup<'a>> {
         self.groups.iter().find(|g| g.quantity == quantity)
+    }
+}
+
+impl ThesisRow<'_> {
+    /// `term` of this axis over the runs' temperatures (`columns`, the
+    /// table's), intervals at `confidence`: its law and every pair of runs
+    /// compared. A run without a temperature takes no part.
+    pub fn law(&self, columns: &[Option<f64>], term: Term, confidence: f64) -> Law {
+        let at: Vec<At> = self
+            .cells
+            .iter()
+            .zip(columns)
+            .filter_map(|(cell, t)| {
+                Some(At {
+                    t_c: (*t)?,
+                    reading: Reading::of(cell.as_ref()?.terms, term),
+                })
+            })
+            .collect();
+        Law::fit(term, &at, confidence)
     }
 }
 

@@ -9,8 +9,9 @@ use analysis::AnalysisError;
 use analysis::dynamic_adev::DynamicAdev;
 use analysis::experiment::{COMPARED_AT_S, Experiment};
 use analysis::navigation::{Navigated, Plan, Row};
-use analysis::noise::{ChannelNoise, RunNoise, held_value};
+use analysis::noise::{ChannelNoise, FIGURE_CONFIDENCE, RunNoise, held_value};
 use analysis::selection::Selection;
+use analysis::term_law::{SIGNIFICANCE, without_law};
 use analysis::thesis::ThesisTables;
 use analysis::units::{deg, si_unit};
 use imu::Quantity;
@@ -240,6 +241,25 @@ pub fn noise_tables(page: &mut Page, runs: &[RunNoise]) {
             ),
             &header,
             &fit_rows,
+        );
+    }
+    // Which of the tables' differences are real: each axis's law over the
+    // runs' temperatures and every pair of runs compared.
+    if tables.over_temperature() {
+        let laws = tables.laws(FIGURE_CONFIDENCE);
+        let mut rows: Vec<Vec<String>> = laws
+            .iter()
+            .filter(|(_, l)| l.fit.is_some())
+            .map(|(name, law)| vec![law.describe(name), law.describe_differences()])
+            .collect();
+        rows.extend(without_law(&laws).map(|rest| vec![rest, "—".to_string()]));
+        page.table(
+            &format!(
+                "Over temperature: ln(term) linear in T, each run weighted by its 95 % interval; a dependence or a \
+                 difference is called at p < {SIGNIFICANCE}, a bound is left out, never taken for a value"
+            ),
+            &["law over temperature".to_string(), "which runs differ".to_string()],
+            &rows,
         );
     }
 }

@@ -93,7 +93,8 @@ pub fn run(a: &NoiseArgs) -> Result<()> {
         if let Err(e) = sel.checks.require_static(&names, true) {
             bail!("{}: {e}; leave the channel out with --channels", file.display());
         }
-        temps.push(sel.temperature_mean_c);
+        // The temperature column's mean, measured; else what the metadata states.
+        temps.push(sel.temperature_mean_c.or(sel.recording.temperature_c));
         rates.push(sel.rate_hz);
         work.extend(sel.channels.into_iter().map(|c| (i, c)));
     }
@@ -642,6 +643,28 @@ fn write_thesis_tables(out: &mut impl Write, analysis: Analysis, units: Units) -
             }
             writeln!(out)?;
         }
+    }
+    if tables.over_temperature() {
+        writeln!(
+            out,
+            "Over temperature: ln(term) linear in T, each run weighted by its interval ({:.0} %); a dependence or \
+             a difference is called at p < {}",
+            100.0 * analysis.confidence,
+            analysis::term_law::SIGNIFICANCE
+        )?;
+        let laws = tables.laws(analysis.confidence);
+        for (name, law) in laws.iter().filter(|(_, l)| l.fit.is_some()) {
+            writeln!(
+                out,
+                "  {}\n    {}",
+                law.describe(name),
+                law.describe_differences()
+            )?;
+        }
+        if let Some(rest) = analysis::term_law::without_law(&laws) {
+            writeln!(out, "  {rest}")?;
+        }
+        writeln!(out)?;
     }
     Ok(())
 }

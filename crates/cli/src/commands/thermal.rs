@@ -105,6 +105,22 @@ pub fn run(a: &ThermalArgs) -> Result<()> {
                 }
                 writeln!(out, "{line}")?;
             }
+            match analysis::term_law::surface_laws(surface, slicing, confidence) {
+                Some(laws) => {
+                    for law in laws.iter().filter(|l| l.fit.is_some()) {
+                        writeln!(out, "# {}", law.describe(name))?;
+                    }
+                    let named: Vec<(&str, analysis::term_law::Law)> =
+                        laws.into_iter().map(|l| (name.as_str(), l)).collect();
+                    if let Some(rest) = analysis::term_law::without_law(&named) {
+                        writeln!(out, "# {rest}")?;
+                    }
+                }
+                None => writeln!(
+                    out,
+                    "# no law over temperature: the windows overlap, their terms are not independent"
+                )?,
+            }
             for k in &surface.skipped {
                 writeln!(
                     out,
