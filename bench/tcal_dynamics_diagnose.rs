@@ -5,15 +5,18 @@
 //!
 //! - `truth`: the generator's own law, c(T_e + X/2·d) with its τ, X and
 //!   direction time constant, only the cubic's coefficients fitted;
-//! - `model@τ`: the model's form p(T_e) + (a0 + a1·u + a2·u²)·tanh(r/s) at
-//!   the true τ, smoothing and scale the best on the held-out run;
-//! - `model+d²@τ`: the same with tanh² terms (a shift inside a cubic has
-//!   an even part);
+//! - `model@τ`: the earlier model form p(T_e) + (a0 + a1·u + a2·u²)·tanh(r/s),
+//!   r smoothed over τ_d, at the true τ, τ_d and s the best on the held-out run;
+//! - `relaxing`: the form now fitted, tanh(r/s) relaxed over τ_d, at the true
+//!   τ, at the grid's best, and with τ chosen by the calibration runs' RSS;
+//! - `shift`: the hysteresis as a shift H of T_e inside the cubic, at the
+//!   true τ and with τ chosen by the calibration RSS;
 //! - `fit`: `tcal fit`'s default.
 //!
 //!     cargo run --release -p thermal --example tcal_dynamics_diagnose -- [SEEDS…]
 
 #[path = "tcal_dynamics_score.rs"]
+#[allow(dead_code)]
 mod score;
 
 use imusim::history::{AXES, T_MID_C, Truth};
@@ -128,12 +131,7 @@ fn model_rows(temp: &[f64], rate_hz: f64, tau: f64, sm: f64, sc: f64, relax: boo
 }
 
 fn main() {
-    let seeds: Vec<u64> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
-    let seeds = if seeds.is_empty() {
-        (1..=4).collect()
-    } else {
-        seeds
-    };
+    let seeds = score::seeds(4);
     let rate = 2.0;
     println!(
         "| seed | axis | floor | truth / floor | model@τ / floor | relaxing@τ / floor | relaxing@best grid τ / floor (τ, s) | shift@τ / floor | relaxing, τ by calibration RSS: held-out / floor (τ) | shift, τ by calibration RSS (τ) | fit / floor | fit's τ, s (truth) |"
@@ -154,9 +152,7 @@ fn main() {
                 })
                 .collect()
         };
-        let fit_t: Vec<f64> = fitted.iter().flat_map(|r| r.temp.iter().copied()).collect();
-        let _ = &fit_t;
-        for k in 0..6 {
+        for (k, axis) in AXES.iter().enumerate() {
             let y: Vec<f64> = fitted
                 .iter()
                 .flat_map(|r| r.channels[k].iter().copied())
@@ -171,14 +167,14 @@ fn main() {
                 rate,
             );
             let mut best = [f64::INFINITY; 3];
-            for (e, even) in [false, true].into_iter().enumerate() {
+            for (e, relax) in [false, true].into_iter().enumerate() {
                 for &sm in &DIRECTION_GRID_S {
                     for &sc in &RATE_SCALES_C_PER_S {
                         let rows: Vec<Vec<f64>> = fitted
                             .iter()
-                            .flat_map(|r| model_rows(&r.temp, rate, truth.lag_s, sm, sc, even))
+                            .flat_map(|r| model_rows(&r.temp, rate, truth.lag_s, sm, sc, relax))
                             .collect();
-                        let hr = model_rows(&held.temp, rate, truth.lag_s, sm, sc, even);
+                        let hr = model_rows(&held.temp, rate, truth.lag_s, sm, sc, relax);
                         best[e] = best[e].min(judge(&rows, &y, &hr, &held.channels[k], &held.temp, rate));
                     }
                 }
@@ -252,7 +248,7 @@ fn main() {
             let f = s.floor[k];
             println!(
                 "| {seed} | {} | {:.2e} | {:.2} | {:.2} | {:.2} | {:.2} ({:.0}) | {:.2} | {:.2} ({:.0}) | {:.2} ({:.0}) | {:.2} | {} ({:.0}) |",
-                AXES[k],
+                axis,
                 f,
                 t_truth / f,
                 best[0] / f,
