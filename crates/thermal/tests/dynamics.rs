@@ -46,11 +46,12 @@ fn the_c_header_compensates_as_apply_does() {
     let (runs, _) = score::recordings(&Truth::draw(SEED), RATE_HZ, SEED);
     let model = &fitted().model;
     assert!(
-        model
-            .channels
-            .iter()
-            .any(|c| c.lag_s.is_some() || c.hysteresis_term.is_some()),
-        "the header is checked on a model with its filters"
+        model.channels.iter().any(|c| c.lag_s.is_some())
+            && model
+                .channels
+                .iter()
+                .any(|c| c.hysteresis_term.as_ref().is_some_and(|h| h.relax_s.is_some())),
+        "the header is checked on a model with its filters (a lag, a relaxed direction)"
     );
     let header = thermal::c_header::render(model).unwrap();
     let Ok(cc) = which_cc() else {
