@@ -24,12 +24,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 fn main() {
-    let seeds: Vec<u64> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
-    let seeds = if seeds.is_empty() {
-        (1..=10).collect()
-    } else {
-        seeds
-    };
+    let seeds = score::seeds(10);
     let rate = 2.0;
     for pure in [false, true] {
         let mut full_floor = vec![Vec::new(); 6];

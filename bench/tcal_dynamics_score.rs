@@ -19,8 +19,23 @@ pub struct Score {
     pub floor: [f64; 6],
 }
 
+/// The seeds named on the command line, else 1..=`default`.
+pub fn seeds(default: u64) -> Vec<u64> {
+    let seeds: Vec<u64> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
+    if seeds.is_empty() {
+        (1..=default).collect()
+    } else {
+        seeds
+    }
+}
+
 pub fn recordings(truth: &Truth, rate_hz: f64, seed: u64) -> (Vec<Recording>, Recording) {
-    let fitted = history::calibration_runs()
+    // IMUTHERM_CALIBRATION=hold: the heating held 20 min at 40 °C.
+    let calibration = match std::env::var("IMUTHERM_CALIBRATION").as_deref() {
+        Ok("hold") => history::calibration_runs_with_hold(),
+        _ => history::calibration_runs(),
+    };
+    let fitted = calibration
         .iter()
         .enumerate()
         .map(|(i, (start, legs))| history::record(truth, *start, legs, rate_hz, seed * 10 + i as u64))

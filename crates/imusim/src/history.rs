@@ -263,6 +263,35 @@ pub fn calibration_runs() -> [(f64, Vec<Leg>); 2] {
     ]
 }
 
+/// The calibration runs with the heating held for 20 min at 40 °C: a
+/// plateau after a climb is the step response that tells an element's lag
+/// from a hysteresis, which a steady ramp and a Newton cooling cannot (on
+/// a Newton cooling towards a fixed ambient the lagged temperature is a
+/// linear function of the logged one).
+pub fn calibration_runs_with_hold() -> [(f64, Vec<Leg>); 2] {
+    let [_, cooling] = calibration_runs();
+    [
+        (
+            20.0,
+            vec![
+                Leg::Ramp {
+                    to_c: 40.0,
+                    c_per_min: 1.1,
+                },
+                Leg::Hold {
+                    s: 1200.0,
+                    c_per_min: 0.0,
+                },
+                Leg::Ramp {
+                    to_c: 60.0,
+                    c_per_min: 1.1,
+                },
+            ],
+        ),
+        cooling,
+    ]
+}
+
 /// A held-out run at another rate, flight-like: heating twice as fast,
 /// a warm plateau drifting slowly, then a cooling.
 pub fn held_out_run() -> (f64, Vec<Leg>) {

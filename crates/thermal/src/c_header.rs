@@ -175,8 +175,13 @@ pub fn render(model: &Model) -> Result<String, CHeaderError> {
     );
     let _ = writeln!(
         w,
-        "static const double imutherm_tcal_hyst_smoothing_s[{n}] = {{{}}};\n",
+        "static const double imutherm_tcal_hyst_smoothing_s[{n}] = {{{}}};",
         hv(&|h| h.smoothing_s)
+    );
+    let _ = writeln!(
+        w,
+        "/* The saturated direction's relaxation, s; 0: none (the saturated rate itself). */\nstatic const double imutherm_tcal_hyst_relax_s[{n}] = {{{}}};\n",
+        hv(&|h| h.relax_s.unwrap_or(0.0))
     );
     let _ = write!(
         w,
@@ -187,6 +192,8 @@ typedef struct {{
     double t_in;       /* that temperature */
     double lag[{n}];   /* each channel's element temperature */
     double dir[{n}];   /* that temperature smoothed (for its rate) */
+    double sat[{n}];   /* the saturated direction at the last sample */
+    double rel[{n}];   /* that direction relaxed */
 }} imutherm_tcal_state;
 
 static double imutherm_tcal_poly_at(const double *c, int len, double u)
@@ -241,7 +248,14 @@ static void imutherm_tcal_apply(imutherm_tcal_state *s, double temp_c, double dt
             - imutherm_tcal_poly_at(imutherm_tcal_poly[k], {maxc}, u_ref);
         if (imutherm_tcal_hyst_scale[k] > 0.0) {{
             double r = (el - s->dir[k]) / sm;
-            corr += imutherm_tcal_poly_at(imutherm_tcal_hyst[k], {maxh}, u) * tanh(r / imutherm_tcal_hyst_scale[k]);
+            double d = tanh(r / imutherm_tcal_hyst_scale[k]);
+            double relax = imutherm_tcal_hyst_relax_s[k];
+            if (relax > 0.0) {{
+                s->rel[k] = s->started ? imutherm_tcal_lag_step(s->rel[k], s->sat[k], d, h, relax) : d;
+                s->sat[k] = d;
+                d = s->rel[k];
+            }}
+            corr += imutherm_tcal_poly_at(imutherm_tcal_hyst[k], {maxh}, u) * d;
         }}
         x[k] -= corr;
     }}

@@ -949,7 +949,7 @@ impl Model {
         let direction = ch
             .hysteresis_term
             .as_ref()
-            .map(|h| element::smoothed_rate(element_t.as_deref().unwrap_or(&used), rate_hz, h.smoothing_s));
+            .map(|h| h.direction(element_t.as_deref().unwrap_or(&used), rate_hz));
         let mut report = ApplyReport::default();
         for (i, x) in data.iter_mut().enumerate() {
             let t = element_t.as_ref().map_or(used[i], |e| e[i]);
@@ -970,7 +970,9 @@ impl Model {
                 _ => 0.0,
             };
             let hyst = match (&ch.hysteresis_term, &direction) {
-                (Some(h), Some(r)) => h.at((tc - self.centre_c) / self.scale_c, r[i]),
+                (Some(h), Some(d)) if d[i].is_finite() => {
+                    h.amplitude((tc - self.centre_c) / self.scale_c) * d[i]
+                }
                 _ => 0.0,
             };
             *x -= ch.bias(self, tc) - at_ref + lag + hyst;
