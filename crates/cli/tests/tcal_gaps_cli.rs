@@ -1,6 +1,7 @@
 //! Thermal recordings as they are logged, and what a flight stack does with
 //! the parameter file fitted on them. Duty-cycled bursts with their
-//! gaps in time, or gaps written out as NaN rows. Each fits with the order
+//! gaps in time (recognised as a duty cycle), or gaps written out as NaN
+//! rows. Each fits with the order
 //! chosen automatically, and the model it writes loads in `tcal eval` with
 //! finite residuals.
 
@@ -79,14 +80,23 @@ fn fits_and_loads(dir: &Path, run: &Path, read: &[&str]) {
 }
 
 #[test]
-fn a_duty_cycled_log_is_read_with_its_gaps_when_the_grid_limit_is_raised() {
+fn a_duty_cycled_log_is_read_with_its_gaps_and_its_pattern_named() {
     let dir = tempfile::tempdir().unwrap();
     let run = write_bursts(dir.path(), false);
+    // 24 bursts of 100 samples (4.95 s first to last) every 305 s: a grid
+    // 61 times the samples, which the pattern admits without a flag.
     cli!["info", &run]
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("every 305 s, 24 bursts (a duty cycle)"));
+    fits_and_loads(dir.path(), &run, &[]);
+    // A limit given is the limit.
+    cli!["info", "--max-grid-factor", "16", &run]
         .assert()
         .failure()
         .stderr(predicate::str::contains("--max-grid-factor 6"));
-    fits_and_loads(dir.path(), &run, &["--max-grid-factor", "64"]);
+    let raised = tempfile::tempdir().unwrap();
+    fits_and_loads(raised.path(), &run, &["--max-grid-factor", "64"]);
 }
 
 #[test]

@@ -21,6 +21,9 @@ const CLUSTER_SHARE: f64 = 0.05;
 /// multiple (samples not logged).
 const MULTIPLE_TOLERANCE: f64 = 0.03;
 
+/// The most steps sorted to find the values (see [`irregular_steps`]).
+const SAMPLE_STEPS: usize = 200_000;
+
 /// The fewest steps a pattern is read from.
 const MIN_STEPS: usize = 100;
 
@@ -79,16 +82,22 @@ pub struct StepValue {
 /// that no one clock makes; `None` for a clock (one value with jitter, its
 /// multiples, or values one unit of the stamps apart).
 pub fn irregular_steps(t: &[f64]) -> Option<Vec<StepValue>> {
-    let mut d: Vec<f64> = t
-        .windows(2)
-        .map(|w| w[1] - w[0])
-        .filter(|d| d.is_finite() && *d > 0.0)
-        .collect();
-    if d.len() < MIN_STEPS {
+    let forward = || {
+        t.windows(2)
+            .map(|w| w[1] - w[0])
+            .filter(|d| d.is_finite() && *d > 0.0)
+    };
+    let n = forward().count();
+    if n < MIN_STEPS {
         return None;
     }
+    let resolution = stamp_unit(&forward().take(4096).collect::<Vec<f64>>());
+    // A long recording's steps are read from an even sample of them (the
+    // rules read shares, which the sample holds), so that an eight-hour
+    // log is not sorted whole; the values' counts are then its own.
+    let stride = n.div_ceil(SAMPLE_STEPS);
+    let mut d: Vec<f64> = forward().step_by(stride).collect();
     d.sort_unstable_by(f64::total_cmp);
-    let resolution = stamp_unit(&d);
     let mut clusters: Vec<&[f64]> = Vec::new();
     let mut start = 0;
     for i in 1..=d.len() {
@@ -123,7 +132,22 @@ pub fn irregular_steps(t: &[f64]) -> Option<Vec<StepValue>> {
         let k = (v.step_s / shortest).round();
         (v.step_s / shortest - k).abs() <= MULTIPLE_TOLERANCE * k
     });
-    (values.len() >= 2 && !multiples).then_some(values)
+    if values.len() < 2 || multiples {
+        return None;
+    }
+    let mut values = values;
+    if stride > 1 {
+        for v in &mut values {
+            let (lo, hi) = (v.shortest_s / CLUSTER_RATIO, v.longest_s * CLUSTER_RATIO);
+            let (count, shortest, longest) = forward()
+                .filter(|d| (lo..=hi).contains(d))
+                .fold((0, f64::INFINITY, f64::NEG_INFINITY), |(n, a, b), d| {
+                    (n + 1, a.min(d), b.max(d))
+                });
+            (v.count, v.shortest_s, v.longest_s) = (count, shortest, longest);
+        }
+    }
+    Some(values)
 }
 
 /// The decimal unit the steps `d` are whole multiples of (1 ms for stamps
@@ -245,6 +269,15 @@ mod tests {
         let v = irregular_steps(&t).unwrap();
         let got: Vec<(String, usize)> = v.iter().map(|s| (ms(s.step_s), s.count)).collect();
         assert_eq!(got, [("4.5".into(), 100), ("5".into(), 200), ("9".into(), 100)]);
+    }
+
+    #[test]
+    fn a_long_recordings_values_are_found_on_a_sample_and_counted_whole() {
+        // 450,001 steps: past the sample, the counts are every step's.
+        let t = stepping(&[4.5e-3, 5e-3, 5e-3, 9e-3], 450_001);
+        let v = irregular_steps(&t).unwrap();
+        let counts: Vec<usize> = v.iter().map(|s| s.count).collect();
+        assert_eq!(counts, [112_501, 225_000, 112_500]);
     }
 
     #[test]
