@@ -179,6 +179,10 @@ pub struct Fitted {
     /// Each point's residual at the solution over its own standard
     /// deviation (not whitened: a point's own miss).
     pub resid: Vec<f64>,
+    /// Whether the fit stopped because a process had shrunk below the
+    /// share [`fit_shedding`] was given at every point: the fit is then the
+    /// smaller model's without it, not converged.
+    pub shed: bool,
 }
 
 /// Range of ln T: a correlation time far outside the τ of the curve is a
@@ -232,6 +236,17 @@ impl Evaluation {
         self.r.iter().map(|v| v * v).sum()
     }
 
+    /// Whether some process carries less than `share` of the model's
+    /// variance at every point.
+    fn sheds(&self, comps: &[Component], p: usize, share: f64) -> bool {
+        let mut at = 0;
+        comps.iter().any(|c| {
+            let k = at;
+            at += c.arity();
+            (0..self.m.len()).all(|i| self.parts[i * p + k] < share * self.m[i])
+        })
+    }
+
     /// The whitened Jacobian of the residuals (row-major n × p) into `jac`.
     fn jacobian(&self, data: &Data, p: usize, jac: &mut [f64]) {
         for i in 0..data.len() {
@@ -249,7 +264,10 @@ impl Evaluation {
 /// [`Term::ALL`]'s order: the same values [`power_basis`] gives, computed
 /// once per fit rather than once per evaluation.
 fn bases(data: &Data) -> Vec<[f64; 5]> {
-    data.tau.iter().map(|&tau| Term::ALL.map(|t| power_basis(t, tau))).collect()
+    data.tau
+        .iter()
+        .map(|&tau| Term::ALL.map(|t| power_basis(t, tau)))
+        .collect()
 }
 
 /// `x.exp()`, taken as the 0 it rounds to below −750 without calling
@@ -352,9 +370,24 @@ const TOLERANCE: f64 = 1e-7;
 pub fn fit(
     data: &Data,
     comps: &[Component],
+    theta: Vec<f64>,
+    tc: TcRange,
+    iterations: usize,
+) -> Option<Fitted> {
+    fit_shedding(data, comps, theta, tc, iterations, 0.0)
+}
+
+/// [`fit`], stopped as soon as one process carries less than `shed` of
+/// the model's variance at every point ([`Fitted::shed`]): a process
+/// shrinking towards nothing takes hundreds of ever smaller steps, each
+/// worth less to χ², towards the fit of the smaller model without it.
+pub fn fit_shedding(
+    data: &Data,
+    comps: &[Component],
     mut theta: Vec<f64>,
     tc: TcRange,
     iterations: usize,
+    shed: f64,
 ) -> Option<Fitted> {
     let n = data.len();
     let p = theta.len();
@@ -370,7 +403,12 @@ pub fn fit(
     let mut chi2: f64 = ev.chi2();
     let mut lambda = 1e-3;
     let (mut a, mut g) = (vec![0.0; p * p], vec![0.0; p]);
+    let mut gone = false;
     for _ in 0..iterations {
+        if shed > 0.0 && ev.sheds(comps, p, shed) {
+            gone = true;
+            break;
+        }
         for k in 0..p {
             g[k] = -(0..n).map(|i| j[i * p + k] * ev.r[i]).sum::<f64>();
             for l in 0..=k {
@@ -415,6 +453,7 @@ pub fn fit(
         theta,
         chi2,
         jac: DMatrix::from_row_slice(n, p, &j),
+        shed: gone,
     })
 }
 

@@ -4,6 +4,7 @@
 //! role WVIC plays in GMWM, Guerrier et al. 2013 §4).
 
 use nalgebra::DMatrix;
+use rayon::prelude::*;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
 use super::ceiling::{self, Ceiling};
@@ -369,6 +370,12 @@ const ROUGH_ITERATIONS: usize = 25;
 const REFINED: usize = 24;
 /// Steps at most to convergence.
 const FULL_ITERATIONS: usize = 400;
+/// Candidates refined at once (on all cores).
+const REFINE_CHUNK: usize = 8;
+/// A process carrying less than this share of the model's variance at every
+/// point has left the candidate's fit: far below [`SHOW_SHARE`], which it
+/// would have to regain at [`MIN_POINTS`] points to be kept.
+const SHED: f64 = 1e-6;
 
 struct Scored {
     comps: Vec<Component>,
@@ -441,7 +448,7 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>, slack: f64) -> 
     // round is shrinking a process towards nothing and is no better than
     // the smaller candidate without it, which is fitted too.
     let mut rough: Vec<Scored> = candidates()
-        .into_iter()
+        .into_par_iter()
         .filter(|comps| comps.iter().map(|c| c.arity()).sum::<usize>() < n)
         .filter_map(|comps| {
             let fit = starts(&comps, &data)
@@ -452,25 +459,41 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>, slack: f64) -> 
         })
         .collect();
     rough.sort_by(|a, b| a.criterion.total_cmp(&b.criterion));
+    // Refined in order of the first round's criterion, a few at a time on
+    // all cores, until REFINED keep the rules: the same candidates, in the
+    // same order, as one at a time. A candidate one of whose processes
+    // shrinks below SHED of the variance at every point is set aside as
+    // unshown: that process can no longer show, and the smaller candidate
+    // without it holds the same fit.
     let mut defeated: Option<(f64, Defeat)> = None;
-    let mut scored: Vec<Scored> = rough
-        .into_iter()
-        .filter_map(|s| {
-            let fit = lm::fit(&data, &s.comps, s.fit.theta, tc, FULL_ITERATIONS)?;
+    let mut scored: Vec<Scored> = Vec::new();
+    for chunk in rough.chunks(REFINE_CHUNK) {
+        let fits: Vec<Option<lm::Fitted>> = chunk
+            .par_iter()
+            .map(|s| lm::fit_shedding(&data, &s.comps, s.fit.theta.clone(), tc, FULL_ITERATIONS, SHED))
+            .collect();
+        for (s, fit) in chunk.iter().zip(fits) {
+            if scored.len() == REFINED {
+                break;
+            }
+            let Some(fit) = fit.filter(|f| !f.shed) else {
+                continue;
+            };
             match admissible(&s.comps, &fit.theta, pts, &ceilings, min_points) {
-                Ok(()) => Some(score(s.comps, fit)),
+                Ok(()) => scored.push(score(s.comps.clone(), fit)),
                 Err(Breach::Above(k, at)) => {
                     let criterion = fit.chi2 + fit.theta.len() as f64 * penalty;
                     if defeated.as_ref().is_none_or(|(c, _)| criterion < *c) {
                         defeated = Some((criterion, above_defeat(&s.comps, &fit.theta, k, &at)));
                     }
-                    None
                 }
-                Err(Breach::Unshown) => None,
+                Err(Breach::Unshown) => {}
             }
-        })
-        .take(REFINED)
-        .collect();
+        }
+        if scored.len() == REFINED {
+            break;
+        }
+    }
     scored.sort_by(|a, b| a.criterion.total_cmp(&b.criterion));
     let defeated = defeated.map(|(_, d)| d);
     let Some(top) = scored.first() else {
