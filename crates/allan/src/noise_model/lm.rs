@@ -293,14 +293,14 @@ fn evaluate_into(
     for (s, t) in scale.iter_mut().zip(theta) {
         *s = exp_or_zero(*t);
     }
-    for i in 0..data.len() {
+    for (i, basis) in bases.iter().enumerate() {
         let tau = data.tau[i];
         let parts = &mut ev.parts[i * p..(i + 1) * p];
         let mut at = 0;
         let mut m = 0.0;
         for c in comps {
             let v = match c {
-                Component::Power(t) => scale[at] * bases[i][term_index(*t)],
+                Component::Power(t) => scale[at] * basis[term_index(*t)],
                 Component::GaussMarkov => {
                     let (g, dg) = process::gauss_markov_and_dln_tc(tau, scale[at + 1]);
                     parts[at + 1] = scale[at] * dg;
