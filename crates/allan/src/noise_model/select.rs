@@ -464,38 +464,48 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>, slack: f64) -> 
     // same order, as one at a time. A candidate one of whose processes
     // shrinks below SHED of the variance at every point is set aside as
     // unshown: that process can no longer show, and the smaller candidate
-    // without it holds the same fit.
-    let mut defeated: Option<(f64, Defeat)> = None;
-    let mut scored: Vec<Scored> = Vec::new();
+    // without it holds the same fit. Where then no candidate keeps the
+    // rules, the set-aside ones are refined to convergence after all: the
+    // defeat printed is that of the candidate of lowest criterion that the
+    // ceiling rules out, which may be one of them.
+    let refine = |s: &Scored, shed: f64| {
+        lm::fit_shedding(&data, &s.comps, s.fit.theta.clone(), tc, FULL_ITERATIONS, shed)
+    };
+    let mut fits: Vec<Option<lm::Fitted>> = Vec::with_capacity(rough.len());
+    let (mut scored, mut defeated) = (Vec::new(), None);
+    let rules = Rules {
+        pts,
+        ceilings: &ceilings,
+        min_points,
+        penalty,
+    };
     for chunk in rough.chunks(REFINE_CHUNK) {
-        let fits: Vec<Option<lm::Fitted>> = chunk
-            .par_iter()
-            .map(|s| lm::fit_shedding(&data, &s.comps, s.fit.theta.clone(), tc, FULL_ITERATIONS, SHED))
-            .collect();
-        for (s, fit) in chunk.iter().zip(fits) {
-            if scored.len() == REFINED {
-                break;
-            }
-            let Some(fit) = fit.filter(|f| !f.shed) else {
-                continue;
-            };
-            match admissible(&s.comps, &fit.theta, pts, &ceilings, min_points) {
-                Ok(()) => scored.push(score(s.comps.clone(), fit)),
-                Err(Breach::Above(k, at)) => {
-                    let criterion = fit.chi2 + fit.theta.len() as f64 * penalty;
-                    if defeated.as_ref().is_none_or(|(c, _)| criterion < *c) {
-                        defeated = Some((criterion, above_defeat(&s.comps, &fit.theta, k, &at)));
-                    }
-                }
-                Err(Breach::Unshown) => {}
-            }
-        }
+        let from = fits.len();
+        fits.extend(chunk.par_iter().map(|s| refine(s, SHED)).collect::<Vec<_>>());
+        rules.keep(&rough, &fits, from, &mut scored, &mut defeated);
         if scored.len() == REFINED {
             break;
         }
     }
-    scored.sort_by(|a, b| a.criterion.total_cmp(&b.criterion));
+    if scored.is_empty() {
+        let shed: Vec<usize> = (0..fits.len())
+            .filter(|&k| fits[k].as_ref().is_some_and(|f| f.shed))
+            .collect();
+        if !shed.is_empty() {
+            let again: Vec<Option<lm::Fitted>> = shed.par_iter().map(|&k| refine(&rough[k], 0.0)).collect();
+            for (k, f) in shed.into_iter().zip(again) {
+                fits[k] = f;
+            }
+            defeated = None;
+            rules.keep(&rough, &fits, 0, &mut scored, &mut defeated);
+        }
+    }
     let defeated = defeated.map(|(_, d)| d);
+    let mut scored: Vec<Scored> = scored
+        .into_iter()
+        .filter_map(|k| Some(score(rough[k].comps.clone(), fits[k].clone()?)))
+        .collect();
+    scored.sort_by(|a, b| a.criterion.total_cmp(&b.criterion));
     let Some(top) = scored.first() else {
         return Selection { defeated, ..none() };
     };
@@ -552,6 +562,49 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>, slack: f64) -> 
         ranked,
         evidence,
         defeated,
+    }
+}
+
+/// What a refined candidate must keep.
+struct Rules<'a> {
+    pts: &'a [Point],
+    ceilings: &'a [Ceiling],
+    min_points: usize,
+    penalty: f64,
+}
+
+impl Rules<'_> {
+    /// Goes on from `fits[from]`, in the first round's order, adding to
+    /// `kept` the index of each refined candidate that keeps the rules, up
+    /// to [`REFINED`] of them, and holding in `defeated` the one of lowest
+    /// criterion (the first of equals) that the ceiling rules out. A fit
+    /// that failed or shed a process is neither.
+    fn keep(
+        &self,
+        rough: &[Scored],
+        fits: &[Option<lm::Fitted>],
+        from: usize,
+        kept: &mut Vec<usize>,
+        defeated: &mut Option<(f64, Defeat)>,
+    ) {
+        for (k, (s, fit)) in rough.iter().zip(fits).enumerate().skip(from) {
+            if kept.len() == REFINED {
+                return;
+            }
+            let Some(fit) = fit.as_ref().filter(|f| !f.shed) else {
+                continue;
+            };
+            match admissible(&s.comps, &fit.theta, self.pts, self.ceilings, self.min_points) {
+                Ok(()) => kept.push(k),
+                Err(Breach::Above(process, at)) => {
+                    let criterion = fit.chi2 + fit.theta.len() as f64 * self.penalty;
+                    if defeated.as_ref().is_none_or(|(c, _)| criterion < *c) {
+                        *defeated = Some((criterion, above_defeat(&s.comps, &fit.theta, process, &at)));
+                    }
+                }
+                Err(Breach::Unshown) => {}
+            }
+        }
     }
 }
 
