@@ -86,6 +86,14 @@ fn finite_support(c: Component) -> bool {
 
 const WEIGHTS: [f64; 3] = [1.0, -2.0, 1.0];
 
+/// Each component's generalised covariance at the whole lags 0..`len`
+/// samples (it is even in the lag), one row after another: computed once
+/// per matrix and read by every pair of estimates.
+struct Lattice {
+    len: usize,
+    g: Vec<f64>,
+}
+
 /// The model, ready to evaluate C_ij(h).
 struct Model<'a> {
     comps: &'a [Component],
@@ -137,6 +145,48 @@ impl Model<'_> {
                 for (kb, wb) in WEIGHTS.iter().enumerate() {
                     let s = (h + kb as f64 * mj - ka as f64 * mi) * self.tau0;
                     v += wa * wb * gcov(c, size2, t, s, self.tau0);
+                }
+            }
+            total += v;
+        }
+        total
+    }
+
+    /// Each component's generalised covariance at every whole lag of
+    /// samples from 0 to `len` − 1: the values [`Model::cross`] takes at
+    /// whole lags h (|s| of each), each computed once instead of once for
+    /// each of the nine (a, b) pairs, each h that reaches it and each pair
+    /// of estimates.
+    fn lattice(&self, len: usize) -> Lattice {
+        let mut g = Vec::with_capacity(len * self.comps.len());
+        for (&c, &(size2, t)) in self.comps.iter().zip(&self.sizes) {
+            g.par_extend(
+                (0..len)
+                    .into_par_iter()
+                    .map(|k| gcov(c, size2, t, k as f64 * self.tau0, self.tau0)),
+            );
+        }
+        Lattice { len, g }
+    }
+
+    /// [`Model::cross`] at a whole lag `h`, from `lattice`: the same value
+    /// bit for bit (the lag of each of the nine terms is a whole number of
+    /// samples, exact in f64 either way, and the terms are added in the same
+    /// order, and a lag's sign changes no bit of k·τ0's magnitude).
+    fn cross_at(&self, lattice: &Lattice, mi: i64, mj: i64, h: i64) -> f64 {
+        let (lo, hi) = (-2.0 * mj as f64, 2.0 * mi as f64);
+        let inside = (h as f64) > lo && (h as f64) < hi;
+        let mut total = 0.0;
+        for (k, &c) in self.comps.iter().enumerate() {
+            if !inside && finite_support(c) {
+                continue;
+            }
+            let row = &lattice.g[k * lattice.len..(k + 1) * lattice.len];
+            let mut v = 0.0;
+            for (ka, wa) in WEIGHTS.iter().enumerate() {
+                for (kb, wb) in WEIGHTS.iter().enumerate() {
+                    let s = h + kb as i64 * mj - ka as i64 * mi;
+                    v += wa * wb * row[s.unsigned_abs() as usize];
                 }
             }
             total += v;
@@ -222,33 +272,11 @@ fn graded(a: f64, b: f64, w0: f64, f: &dyn Fn(f64) -> f64) -> f64 {
     cuts.windows(2).map(|p| gauss_legendre(p[0], p[1], f)).sum()
 }
 
-/// Σ over integer h in [lo, hi) of f(h).
-fn sum_range(lo: i64, hi: i64, w0: f64, f: &dyn Fn(f64) -> f64) -> f64 {
-    if hi <= lo {
-        0.0
-    } else if hi - lo <= DIRECT {
-        (lo..hi).map(|h| f(h as f64)).sum()
-    } else {
-        graded(lo as f64 - 0.5, hi as f64 - 0.5, w0, f)
-    }
-}
-
-/// Cov(σ̂²_i, σ̂²_j) under the model.
-fn covariance(model: &Model, ei: &Estimate, ej: &Estimate) -> f64 {
-    let (mi, mj) = (ei.m as f64, ej.m as f64);
+/// The breakpoints of C_ij for two estimates: the lags at which two of the
+/// nine phase samples coincide, and the ends of the range of lags with
+/// pairs; sorted, each once.
+fn cuts(ei: &Estimate, ej: &Estimate) -> Vec<i64> {
     let (ni, nj) = (ei.n as i64, ej.n as i64);
-    let count = |h: f64| -> f64 {
-        let lo = (-h).max(0.0);
-        let hi = (ni as f64).min(nj as f64 - h);
-        (hi - lo).max(0.0)
-    };
-    let f = |h: f64| {
-        let c = model.cross(mi, mj, h);
-        count(h) * c * c
-    };
-    let w0 = model.grading();
-    // The breakpoints of C_ij: the lags at which two of the nine phase
-    // samples coincide; and the range of lags with pairs.
     let (first, last) = (-(nj - 1), ni);
     let mut cuts: Vec<i64> = Vec::with_capacity(11);
     for a in 0..3 {
@@ -261,15 +289,63 @@ fn covariance(model: &Model, ei: &Estimate, ej: &Estimate) -> f64 {
     cuts.iter_mut().for_each(|c| *c = (*c).clamp(first, last));
     cuts.sort_unstable();
     cuts.dedup();
-    let lag_sum =
-        |g: &dyn Fn(f64) -> f64| -> f64 { cuts.windows(2).map(|p| sum_range(p[0], p[1], w0, &g)).sum() };
+    cuts
+}
+
+/// The largest |lag| of samples at which [`covariance`] reads a process's
+/// generalised covariance one lag at a time (pieces of up to [`DIRECT`]
+/// lags), plus one; 0 where it reads none so.
+fn reach(ei: &Estimate, ej: &Estimate) -> usize {
+    let (mi, mj) = (ei.m as i64, ej.m as i64);
+    cuts(ei, ej)
+        .windows(2)
+        .filter(|p| p[1] > p[0] && p[1] - p[0] <= DIRECT)
+        .map(|p| ((p[0] - 2 * mi).abs()).max((p[1] - 1 + 2 * mj).abs()) as usize + 1)
+        .max()
+        .unwrap_or(0)
+}
+
+/// Cov(σ̂²_i, σ̂²_j) under the model, its whole lags read from `lattice`
+/// (which must reach [`reach`] of the pair; `None` only where that is 0).
+fn covariance(model: &Model, lattice: Option<&Lattice>, ei: &Estimate, ej: &Estimate) -> f64 {
+    let (mi, mj) = (ei.m as f64, ej.m as f64);
+    let (ni, nj) = (ei.n as i64, ej.n as i64);
+    let count = |h: f64| -> f64 {
+        let lo = (-h).max(0.0);
+        let hi = (ni as f64).min(nj as f64 - h);
+        (hi - lo).max(0.0)
+    };
+    let f = |h: f64| {
+        let c = model.cross(mi, mj, h);
+        count(h) * c * c
+    };
+    let w0 = model.grading();
+    let cuts = cuts(ei, ej);
+    let direct = |p: &[i64]| p[1] > p[0] && p[1] - p[0] <= DIRECT;
+    let (mi_i, mj_i) = (ei.m as i64, ej.m as i64);
+    let lag_sum = |whole: &dyn Fn(&Lattice, i64) -> f64, g: &dyn Fn(f64) -> f64| -> f64 {
+        cuts.windows(2)
+            .map(|p| match lattice {
+                Some(lat) if direct(p) => (p[0]..p[1]).map(|h| whole(lat, h)).sum(),
+                _ if p[1] <= p[0] => 0.0,
+                _ => graded(p[0] as f64 - 0.5, p[1] as f64 - 0.5, w0, g),
+            })
+            .sum()
+    };
+    let f_whole = |lat: &Lattice, h: i64| {
+        let c = model.cross_at(lat, mi_i, mj_i, h);
+        count(h as f64) * c * c
+    };
     let (ti, tj) = (mi * ei.tau0, mj * ej.tau0);
-    let mut cov = lag_sum(&f) / (2.0 * ti * ti * tj * tj * ni as f64 * nj as f64);
+    let mut cov = lag_sum(&f_whole, &f) / (2.0 * ti * ti * tj * tj * ni as f64 * nj as f64);
     let ramp2 = model.ramp_size2();
     if ramp2 > 0.0 {
         // The ramp's second difference Rτ² is the same at every k: it
         // multiplies the mean of the noise's, σ̂² = (R²τ⁴ + 2Rτ²ē + mean e²)/2τ².
-        let mean_cov = lag_sum(&|h: f64| count(h) * model.cross(mi, mj, h)) / (ni as f64 * nj as f64);
+        let mean_cov = lag_sum(
+            &|lat: &Lattice, h: i64| count(h as f64) * model.cross_at(lat, mi_i, mj_i, h),
+            &|h: f64| count(h) * model.cross(mi, mj, h),
+        ) / (ni as f64 * nj as f64);
         cov += ramp2 * mean_cov;
     }
     cov
@@ -283,9 +359,15 @@ pub fn matrix(comps: &[Component], theta: &[f64], points: &[Estimate]) -> DMatri
     let tau0 = points.first().map_or(1.0, |p| p.tau0);
     let model = Model::new(comps, theta, tau0);
     let pairs: Vec<(usize, usize)> = (0..n).flat_map(|i| (i..n).map(move |j| (i, j))).collect();
+    let len = pairs
+        .iter()
+        .map(|&(i, j)| reach(&points[i], &points[j]))
+        .max()
+        .unwrap_or(0);
+    let lattice = (len > 0).then(|| model.lattice(len));
     let values: Vec<f64> = pairs
         .par_iter()
-        .map(|&(i, j)| covariance(&model, &points[i], &points[j]))
+        .map(|&(i, j)| covariance(&model, lattice.as_ref(), &points[i], &points[j]))
         .collect();
     let mut out = DMatrix::zeros(n, n);
     for (&(i, j), v) in pairs.iter().zip(values) {
@@ -484,7 +566,8 @@ mod tests {
             for (comps, theta) in &cases {
                 let model = Model::new(comps, theta, 0.1);
                 let (ei, ej) = (est(mi, n_phase), est(mj, n_phase));
-                let got = covariance(&model, &ei, &ej);
+                let lattice = model.lattice(reach(&ei, &ej));
+                let got = covariance(&model, Some(&lattice), &ei, &ej);
                 let (ni, nj) = (ei.n as i64, ej.n as i64);
                 let plain: f64 = (-(nj - 1)..ni)
                     .map(|h| {

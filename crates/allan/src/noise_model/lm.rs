@@ -179,6 +179,10 @@ pub struct Fitted {
     /// Each point's residual at the solution over its own standard
     /// deviation (not whitened: a point's own miss).
     pub resid: Vec<f64>,
+    /// Whether the fit stopped because a process had shrunk below the
+    /// share [`fit_shedding`] was given at every point: the fit is then the
+    /// smaller model's without it, not converged.
+    pub shed: bool,
 }
 
 /// Range of ln T: a correlation time far outside the τ of the curve is a
@@ -202,55 +206,106 @@ fn clamp(comps: &[Component], theta: &mut [f64], tc: TcRange) {
     }
 }
 
-/// Whitened residuals and, when `jac` is given, their Jacobian (row-major
-/// n × p); `None` where the model is not finite.
-fn evaluate(
-    data: &Data,
-    comps: &[Component],
-    theta: &[f64],
-    mut jac: Option<&mut [f64]>,
-) -> Option<Vec<f64>> {
-    let mut r = standardised(data, comps, theta, jac.as_deref_mut())?;
-    data.whiten_in_place(&mut r, 0, 1);
-    if let Some(j) = jac {
-        for k in 0..theta.len() {
-            data.whiten_in_place(j, k, theta.len());
-        }
-    }
-    Some(r)
+/// One evaluation of a model on the points: everything a Levenberg–Marquardt
+/// step reads from it, so that a trial, once accepted, gives the Jacobian and
+/// the points' own misses without being evaluated again.
+struct Evaluation {
+    /// Each point's residual over its standard deviation (not whitened).
+    own: Vec<f64>,
+    /// The same, whitened.
+    r: Vec<f64>,
+    /// Row-major n × p: each parameter's ∂(model AVAR)/∂(parameter) at
+    /// each point (for a size, its process's AVAR; for ln T, σ²·∂g/∂ln T).
+    parts: Vec<f64>,
+    /// The model's AVAR at each point.
+    m: Vec<f64>,
 }
 
-/// Each point's residual over its standard deviation and, when `jac` is
-/// given, their Jacobian (row-major n × p), in one pass over the points;
-/// `None` where the model is not finite.
-fn standardised(
+impl Evaluation {
+    fn new(n: usize, p: usize) -> Evaluation {
+        Evaluation {
+            own: vec![0.0; n],
+            r: vec![0.0; n],
+            parts: vec![0.0; n * p],
+            m: vec![0.0; n],
+        }
+    }
+
+    /// χ² of the whitened residuals.
+    fn chi2(&self) -> f64 {
+        self.r.iter().map(|v| v * v).sum()
+    }
+
+    /// Whether some process carries less than `share` of the model's
+    /// variance at every point.
+    fn sheds(&self, comps: &[Component], p: usize, share: f64) -> bool {
+        let mut at = 0;
+        comps.iter().any(|c| {
+            let k = at;
+            at += c.arity();
+            (0..self.m.len()).all(|i| self.parts[i * p + k] < share * self.m[i])
+        })
+    }
+
+    /// The whitened Jacobian of the residuals (row-major n × p) into `jac`.
+    fn jacobian(&self, data: &Data, p: usize, jac: &mut [f64]) {
+        for i in 0..data.len() {
+            for k in 0..p {
+                jac[i * p + k] = -self.parts[i * p + k] / (self.m[i] * data.s[i]);
+            }
+        }
+        for k in 0..p {
+            data.whiten_in_place(jac, k, p);
+        }
+    }
+}
+
+/// Each point's AVAR of every power-law term of unit size, in
+/// [`Term::ALL`]'s order: the same values [`power_basis`] gives, computed
+/// once per fit rather than once per evaluation.
+fn bases(data: &Data) -> Vec<[f64; 5]> {
+    data.tau
+        .iter()
+        .map(|&tau| Term::ALL.map(|t| power_basis(t, tau)))
+        .collect()
+}
+
+/// `x.exp()`, taken as the 0 it rounds to below −750 without calling
+/// `exp` (whose underflow path is slow): the same value bit for bit.
+fn exp_or_zero(x: f64) -> f64 {
+    if x < -750.0 { 0.0 } else { x.exp() }
+}
+
+/// Evaluates the model at `theta` into `ev`, in one pass over the points;
+/// `false` where the model is not finite. Each parameter's exponential and
+/// each Gauss–Markov term's closed form are computed once per point (the
+/// values `Component::avar` and [`process::gauss_markov`] give, bit for
+/// bit), with the derivative in ln T beside it.
+fn evaluate_into(
     data: &Data,
+    bases: &[[f64; 5]],
     comps: &[Component],
     theta: &[f64],
-    mut jac: Option<&mut [f64]>,
-) -> Option<Vec<f64>> {
+    ev: &mut Evaluation,
+) -> bool {
     let p = theta.len();
-    let mut r = Vec::with_capacity(data.len());
-    let mut parts = [0.0f64; 16];
-    // Each parameter's exponential once, not once per point: the same
-    // values `Component::avar` takes, so the residuals are bit for bit its.
     let mut scale = [0.0f64; 16];
     for (s, t) in scale.iter_mut().zip(theta) {
-        *s = t.exp();
+        *s = exp_or_zero(*t);
     }
-    for i in 0..data.len() {
+    for (i, basis) in bases.iter().enumerate() {
         let tau = data.tau[i];
+        let parts = &mut ev.parts[i * p..(i + 1) * p];
         let mut at = 0;
         let mut m = 0.0;
         for c in comps {
             let v = match c {
-                Component::Power(t) => scale[at] * power_basis(*t, tau),
-                Component::GaussMarkov if jac.is_some() => {
+                Component::Power(t) => scale[at] * basis[term_index(*t)],
+                Component::GaussMarkov => {
                     let (g, dg) = process::gauss_markov_and_dln_tc(tau, scale[at + 1]);
                     parts[at + 1] = scale[at] * dg;
                     scale[at] * g
                 }
-                Component::GaussMarkov => scale[at] * process::gauss_markov(tau, scale[at + 1]),
             };
             parts[at] = v;
             m += v;
@@ -258,16 +313,19 @@ fn standardised(
         }
         let ri = (data.z[i] - m.ln()) / data.s[i];
         if !ri.is_finite() {
-            return None;
+            return false;
         }
-        r.push(ri);
-        if let Some(j) = jac.as_deref_mut() {
-            for k in 0..p {
-                j[i * p + k] = -parts[k] / (m * data.s[i]);
-            }
-        }
+        ev.m[i] = m;
+        ev.own[i] = ri;
+        ev.r[i] = ri;
     }
-    Some(r)
+    data.whiten_in_place(&mut ev.r, 0, 1);
+    true
+}
+
+/// The index of a term in [`Term::ALL`].
+fn term_index(t: Term) -> usize {
+    Term::ALL.iter().position(|x| *x == t).unwrap_or(0)
 }
 
 /// Solves the symmetric positive definite system a·x = b (p × p,
@@ -312,21 +370,47 @@ const TOLERANCE: f64 = 1e-7;
 pub fn fit(
     data: &Data,
     comps: &[Component],
+    theta: Vec<f64>,
+    tc: TcRange,
+    iterations: usize,
+) -> Option<Fitted> {
+    fit_shedding(data, comps, theta, tc, iterations, 0.0)
+}
+
+/// [`fit`], stopped as soon as one process carries less than `shed` of
+/// the model's variance at every point ([`Fitted::shed`]): a process
+/// shrinking towards nothing takes hundreds of ever smaller steps, each
+/// worth less to χ², towards the fit of the smaller model without it.
+pub fn fit_shedding(
+    data: &Data,
+    comps: &[Component],
     mut theta: Vec<f64>,
     tc: TcRange,
     iterations: usize,
+    shed: f64,
 ) -> Option<Fitted> {
     let n = data.len();
     let p = theta.len();
     clamp(comps, &mut theta, tc);
+    let bases = bases(data);
     let mut j = vec![0.0; n * p];
-    let mut r = evaluate(data, comps, &theta, Some(&mut j))?;
-    let mut chi2: f64 = r.iter().map(|v| v * v).sum();
+    let mut ev = Evaluation::new(n, p);
+    if !evaluate_into(data, &bases, comps, &theta, &mut ev) {
+        return None;
+    }
+    ev.jacobian(data, p, &mut j);
+    let mut trial = Evaluation::new(n, p);
+    let mut chi2: f64 = ev.chi2();
     let mut lambda = 1e-3;
     let (mut a, mut g) = (vec![0.0; p * p], vec![0.0; p]);
+    let mut gone = false;
     for _ in 0..iterations {
+        if shed > 0.0 && ev.sheds(comps, p, shed) {
+            gone = true;
+            break;
+        }
         for k in 0..p {
-            g[k] = -(0..n).map(|i| j[i * p + k] * r[i]).sum::<f64>();
+            g[k] = -(0..n).map(|i| j[i * p + k] * ev.r[i]).sum::<f64>();
             for l in 0..=k {
                 let v: f64 = (0..n).map(|i| j[i * p + k] * j[i * p + l]).sum();
                 a[k * p + l] = v;
@@ -345,13 +429,14 @@ pub fn fit(
             };
             let mut next: Vec<f64> = theta.iter().zip(&step).map(|(t, d)| t + d).collect();
             clamp(comps, &mut next, tc);
-            if let Some(rn) = evaluate(data, comps, &next, None) {
-                let c2: f64 = rn.iter().map(|v| v * v).sum();
+            if evaluate_into(data, &bases, comps, &next, &mut trial) {
+                let c2 = trial.chi2();
                 if c2 < chi2 {
                     let gain = chi2 - c2;
                     theta = next;
                     chi2 = c2;
-                    r = evaluate(data, comps, &theta, Some(&mut j))?;
+                    std::mem::swap(&mut ev, &mut trial);
+                    ev.jacobian(data, p, &mut j);
                     lambda = (lambda / 3.0).max(1e-12);
                     improved = gain > TOLERANCE * (1.0 + chi2);
                     break;
@@ -364,10 +449,11 @@ pub fn fit(
         }
     }
     Some(Fitted {
-        resid: standardised(data, comps, &theta, None)?,
+        resid: ev.own,
         theta,
         chi2,
         jac: DMatrix::from_row_slice(n, p, &j),
+        shed: gone,
     })
 }
 

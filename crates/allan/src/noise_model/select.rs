@@ -4,6 +4,7 @@
 //! role WVIC plays in GMWM, Guerrier et al. 2013 §4).
 
 use nalgebra::DMatrix;
+use rayon::prelude::*;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
 use super::ceiling::{self, Ceiling};
@@ -369,6 +370,12 @@ const ROUGH_ITERATIONS: usize = 25;
 const REFINED: usize = 24;
 /// Steps at most to convergence.
 const FULL_ITERATIONS: usize = 400;
+/// Candidates refined at once (on all cores).
+const REFINE_CHUNK: usize = 8;
+/// A process carrying less than this share of the model's variance at every
+/// point has left the candidate's fit: far below [`SHOW_SHARE`], which it
+/// would have to regain at [`MIN_POINTS`] points to be kept.
+const SHED: f64 = 1e-6;
 
 struct Scored {
     comps: Vec<Component>,
@@ -441,7 +448,7 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>, slack: f64) -> 
     // round is shrinking a process towards nothing and is no better than
     // the smaller candidate without it, which is fitted too.
     let mut rough: Vec<Scored> = candidates()
-        .into_iter()
+        .into_par_iter()
         .filter(|comps| comps.iter().map(|c| c.arity()).sum::<usize>() < n)
         .filter_map(|comps| {
             let fit = starts(&comps, &data)
@@ -452,27 +459,53 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>, slack: f64) -> 
         })
         .collect();
     rough.sort_by(|a, b| a.criterion.total_cmp(&b.criterion));
-    let mut defeated: Option<(f64, Defeat)> = None;
-    let mut scored: Vec<Scored> = rough
-        .into_iter()
-        .filter_map(|s| {
-            let fit = lm::fit(&data, &s.comps, s.fit.theta, tc, FULL_ITERATIONS)?;
-            match admissible(&s.comps, &fit.theta, pts, &ceilings, min_points) {
-                Ok(()) => Some(score(s.comps, fit)),
-                Err(Breach::Above(k, at)) => {
-                    let criterion = fit.chi2 + fit.theta.len() as f64 * penalty;
-                    if defeated.as_ref().is_none_or(|(c, _)| criterion < *c) {
-                        defeated = Some((criterion, above_defeat(&s.comps, &fit.theta, k, &at)));
-                    }
-                    None
-                }
-                Err(Breach::Unshown) => None,
+    // Refined in order of the first round's criterion, a few at a time on
+    // all cores, until REFINED keep the rules: the same candidates, in the
+    // same order, as one at a time. A candidate one of whose processes
+    // shrinks below SHED of the variance at every point is set aside as
+    // unshown: that process can no longer show, and the smaller candidate
+    // without it holds the same fit. Where then no candidate keeps the
+    // rules, the set-aside ones are refined to convergence after all: the
+    // defeat printed is that of the candidate of lowest criterion that the
+    // ceiling rules out, which may be one of them.
+    let refine = |s: &Scored, shed: f64| {
+        lm::fit_shedding(&data, &s.comps, s.fit.theta.clone(), tc, FULL_ITERATIONS, shed)
+    };
+    let mut fits: Vec<Option<lm::Fitted>> = Vec::with_capacity(rough.len());
+    let (mut scored, mut defeated) = (Vec::new(), None);
+    let rules = Rules {
+        pts,
+        ceilings: &ceilings,
+        min_points,
+        penalty,
+    };
+    for chunk in rough.chunks(REFINE_CHUNK) {
+        let from = fits.len();
+        fits.extend(chunk.par_iter().map(|s| refine(s, SHED)).collect::<Vec<_>>());
+        rules.keep(&rough, &fits, from, &mut scored, &mut defeated);
+        if scored.len() == REFINED {
+            break;
+        }
+    }
+    if scored.is_empty() {
+        let shed: Vec<usize> = (0..fits.len())
+            .filter(|&k| fits[k].as_ref().is_some_and(|f| f.shed))
+            .collect();
+        if !shed.is_empty() {
+            let again: Vec<Option<lm::Fitted>> = shed.par_iter().map(|&k| refine(&rough[k], 0.0)).collect();
+            for (k, f) in shed.into_iter().zip(again) {
+                fits[k] = f;
             }
-        })
-        .take(REFINED)
+            defeated = None;
+            rules.keep(&rough, &fits, 0, &mut scored, &mut defeated);
+        }
+    }
+    let defeated = defeated.map(|(_, d)| d);
+    let mut scored: Vec<Scored> = scored
+        .into_iter()
+        .filter_map(|k| Some(score(rough[k].comps.clone(), fits[k].clone()?)))
         .collect();
     scored.sort_by(|a, b| a.criterion.total_cmp(&b.criterion));
-    let defeated = defeated.map(|(_, d)| d);
     let Some(top) = scored.first() else {
         return Selection { defeated, ..none() };
     };
@@ -529,6 +562,49 @@ pub(super) fn select(pts: &[Point], corr: Option<&DMatrix<f64>>, slack: f64) -> 
         ranked,
         evidence,
         defeated,
+    }
+}
+
+/// What a refined candidate must keep.
+struct Rules<'a> {
+    pts: &'a [Point],
+    ceilings: &'a [Ceiling],
+    min_points: usize,
+    penalty: f64,
+}
+
+impl Rules<'_> {
+    /// Goes on from `fits[from]`, in the first round's order, adding to
+    /// `kept` the index of each refined candidate that keeps the rules, up
+    /// to [`REFINED`] of them, and holding in `defeated` the one of lowest
+    /// criterion (the first of equals) that the ceiling rules out. A fit
+    /// that failed or shed a process is neither.
+    fn keep(
+        &self,
+        rough: &[Scored],
+        fits: &[Option<lm::Fitted>],
+        from: usize,
+        kept: &mut Vec<usize>,
+        defeated: &mut Option<(f64, Defeat)>,
+    ) {
+        for (k, (s, fit)) in rough.iter().zip(fits).enumerate().skip(from) {
+            if kept.len() == REFINED {
+                return;
+            }
+            let Some(fit) = fit.as_ref().filter(|f| !f.shed) else {
+                continue;
+            };
+            match admissible(&s.comps, &fit.theta, self.pts, self.ceilings, self.min_points) {
+                Ok(()) => kept.push(k),
+                Err(Breach::Above(process, at)) => {
+                    let criterion = fit.chi2 + fit.theta.len() as f64 * self.penalty;
+                    if defeated.as_ref().is_none_or(|(c, _)| criterion < *c) {
+                        *defeated = Some((criterion, above_defeat(&s.comps, &fit.theta, process, &at)));
+                    }
+                }
+                Err(Breach::Unshown) => {}
+            }
+        }
     }
 }
 
