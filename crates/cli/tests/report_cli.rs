@@ -135,16 +135,7 @@ fn an_unknown_datasheet_is_a_usage_error() {
 #[test]
 fn the_report_fits_the_bias_slope_across_its_runs() {
     let dir = tempfile::tempdir().unwrap();
-    let runs: Vec<_> = [30, 40, 50, 60, 70]
-        .iter()
-        .map(|t| {
-            Simulation::new()
-                .duration("10m")
-                .rate("5")
-                .profile(&format!("constant:{t}"))
-                .write(dir.path(), &format!("run{t}.txt"))
-        })
-        .collect();
+    let runs = constant_runs(dir.path(), &[30, 40, 50, 60, 70], "10m");
     let out = dir.path().join("rep");
     imutherm()
         .arg("report")
@@ -181,16 +172,7 @@ fn the_report_fits_the_bias_slope_across_its_runs() {
 fn the_page_quotes_its_noise_figures_in_one_unit_system() {
     use report::page_units::{Units, labels};
     let dir = tempfile::tempdir().unwrap();
-    let runs: Vec<_> = [30, 70]
-        .iter()
-        .map(|t| {
-            Simulation::new()
-                .duration("5m")
-                .rate("5")
-                .profile(&format!("constant:{t}"))
-                .write(dir.path(), &format!("run{t}.txt"))
-        })
-        .collect();
+    let runs = constant_runs(dir.path(), &[30], "5m");
     let all = [Units::Si, Units::Datasheet, Units::Thesis];
     for (flag, units) in ["si", "datasheet", "thesis"].into_iter().zip(all) {
         let out = dir.path().join(flag);
@@ -257,4 +239,18 @@ fn has_token(text: &str, label: &str) -> bool {
         let after = text[i + label.len()..].chars().next();
         !before.is_some_and(|c| c.is_alphabetic() || c == '/') && !after.is_some_and(unit_char)
     })
+}
+
+/// Runs at 5 Hz held at each of `temps` (°C), `duration` long, as `runT.txt`.
+fn constant_runs(dir: &std::path::Path, temps: &[u32], duration: &str) -> Vec<std::path::PathBuf> {
+    temps
+        .iter()
+        .map(|t| {
+            Simulation::new()
+                .duration(duration)
+                .rate("5")
+                .profile(&format!("constant:{t}"))
+                .write(dir, &format!("run{t}.txt"))
+        })
+        .collect()
 }
