@@ -40,7 +40,7 @@ pub enum Command {
     /// fitted on the cooling run and evaluated on a held-out heating run; writes
     /// DIR/report.html.
     #[command(
-        after_help = "Examples:\n  imutherm demo                 full: 1 h runs at 20 Hz\n  imutherm demo --quick --out /tmp/demo\n  imutherm demo --dyn-window 20min --dyn-step 60s   finer dynamic ADEV windows"
+        after_help = "Examples:\n  imutherm demo                 full: 1 h runs at 20 Hz\n  imutherm demo --quick --out /tmp/demo\n  imutherm demo --quick --out /tmp/demo-si --units si   every noise figure in rad/s, m/s²\n  imutherm demo --dyn-window 20min --dyn-step 60s   finer dynamic ADEV windows"
     )]
     Demo(DemoArgs),
     #[cfg(feature = "analysis")]
@@ -86,7 +86,7 @@ pub enum Command {
     /// and problems, the thesis's noise tables, ADEV plots, and the ADEV over
     /// temperature of runs whose temperature changes.
     #[command(
-        after_help = "Examples:\n  imutherm report run_34C.txt run_43C.txt run_62C.txt run_82C.txt cooling.txt --out rep\n  imutherm report cooling.txt --out rep --dyn-window 10min --dyn-step 30s"
+        after_help = "Examples:\n  imutherm report run_34C.txt run_43C.txt run_62C.txt run_82C.txt cooling.txt --out rep\n  imutherm report cooling.txt --out rep --dyn-window 10min --dyn-step 30s\n  imutherm report run_34C.txt run_43C.txt --out rep-thesis --units thesis   °/√s, °/s as the thesis's tables"
     )]
     Report(ReportArgs),
     #[cfg(feature = "analysis")]
@@ -199,6 +199,9 @@ pub struct ReportArgs {
     pub dynamic: DynamicArgs,
 
     #[command(flatten)]
+    pub page_units: PageUnitsArgs,
+
+    #[command(flatten)]
     pub read: ReadArgs,
 }
 
@@ -276,6 +279,9 @@ pub struct DemoArgs {
 
     #[command(flatten)]
     pub dynamic: DynamicArgs,
+
+    #[command(flatten)]
+    pub page_units: PageUnitsArgs,
 }
 
 /// The dynamic ADEV's windows (the report's 3D ADEV of a run whose
@@ -341,6 +347,50 @@ pub enum TermUnits {
     Si,
     #[value(name = "datasheet")]
     Datasheet,
+}
+
+/// The one unit system of a report page's noise figures: `noise --units`'s
+/// vocabulary, with the thesis's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PageUnits {
+    #[value(name = "si")]
+    Si,
+    #[value(name = "datasheet")]
+    Datasheet,
+    #[value(name = "thesis")]
+    Thesis,
+}
+
+#[cfg(feature = "analysis")]
+impl PageUnitsArgs {
+    /// The unit system the report crate draws in.
+    pub fn units(&self) -> report::page_units::Units {
+        use report::page_units::Units;
+        match self.units {
+            PageUnits::Si => Units::Si,
+            PageUnits::Datasheet => Units::Datasheet,
+            PageUnits::Thesis => Units::Thesis,
+        }
+    }
+}
+
+/// The page's units flag, shared by `report` and `demo`.
+#[derive(Debug, Args)]
+pub struct PageUnitsArgs {
+    /// One unit system for every noise figure of the page (summary, answer,
+    /// thesis tables, ADEV charts): datasheet (°/s/√Hz, °/h, °/h/√h, °/s/°C;
+    /// µg/√Hz, µg, µg/√s, mg/°C: the units the summary's datasheet column
+    /// is in), si (rad/√s, rad/s, rad/s/√s; m/s/√s, m/s², m/s²/√s) or thesis
+    /// (°/√s, °/s, °/s/√s; SI for accelerometers). The noise-model figures
+    /// stay in the channel's SI unit.
+    #[arg(
+        long,
+        value_enum,
+        default_value = "datasheet",
+        value_name = "datasheet|si|thesis",
+        ignore_case = true
+    )]
+    pub units: PageUnits,
 }
 
 /// A flight stack imutherm writes temperature calibrations for.

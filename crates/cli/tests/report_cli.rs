@@ -135,16 +135,7 @@ fn an_unknown_datasheet_is_a_usage_error() {
 #[test]
 fn the_report_fits_the_bias_slope_across_its_runs() {
     let dir = tempfile::tempdir().unwrap();
-    let runs: Vec<_> = [30, 40, 50, 60, 70]
-        .iter()
-        .map(|t| {
-            Simulation::new()
-                .duration("10m")
-                .rate("5")
-                .profile(&format!("constant:{t}"))
-                .write(dir.path(), &format!("run{t}.txt"))
-        })
-        .collect();
+    let runs = constant_runs(dir.path(), &[30, 40, 50, 60, 70], "10m");
     let out = dir.path().join("rep");
     imutherm()
         .arg("report")
@@ -171,4 +162,95 @@ fn the_report_fits_the_bias_slope_across_its_runs() {
         (slope - 0.0232).abs() <= half,
         "slope {slope} ± {half}, expected 0.0232"
     );
+}
+
+/// `--units`: the noise figures of the page (the summary and its answer,
+/// the thesis tables, the ADEV charts' axes and legends) carry the chosen
+/// system's units and no other system's (the labels of
+/// `report::page_units`, as whole tokens: `°/s` is not in `°/s/√Hz`).
+#[test]
+fn the_page_quotes_its_noise_figures_in_one_unit_system() {
+    use report::page_units::{Units, labels};
+    let dir = tempfile::tempdir().unwrap();
+    let runs = constant_runs(dir.path(), &[30], "5m");
+    let all = [Units::Si, Units::Datasheet, Units::Thesis];
+    for (flag, units) in ["si", "datasheet", "thesis"].into_iter().zip(all) {
+        let out = dir.path().join(flag);
+        imutherm()
+            .arg("report")
+            .args(&runs)
+            .args(["--units", flag, "--out"])
+            .arg(&out)
+            .assert()
+            .success();
+        let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+        let figures = noise_figures(&html);
+        let own = labels(units);
+        let foreign: Vec<&str> = all
+            .iter()
+            .flat_map(|&u| labels(u))
+            .filter(|l| !own.contains(l))
+            .collect();
+        for l in &foreign {
+            assert!(!has_token(&figures, l), "--units {flag}: '{l}' on the page");
+        }
+        // Each figure keeps its unit: the chosen system's N and B are there.
+        let (n, b) = match units {
+            Units::Si => ("rad/√s", "rad/s"),
+            Units::Datasheet => ("°/s/√Hz", "°/h"),
+            Units::Thesis => ("°/√s", "°/s"),
+        };
+        for l in [n, b] {
+            assert!(has_token(&figures, l), "--units {flag}: no '{l}'");
+        }
+    }
+}
+
+/// The page's noise figures: the summary section, the thesis tables, and
+/// the ADEV figures (their SVG and chart data).
+fn noise_figures(html: &str) -> String {
+    let mut out = String::new();
+    let summary = html.split("<section id=\"summary\"").nth(1).expect("a summary");
+    out.push_str(&summary[..summary.find("</section>").expect("the summary's end")]);
+    for table in html.split("<table>").skip(1) {
+        let table = &table[..table.find("</table>").unwrap()];
+        if ["random walk N [", "Bias instability"]
+            .iter()
+            .any(|c| table.contains(c))
+        {
+            out.push_str(table);
+        }
+    }
+    for fig in html.split("<figure class=\"plot\">").skip(1) {
+        let fig = &fig[..fig.find("</figure>").unwrap()];
+        if fig.contains("overlapping ADEV") || fig.contains("the three axes") {
+            out.push_str(fig);
+        }
+    }
+    assert!(out.len() > 1000, "too little of the page found");
+    out
+}
+
+/// `label` as a whole unit in `text`: not part of a longer unit.
+fn has_token(text: &str, label: &str) -> bool {
+    let unit_char = |c: char| c.is_alphanumeric() || "/√²³°µ".contains(c);
+    text.match_indices(label).any(|(i, _)| {
+        let before = text[..i].chars().next_back();
+        let after = text[i + label.len()..].chars().next();
+        !before.is_some_and(|c| c.is_alphabetic() || c == '/') && !after.is_some_and(unit_char)
+    })
+}
+
+/// Runs at 5 Hz held at each of `temps` (°C), `duration` long, as `runT.txt`.
+fn constant_runs(dir: &std::path::Path, temps: &[u32], duration: &str) -> Vec<std::path::PathBuf> {
+    temps
+        .iter()
+        .map(|t| {
+            Simulation::new()
+                .duration(duration)
+                .rate("5")
+                .profile(&format!("constant:{t}"))
+                .write(dir, &format!("run{t}.txt"))
+        })
+        .collect()
 }

@@ -4,16 +4,16 @@
 
 use std::path::{Path, PathBuf};
 
-use allan::noise_terms::{Minimum, NoiseTerms, Term, TermEstimate};
+use allan::Point;
+use allan::noise_terms::{Chosen, Minimum, NoiseTerms, Term, TermEstimate};
 use analysis::AnalysisError;
 use analysis::dynamic_adev::DynamicAdev;
 use analysis::experiment::{COMPARED_AT_S, Experiment};
 use analysis::navigation::{Navigated, Plan, Row};
-use analysis::noise::{ChannelNoise, FIGURE_CONFIDENCE, RunNoise, held_value};
+use analysis::noise::{ChannelNoise, FIGURE_CONFIDENCE, RunNoise};
 use analysis::selection::Selection;
 use analysis::term_law::{SIGNIFICANCE, without_law};
 use analysis::thesis::ThesisTables;
-use analysis::units::{deg, si_unit};
 use imu::Quantity;
 use thermal::evaluation::{BinMean, spread};
 
@@ -23,10 +23,12 @@ use crate::charts::{Chart, adev_chart, time_chart};
 use crate::html::{Page, significant};
 use crate::model_plot::{ModelAxis, evidence, model_plot};
 use crate::navigation_plot::navigation_plot;
+use crate::page_units::{self, Kind, Units, kind_of, scaled, unit_or};
 use crate::plots::{
     Asymptote, Curve, Drawn, Target, adev_heatmap_bins, adev_heatmap_slices, adev_plot, bias_plot,
     temperature_colour, time_plot,
 };
+use analysis::units::{si_unit, unit_of};
 
 /// The mark near the start of a log imutherm wrote.
 pub const LOG_MARK: &str = "# format: imutherm-log/1";
@@ -130,21 +132,26 @@ pub fn chart_figure(
 
 /// The selected model's noise terms of a channel as ADEV asymptotes (IEEE
 /// 952 Annex C), and its ADEV minimum as a marker.
-fn guides(r: &ChannelNoise, run: &str) -> (Vec<Asymptote>, Option<(f64, f64, String)>) {
-    let u = &r.channel.unit;
-    let units = |t: Term| si_unit(t, r.channel.quantity, u);
+fn guides(r: &ChannelNoise, run: &str, units: Units) -> (Vec<Asymptote>, Option<(f64, f64, String)>) {
+    let (q, u) = (r.channel.quantity, &r.channel.unit);
+    let (level, u) = unit_or(q, u, Kind::Instability, units);
     let lines = Term::ALL
         .iter()
         .filter_map(|&t| {
             let v = r.terms.model.get(t).value()?.value;
-            // σ(τ) of the term alone, as σ(1 s)·τ^slope.
-            let at_1s = t.variance_basis(1.0).sqrt() * v;
+            // σ(τ) of the term alone, as σ(1 s)·τ^slope, in the axis's unit.
+            let at_1s = t.variance_basis(1.0).sqrt() * v * level;
+            // Q and R are in no table: `noise --units`'s unit for them.
+            let (f, term_unit) = match t {
+                Term::Quantization | Term::RateRamp => unit_of(t, q, &r.channel.unit, units),
+                t => unit_or(q, &r.channel.unit, kind_of(t), units),
+            };
             Some(Asymptote {
                 label: format!(
                     "{} = {:.3e} {} ({run}, model {})",
                     t.symbol(),
-                    v,
-                    units(t),
+                    v * f,
+                    term_unit,
                     r.terms.model.label
                 ),
                 at_1s,
@@ -156,18 +163,40 @@ fn guides(r: &ChannelNoise, run: &str) -> (Vec<Asymptote>, Option<(f64, f64, Str
         m.tau.map(|tau| {
             (
                 tau,
-                m.value,
-                format!("σ_min = {:.3e} {u} at τ = {tau:.1} s", m.value),
+                m.value * level,
+                format!("σ_min = {:.3e} {u} at τ = {tau:.1} s", m.value * level),
             )
         })
     });
     (lines, marker)
 }
 
+/// A table's figure to four significant digits: decimals from 0.01 up (the
+/// thesis's layout), an exponent below (a gyro's B in rad/s would read
+/// 0.0000).
+fn four(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || x.abs() >= 0.01 {
+        let decimals = (3 - x.abs().log10().floor() as i32).clamp(0, 4) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+/// The term a table shows for a run, times `factor`: the selected model's
+/// value, or `≤` its upper bound where the data do not hold it.
+fn held_value(terms: &NoiseTerms, term: Term, factor: f64) -> String {
+    match terms.choose(term).chosen {
+        Chosen::Model(v) => four(v.value * factor),
+        Chosen::Bound(b) => format!("≤ {}", four(b * factor)),
+        Chosen::Nothing => "—".to_string(),
+    }
+}
+
 /// The thesis's tables ([`ThesisTables`]): per sensor, the selected
 /// model's N, σ_min as the thesis quotes it, and the model's B, rows =
 /// axes, columns = the runs' mean temperatures.
-pub fn noise_tables(page: &mut Page, runs: &[RunNoise]) {
+pub fn noise_tables(page: &mut Page, runs: &[RunNoise], units: Units) {
     let tables = ThesisTables::new(
         runs.iter().map(|r| r.temperature_mean_c).collect(),
         runs.iter()
@@ -183,10 +212,12 @@ pub fn noise_tables(page: &mut Page, runs: &[RunNoise]) {
                 .map(|t| t.map_or("—".into(), |t| format!("{t:.0} °C"))),
         )
         .collect();
-    for (q, nunit, bunit) in [
-        (Quantity::Acceleration, "m/s/√s", "m/s²"),
-        (Quantity::AngularRate, "°/√s", "°/s"),
-    ] {
+    for q in [Quantity::Acceleration, Quantity::AngularRate] {
+        let Some(((nf, nunit), (bf, bunit))) =
+            page_units::unit(q, Kind::WhiteNoise, units).zip(page_units::unit(q, Kind::Instability, units))
+        else {
+            continue;
+        };
         let rows = tables.group(q).map_or(&[][..], |g| g.rows.as_slice());
         let table = |cell: &dyn Fn(&NoiseTerms) -> String| -> Vec<Vec<String>> {
             rows.iter()
@@ -197,7 +228,7 @@ pub fn noise_tables(page: &mut Page, runs: &[RunNoise]) {
                 })
                 .collect()
         };
-        let n_rows = table(&|terms| held_value(q, terms, Term::WhiteNoise));
+        let n_rows = table(&|terms| held_value(terms, Term::WhiteNoise, nf));
         page.table(
             &format!(
                 "{} random walk N [{nunit}] (selected noise model; ≤: an upper bound)",
@@ -212,11 +243,11 @@ pub fn noise_tables(page: &mut Page, runs: &[RunNoise]) {
         );
         let b_rows = table(&|terms| match terms.slope.sigma_min {
             Some(m) if terms.slope.minimum == Minimum::Found => {
-                format!("{:.4} (at {:.1} s)", m.value * deg(q), m.tau.unwrap_or(f64::NAN))
+                format!("{} (at {:.1} s)", four(m.value * bf), m.tau.unwrap_or(f64::NAN))
             }
             Some(m) => format!(
-                "no minimum within the record; σ ≤ {:.4} at {:.1} s",
-                m.hi * deg(q),
+                "no minimum within the record; σ ≤ {} at {:.1} s",
+                four(m.hi * bf),
                 m.tau.unwrap_or(f64::NAN)
             ),
             None => "—".into(),
@@ -228,12 +259,12 @@ pub fn noise_tables(page: &mut Page, runs: &[RunNoise]) {
         );
         let fit_rows = table(&|terms| match terms.model.get(Term::BiasInstability) {
             TermEstimate::Value(v) => format!(
-                "{:.4} [{:.4}, {:.4}]",
-                v.value * deg(q),
-                v.lo * deg(q),
-                v.hi * deg(q)
+                "{} [{}, {}]",
+                four(v.value * bf),
+                four(v.lo * bf),
+                four(v.hi * bf)
             ),
-            TermEstimate::NotIdentifiable(_) => held_value(q, terms, Term::BiasInstability),
+            TermEstimate::NotIdentifiable(_) => held_value(terms, Term::BiasInstability, bf),
         });
         page.table(
             &format!(
@@ -265,7 +296,18 @@ pub fn noise_tables(page: &mut Page, runs: &[RunNoise]) {
 }
 
 /// The ADEV of each channel with one curve per run.
-pub fn adev_figures(page: &mut Page, runs: &[RunNoise], png: &PngDir) -> Result<(), ReportError> {
+pub fn adev_figures(
+    page: &mut Page,
+    runs: &[RunNoise],
+    png: &PngDir,
+    units: Units,
+) -> Result<(), ReportError> {
+    // Every channel's points in the page's units, drawn borrowed below.
+    let level = |c: &ChannelNoise| unit_or(c.channel.quantity, &c.channel.unit, Kind::Instability, units);
+    let points: Vec<Vec<Vec<Point>>> = runs
+        .iter()
+        .map(|r| r.channels.iter().map(|c| scaled(&c.points, level(c).0)).collect())
+        .collect();
     // Curves coloured on a cold-to-hot scale by the runs' temperatures.
     let (t_lo, t_hi) = runs
         .iter()
@@ -274,20 +316,17 @@ pub fn adev_figures(page: &mut Page, runs: &[RunNoise], png: &PngDir) -> Result<
             (a.min(t), b.max(t))
         });
     // One plot per sensor and run: its three axes together.
-    for r in runs {
+    for (r, pts) in runs.iter().zip(&points) {
         let (rs, t) = (&r.channels, r.temperature_mean_c);
         let run = t.map_or("—".to_string(), |t| format!("{t:.0} °C"));
         for q in [Quantity::Acceleration, Quantity::AngularRate] {
             let curves: Vec<Curve> = rs
                 .iter()
-                .filter(|r| r.channel.quantity == q)
-                .map(|r| Curve::plain(r.channel.name.clone(), &r.points))
+                .zip(pts)
+                .filter(|(r, _)| r.channel.quantity == q)
+                .map(|(r, p)| Curve::plain(r.channel.name.clone(), p))
                 .collect();
-            let Some(unit) = rs
-                .iter()
-                .find(|r| r.channel.quantity == q)
-                .map(|r| r.channel.unit.clone())
-            else {
+            let Some(unit) = rs.iter().find(|r| r.channel.quantity == q).map(|r| level(r).1) else {
                 continue;
             };
             let what = if q == Quantity::AngularRate {
@@ -314,18 +353,19 @@ pub fn adev_figures(page: &mut Page, runs: &[RunNoise], png: &PngDir) -> Result<
             .enumerate()
             .filter_map(|(i, run)| {
                 let (rs, t) = (&run.channels, run.temperature_mean_c);
-                rs.iter().find(|r| r.channel.name == name).map(|r| {
+                let at = rs.iter().position(|r| r.channel.name == name)?;
+                Some(&rs[at]).map(|r| {
                     let label = t.map_or("—".into(), |t| format!("{t:.0} °C"));
                     // The fitted terms of the first run, drawn as dashed
                     // asymptotes; more would hide the curves.
                     let (asymptotes, marker) = if i == 0 {
-                        guides(r, &label)
+                        guides(r, &label, units)
                     } else {
                         (Vec::new(), None)
                     };
                     Curve {
                         label,
-                        points: &r.points,
+                        points: &points[i][at],
                         asymptotes,
                         marker,
                         colour: t.map(|t| temperature_colour((t - t_lo) / (t_hi - t_lo).max(1e-9))),
@@ -336,7 +376,7 @@ pub fn adev_figures(page: &mut Page, runs: &[RunNoise], png: &PngDir) -> Result<
         let unit = first
             .iter()
             .find(|r| r.channel.name == name)
-            .map_or(String::new(), |r| r.channel.unit.clone());
+            .map_or(String::new(), |r| level(r).1);
         chart_figure(
             page,
             png,

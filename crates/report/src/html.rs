@@ -7,6 +7,7 @@ use serde::Serialize;
 use analysis::summary::Summary;
 
 use crate::charts::{CHARTS_JS, Chart, UPLOT_CSS, UPLOT_JS};
+use crate::page_units::{Units, summary_in};
 
 /// Escapes text for HTML content and attribute values.
 pub fn escape(text: &str) -> String {
@@ -217,10 +218,10 @@ impl Page {
     }
 
     /// The summary of what the IMU is ([`Summary`]): drawn first, so that
-    /// the answer is on the first screen.
-    pub fn summary(&mut self, summary: &Summary) {
+    /// the answer is on the first screen; its figures in `units`.
+    pub fn summary(&mut self, summary: &Summary, units: Units) {
         self.blocks.push(Block::Summary {
-            summary: Box::new(summary.clone()),
+            summary: Box::new(summary_in(summary, units)),
         });
     }
 

@@ -31,6 +31,7 @@ pub mod experiment;
 pub mod html;
 pub mod model_plot;
 pub mod navigation_plot;
+pub mod page_units;
 pub mod plots;
 
 use std::path::PathBuf;

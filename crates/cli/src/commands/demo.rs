@@ -155,7 +155,10 @@ pub fn run(a: &DemoArgs) -> Result<()> {
 
     // 5. The report.
     let mut page = Page::new("imutherm — temperature dependency of a simulated MPU-9250");
-    page.summary(&Summary::of_experiment(&exp, sheet.as_ref()));
+    page.summary(
+        &Summary::of_experiment(&exp, sheet.as_ref()),
+        a.page_units.units(),
+    );
     page.paragraph(&format!(
         "Simulated with the mpu9250-thesis preset: four {} s runs at {} Hz held at 34, 43, 62 and 82 °C, \
          a {} s cooling run from 100 °C towards 20 °C and a heating run from 25 to 95 °C that the \
@@ -171,8 +174,8 @@ pub fn run(a: &DemoArgs) -> Result<()> {
         .collect();
     page.table("recordings", &["file".to_string()], &inputs);
 
-    noise_tables(&mut page, &exp.runs);
-    adev_figures(&mut page, &exp.runs, &png)?;
+    noise_tables(&mut page, &exp.runs, a.page_units.units());
+    adev_figures(&mut page, &exp.runs, &png, a.page_units.units())?;
     model_figures(&mut page, &exp.runs, &png)?;
 
     page.heading("Cooling run: raw data");

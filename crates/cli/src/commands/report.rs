@@ -105,7 +105,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
         notes(&run.notes);
     }
     let mut page = Page::new("imutherm report");
-    page.summary(&Summary::of_runs(&analysed, sheet.as_ref()));
+    page.summary(&Summary::of_runs(&analysed, sheet.as_ref()), a.page_units.units());
     command_section(&mut page, &std::env::args().collect::<Vec<_>>().join(" "));
     page.heading("Inputs");
     page.table(
@@ -130,8 +130,8 @@ pub fn run(a: &ReportArgs) -> Result<()> {
         );
     }
 
-    noise_tables(&mut page, &analysed);
-    adev_figures(&mut page, &analysed, &png)?;
+    noise_tables(&mut page, &analysed, a.page_units.units());
+    adev_figures(&mut page, &analysed, &png, a.page_units.units())?;
     model_figures(&mut page, &analysed, &png)?;
 
     for &i in &changing {
