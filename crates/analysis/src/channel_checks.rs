@@ -20,9 +20,7 @@ use std::fmt;
 use imu::{Quantity, Recording};
 use serde::Serialize;
 
-/// Standard gravity, m/s² (CGPM 1901; the 9.80665 that ArduPilot's
-/// `GRAVITY_MSS` and PX4's `CONSTANTS_ONE_G` use).
-pub const STANDARD_GRAVITY: f64 = 9.80665;
+pub use earth::STANDARD_GRAVITY;
 
 /// A static accelerometer's norm further than this from g, m/s² (0.1 g):
 /// a low-cost part's zero-g offsets (MPU-9250: ±80 mg) and scale errors

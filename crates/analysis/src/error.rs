@@ -191,7 +191,7 @@ pub enum AnalysisError {
     /// A calibration slot the firmware does not have. A usage error.
     #[error(
         "{}: {} has calibration instances {} to {}",
-        Setting::Instance.given(Value::number(instance)),
+        Setting::CalibrationSlot.given(Value::number(instance)),
         firmware.name(),
         firmware.instances().start(),
         firmware.instances().end()
@@ -213,6 +213,14 @@ pub enum AnalysisError {
         context: String,
         /// Its reason.
         cause: ins::InsError,
+    },
+    /// The Monte Carlo of the identified model gave no figures.
+    #[error("{context}: {cause}")]
+    MonteCarlo {
+        /// The file.
+        context: String,
+        /// Its reason.
+        cause: crate::monte_carlo::MonteCarloError,
     },
 }
 
@@ -249,5 +257,12 @@ impl AnalysisError {
     pub(crate) fn ins(context: impl Into<String>) -> impl FnOnce(ins::InsError) -> Self {
         let context = context.into();
         move |cause| AnalysisError::Ins { context, cause }
+    }
+
+    pub(crate) fn monte_carlo(
+        context: impl Into<String>,
+    ) -> impl FnOnce(crate::monte_carlo::MonteCarloError) -> Self {
+        let context = context.into();
+        move |cause| AnalysisError::MonteCarlo { context, cause }
     }
 }

@@ -109,8 +109,71 @@ pub struct Clock {
     pub jitter_s: f64,
     /// The median step, s.
     pub median_step_s: f64,
+    /// An irregular publisher or a duty cycle, when the stamps show one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pattern: Option<ClockPattern>,
     /// The rate fitted to the stamps, Hz.
     pub rate_hz: f64,
+}
+
+/// The pattern of a clock's stamps: `irregular` (steps on several values
+/// no one clock makes) or `bursts` (a regular duty cycle). Keys in order.
+#[derive(Debug, Serialize)]
+pub struct ClockPattern {
+    /// Bursts in the recording.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub burst_count: Option<usize>,
+    /// The median burst, first to last stamp, s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub burst_s: Option<f64>,
+    /// A step longer than this is a gap, s.
+    pub gap_above_s: f64,
+    /// `irregular` or `bursts`.
+    pub kind: &'static str,
+    /// The median burst period, start to start, s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub period_s: Option<f64>,
+    /// From the first stamp to the last, s.
+    pub span_s: f64,
+    /// Steps in each value, as `steps_s`.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub step_counts: Vec<usize>,
+    /// The values the steps cluster on, s.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub steps_s: Vec<f64>,
+}
+
+impl ClockPattern {
+    fn of(t: &imu::timing::Timing) -> Option<ClockPattern> {
+        use imu::clock_pattern::Pattern;
+        let mut p = ClockPattern {
+            burst_count: None,
+            burst_s: None,
+            gap_above_s: t.gap_above_s,
+            kind: "irregular",
+            period_s: None,
+            span_s: t.span_s,
+            step_counts: Vec::new(),
+            steps_s: Vec::new(),
+        };
+        match t.pattern.as_ref()? {
+            Pattern::Irregular { steps } => {
+                p.steps_s = steps.iter().map(|s| s.step_s).collect();
+                p.step_counts = steps.iter().map(|s| s.count).collect();
+            }
+            Pattern::Bursts {
+                burst_s,
+                period_s,
+                bursts,
+            } => {
+                p.kind = "bursts";
+                p.burst_count = Some(*bursts);
+                p.burst_s = Some(*burst_s);
+                p.period_s = Some(*period_s);
+            }
+        }
+        Some(p)
+    }
 }
 
 /// A channel's range.
@@ -304,9 +367,17 @@ impl FileInfo {
                 gaps: t.gaps.len(),
                 jitter_s: t.jitter_s,
                 median_step_s: t.median_step_s,
+                pattern: ClockPattern::of(t),
                 rate_hz: t.rate_hz,
             }),
-            duration_s: rec.duration_s(),
+            // An irregular publisher's samples are not one period apart:
+            // its duration is the stamps' span.
+            duration_s: match report.timing.as_ref() {
+                Some(t) if matches!(t.pattern, Some(imu::clock_pattern::Pattern::Irregular { .. })) => {
+                    Some(t.span_s)
+                }
+                _ => rec.duration_s(),
+            },
             temperature_c,
             channels,
             problems: report

@@ -4,9 +4,9 @@
 
 use std::path::Path;
 
+use crate::monte_carlo::{MonteCarlo, MonteCarloSetup, monte_carlo};
 use allan::noise_terms::{Term, analyze_terms};
 use ins::drift::{CurvePoint, Drift, Spread, drift_over_windows};
-use ins::monte_carlo::{MonteCarlo, MonteCarloSetup, monte_carlo};
 use ins::prediction::{AxisNoise, NoiseModel, Prediction, PredictionSetup, predict};
 use ins::strapdown::{ImuData, NavOptions, align, align_samples};
 use thermal::tcal::Model;
@@ -411,7 +411,7 @@ fn simulate(
         },
         &plan.times,
     )
-    .map_err(AnalysisError::ins(format!(
+    .map_err(AnalysisError::monte_carlo(format!(
         "{}: Monte Carlo of the identified model",
         file.display()
     )))?;

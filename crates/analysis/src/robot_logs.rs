@@ -38,8 +38,12 @@ pub struct Stream {
     pub message_type: String,
     /// How many messages it holds.
     pub messages: usize,
-    /// Mean message rate, Hz.
+    /// Mean message rate over the log's span, Hz.
     pub rate_hz: Option<f64>,
+    /// The rate between consecutive messages (one over their median step),
+    /// Hz: the mean's equal where the stream has no gap.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub step_rate_hz: Option<f64>,
     /// Where its temperature comes from.
     #[serde(skip_serializing_if = "String::is_empty")]
     pub temperature_source: String,
@@ -250,6 +254,7 @@ fn any_read(r: robotlogs::Read, format: robotlogs::Format) -> AnyRead {
             message_type: s.msg_type,
             messages: s.messages,
             rate_hz: s.rate_hz,
+            step_rate_hz: s.step_rate_hz,
             temperature_source: s.temperature,
             selected: s.selected,
         })

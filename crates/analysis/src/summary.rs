@@ -40,6 +40,58 @@ pub struct Summary {
     pub compensation: Vec<CompensationGain>,
     /// Horizontal position error after 60 s without GNSS, if navigated.
     pub drift_60s: Option<Drift>,
+    /// The gyroscope's white noise N in each constant-temperature run,
+    /// coldest first: the answer's first figure.
+    pub gyro_noise_by_run: Vec<RunWhiteNoise>,
+    /// The gyroscope axis whose bias moves most with temperature, and its
+    /// slope: the answer's second figure.
+    pub steepest_gyro: Option<(String, Slope)>,
+    /// The least and the most of the gyroscope's bias over temperature the
+    /// compensation removes on held-out data, %.
+    pub gyro_removed_pct: Option<[f64; 2]>,
+}
+
+/// The gyroscope's N in one run: the mean over its axes of the selected
+/// model's N (an axis whose N is only bounded is left out).
+#[derive(Debug, Clone, Serialize)]
+pub struct RunWhiteNoise {
+    /// The run's mean temperature, °C.
+    pub temperature_c: f64,
+    /// N, in `unit`.
+    pub value: f64,
+    /// `°/s/√Hz`, the summary's.
+    pub unit: &'static str,
+}
+
+/// Each run's gyroscope N, coldest first.
+fn gyro_noise_by_run(runs: &[RunNoise]) -> Vec<RunWhiteNoise> {
+    let Some((scale, unit)) = density_of(Quantity::AngularRate) else {
+        return Vec::new();
+    };
+    let mut out: Vec<RunWhiteNoise> = runs
+        .iter()
+        .filter_map(|r| {
+            let n: Vec<f64> = r
+                .channels
+                .iter()
+                .filter(|c| c.channel.quantity == Quantity::AngularRate)
+                .filter_map(|c| match c.terms.choose(Term::WhiteNoise).chosen {
+                    Chosen::Model(v) => Some(v.value),
+                    _ => None,
+                })
+                .collect();
+            if n.is_empty() {
+                return None;
+            }
+            Some(RunWhiteNoise {
+                temperature_c: r.temperature_mean_c?,
+                value: scale * n.iter().sum::<f64>() / n.len() as f64,
+                unit,
+            })
+        })
+        .collect();
+    out.sort_by(|a, b| a.temperature_c.total_cmp(&b.temperature_c));
+    out
 }
 
 /// Which datasheet.
@@ -239,7 +291,11 @@ impl Summary {
             axes,
             compensation: Vec::new(),
             drift_60s: None,
+            gyro_noise_by_run: gyro_noise_by_run(runs),
+            steepest_gyro: None,
+            gyro_removed_pct: None,
         }
+        .with_answer()
     }
 
     /// The summary of the whole experiment: the runs', with the bias slope
@@ -281,7 +337,30 @@ impl Summary {
             raw_m,
             compensated_m: at60(&exp.navigation.compensated),
         });
-        s
+        s.with_answer()
+    }
+
+    /// The answer's figures drawn from the axes and the compensation.
+    fn with_answer(mut self) -> Summary {
+        self.steepest_gyro = self
+            .axes
+            .iter()
+            .filter(|a| a.sensor == "gyroscope")
+            .filter_map(|a| Some((a.name.clone(), a.bias_slope.clone()?)))
+            .max_by(|a, b| a.1.value.abs().total_cmp(&b.1.value.abs()));
+        let removed: Vec<f64> = self
+            .compensation
+            .iter()
+            .filter(|c| c.unit == "°/s" && c.reduction_pct.is_finite())
+            .map(|c| c.reduction_pct)
+            .collect();
+        self.gyro_removed_pct = (!removed.is_empty()).then(|| {
+            [
+                removed.iter().copied().fold(f64::INFINITY, f64::min),
+                removed.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            ]
+        });
+        self
     }
 }
 
@@ -438,6 +517,61 @@ mod tests {
             }
             assert_eq!(density_of(q).map(|d| d.1), summary_unit(q, Term::WhiteNoise));
         }
+    }
+
+    /// The answer's second figure: the gyro axis whose bias moves most (by
+    /// magnitude), and the least and most of the gyro's bias compensation
+    /// removes; accelerometer axes take no part.
+    #[test]
+    fn the_answer_takes_the_steepest_gyro_and_the_gyros_range_removed() {
+        let axis = |name: &str, sensor: &'static str, slope: f64| AxisSummary {
+            name: name.to_string(),
+            sensor,
+            terms: Vec::new(),
+            bias_slope: Some(Slope {
+                value: slope,
+                half_width: 0.001,
+                unit: if sensor == "gyroscope" {
+                    "°/s/°C"
+                } else {
+                    "mg/°C"
+                },
+                from: "held-out run",
+            }),
+            bias_datasheet: DatasheetCell::NoDatasheet,
+            noise_growth: None,
+        };
+        let gain = |name: &str, unit: &'static str, pct: f64| CompensationGain {
+            name: name.to_string(),
+            raw: 1.0,
+            compensated: 1.0 - pct / 100.0,
+            unit,
+            reduction_pct: pct,
+        };
+        let s = Summary {
+            datasheet: None,
+            terms_run_c: None,
+            coldest_c: None,
+            hottest_c: None,
+            axes: vec![
+                axis("accel_x", "accelerometer", 9.0),
+                axis("gyro_x", "gyroscope", 0.02),
+                axis("gyro_y", "gyroscope", -0.03),
+            ],
+            compensation: vec![
+                gain("accel_x", "mg", 50.0),
+                gain("gyro_x", "°/s", 97.0),
+                gain("gyro_y", "°/s", 94.5),
+            ],
+            drift_60s: None,
+            gyro_noise_by_run: Vec::new(),
+            steepest_gyro: None,
+            gyro_removed_pct: None,
+        }
+        .with_answer();
+        let (name, slope) = s.steepest_gyro.unwrap();
+        assert_eq!((name.as_str(), slope.value), ("gyro_y", -0.03));
+        assert_eq!(s.gyro_removed_pct, Some([94.5, 97.0]));
     }
 
     #[test]

@@ -381,7 +381,7 @@ pub struct TcalExportArgs {
 
     /// Write the model as a C header instead (`c`): its coefficients and one
     /// reference function compensating a sample as `tcal apply` does.
-    #[arg(long, value_name = "c", value_parser = ["c"], conflicts_with_all = ["firmware", "instance", "device_id"])]
+    #[arg(long, value_name = "c", value_parser = ["c"], conflicts_with_all = ["firmware", "slot", "device_id"])]
     pub format: Option<String>,
 
     /// Where to write the parameter file (default: standard output).
@@ -393,9 +393,10 @@ pub struct TcalExportArgs {
     pub overwrite: bool,
 
     /// The firmware's calibration slot: PX4 0 to 3 (default 0), ArduPilot's
-    /// IMU 1 to 3 (default 1).
-    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(0..=3))]
-    pub instance: Option<u8>,
+    /// IMU 1 to 3 (default 1). Not the log's `--instance` a reading takes:
+    /// `--instance` here is kept, hidden, as this flag's former name.
+    #[arg(long, value_name = "N", alias = "instance", value_parser = clap::value_parser!(u8).range(0..=3))]
+    pub slot: Option<u8>,
 
     /// The sensor's device id (PX4: `listener sensor_gyro`, or CAL_GYRO0_ID),
     /// decimal or 0x-hex; default: the one the recording carried.
@@ -537,21 +538,28 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
 
-    /// Draw unit ID of a production population around the configuration:
-    /// its noise terms and bias polynomials scatter (see --scatter), fixed
-    /// by the id; the seed still picks the run's noise realisation.
-    #[arg(long, value_name = "ID")]
-    pub unit: Option<String>,
+    /// Draw the production unit ID (its serial number) of a population
+    /// around the configuration: its noise terms and bias polynomials
+    /// scatter (see --scatter), fixed by the id; the seed still picks the
+    /// run's noise realisation. (`--unit`, this flag's former name, is kept
+    /// hidden; elsewhere `--unit` is a column's unit.)
+    #[arg(long, value_name = "ID", alias = "unit")]
+    pub unit_id: Option<String>,
 
     /// The population's relative spread NOISE,BIAS (one standard deviation:
     /// log-normal on every noise term, normal on every bias coefficient).
-    #[arg(long, value_name = "NOISE,BIAS", default_value = "0.1,0.2", requires = "unit")]
+    #[arg(
+        long,
+        value_name = "NOISE,BIAS",
+        default_value = "0.1,0.2",
+        requires = "unit_id"
+    )]
     pub scatter: String,
 
     /// Plant a fault in the unit: noise-3x (every noise term ×3), slope-5x
     /// (bias slope 5× the population's) or dead-axis[:CHANNEL] (gyro_z by
     /// default: a constant output).
-    #[arg(long, value_name = "DEFECT", requires = "unit")]
+    #[arg(long, value_name = "DEFECT", requires = "unit_id")]
     pub defect: Option<String>,
 
     /// Output file (imutherm log format).

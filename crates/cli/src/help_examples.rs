@@ -35,7 +35,7 @@ samples has no row; it is listed, with the reason, under `skipped` (--json) or t
 pub(crate) const TCAL_EXPORT_EXAMPLES: &str = "\
 Examples:
   imutherm tcal export model.json --firmware px4 --device-id 2293768 -o imu.params
-  imutherm tcal export model.json --firmware ardupilot --instance 1 -o imu.parm
+  imutherm tcal export model.json --firmware ardupilot --slot 1 -o imu.parm
 
 Both firmwares take a cubic without a dT/dt term: fit with `tcal fit --for px4|ardupilot`.
 PX4 maps the calibration to a sensor by its device id (`listener sensor_gyro`, or the
@@ -71,10 +71,10 @@ Profiles (°C and seconds; the die follows the chamber with the configuration's 
   steps:T1,T2,…:HOLD_S (heater time constant 120 s)   file:PATH (rows of time_s, temp_c)
 Durations: 3600, 3600s, 90m, 2h, 1.5h. Presets: mpu9250-thesis, white.
 
-A production line (--unit ID: the same board on every run; --seed varies the realisation):
-  imutherm simulate --unit SN-0042 --duration 20m --profile constant:34 -o SN-0042_static.txt
-  imutherm simulate --unit SN-0042 --seed 2 --profile ramp:20:80:3600 -o SN-0042_ramp.txt
-  imutherm simulate --unit SN-0007 --defect noise-3x -o bad.txt     also slope-5x, dead-axis:gyro_z";
+A production line (--unit-id ID: the same board on every run; --seed varies the realisation):
+  imutherm simulate --unit-id SN-0042 --duration 20m --profile constant:34 -o SN-0042_static.txt
+  imutherm simulate --unit-id SN-0042 --seed 2 --profile ramp:20:80:3600 -o SN-0042_ramp.txt
+  imutherm simulate --unit-id SN-0007 --defect noise-3x -o bad.txt     also slope-5x, dead-axis:gyro_z";
 
 #[cfg(feature = "analysis")]
 pub(crate) const NOISE_EXAMPLES: &str = "\

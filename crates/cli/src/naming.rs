@@ -40,6 +40,7 @@ fn flag(setting: Setting) -> &'static str {
         Setting::BinWidth => "--bin-width",
         Setting::ExportFirmware => "--export",
         Setting::DeviceId => "--device-id",
+        Setting::CalibrationSlot => "--slot",
         Setting::KalibrFile => "--kalibr",
         Setting::NavigationModel => "--model",
     }

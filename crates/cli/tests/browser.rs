@@ -79,6 +79,7 @@ fn the_demo_report_renders_in_chromium() {
             + body.matches("<polyline").count();
         assert!(marks > 10, "figure {i} is nearly empty ({marks} marks)");
     }
+    check_static_plots(&html);
     // The twelve 3D views (dynamic ADEV, raw and compensated per channel)
     // were drawn by their script (the charts' canvases are uPlot's, inside
     // `div.chart`).
@@ -102,14 +103,13 @@ fn the_demo_report_renders_in_chromium() {
 
     // The first screen: a 1280×800 window, as a reader opens the page.
     let first = shots.join("report-first-screen.png");
-    let run_first = Process::new(&browser)
-        .args(common)
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .arg("--window-size=1280,800")
-        .arg(format!("--screenshot={}", first.display()))
-        .arg(&url)
-        .output()
-        .expect("chromium runs");
+    let run_first = in_window(
+        &browser,
+        &profile,
+        "1280,800",
+        &format!("--screenshot={}", first.display()),
+        &url,
+    );
     assert!(run_first.status.success(), "chromium failed");
     // Where the summary is, and what the page fetched, measured in the same
     // window by a probe appended to a copy of the page (the report itself
@@ -124,14 +124,13 @@ fn the_demo_report_renders_in_chromium() {
          document.body.setAttribute('data-probe',(r?Math.round(r.top)+','+Math.round(r.bottom):'none')+';'+window.innerWidth+'x'+window.innerHeight+';'+net);})();</script></body>",
     );
     std::fs::write(&probe, probed).unwrap();
-    let measured = Process::new(&browser)
-        .args(common)
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .arg("--window-size=1280,800")
-        .arg("--dump-dom")
-        .arg(format!("file://{}", probe.display()))
-        .output()
-        .expect("chromium runs");
+    let measured = in_window(
+        &browser,
+        &profile,
+        "1280,800",
+        "--dump-dom",
+        &format!("file://{}", probe.display()),
+    );
     let dom = String::from_utf8_lossy(&measured.stdout);
     let found = dom
         .split("data-probe=\"")
@@ -161,9 +160,223 @@ fn the_demo_report_renders_in_chromium() {
     let bad = console_errors(&log);
     assert!(bad.is_empty(), "the page logged: {bad:?}");
     let hovered = hover_probe(&browser, &common, &profile, &page, &out, &shots);
-    for s in [&shot, &first, &hovered] {
+    let answer = answer_probe(&browser, &profile, &page, &out, &shots);
+    for s in [&shot, &first, &hovered, &answer] {
         eprintln!("screenshot: {}", s.display());
     }
+}
+
+/// The `<text x=… y=…>label</text>` elements of an SVG, trimmed.
+fn svg_texts(svg: &str) -> Vec<(f64, f64, String)> {
+    svg.split("<text ")
+        .skip(1)
+        .filter_map(|t| {
+            let attr = |name: &str| -> Option<f64> {
+                let v = t.split(&format!("{name}=\"")).nth(1)?.split('"').next()?;
+                v.parse().ok()
+            };
+            let body = t.split_once('>')?.1.split("</text>").next()?;
+            Some((
+                attr(" x").or_else(|| attr("x"))?,
+                attr("y")?,
+                body.trim().to_string(),
+            ))
+        })
+        .collect()
+}
+
+/// The static plots as drawn: on every axis (tick labels sharing an x, or a
+/// y) one number format, all exponents or none (`1e-4` beside `0.001` was
+/// the fault); the navigation chart's time axis stops near its data (the
+/// demo navigates 120 s: no tick at 1000 s), and its legend lies under the
+/// plot, below every tick label and axis name.
+fn check_static_plots(html: &str) {
+    let mut navigation = 0;
+    for f in html.split("<figure class=\"plot").skip(1) {
+        let body = f.split("</figure>").next().unwrap_or("");
+        let texts = svg_texts(body);
+        let ticks: Vec<&(f64, f64, String)> = texts.iter().filter(|t| t.2.parse::<f64>().is_ok()).collect();
+        let exp = |t: &str| t.contains('e');
+        // The decades below 1 of one axis (labels at one x, or one y; a
+        // panel beneath may share the x, but its linear ticks are no
+        // decades): `0.001` beside `1e-4` was the fault.
+        let decade = |t: &str| {
+            let v: f64 = t.parse().unwrap();
+            v < 1.0 && (v.log10() - v.log10().round()).abs() < 1e-9
+        };
+        for same in [
+            |a: &(f64, f64, String), b: &(f64, f64, String)| a.0 == b.0,
+            |a: &(f64, f64, String), b: &(f64, f64, String)| a.1 == b.1,
+        ] {
+            for t in &ticks {
+                let axis: Vec<&str> = ticks
+                    .iter()
+                    .filter(|u| same(t, u) && decade(&u.2))
+                    .map(|u| u.2.as_str())
+                    .collect();
+                if axis.len() >= 2 {
+                    assert!(
+                        axis.iter().all(|l| exp(l)) || !axis.iter().any(|l| exp(l)),
+                        "one axis in two formats: {axis:?}"
+                    );
+                }
+            }
+        }
+        if !body.contains("horizontal position error [m]") {
+            continue;
+        }
+        navigation += 1;
+        let lowest_tick = ticks.iter().map(|t| t.1).fold(f64::NEG_INFINITY, f64::max);
+        let x_ticks: Vec<f64> = ticks
+            .iter()
+            .filter(|t| t.1 == lowest_tick)
+            .map(|t| t.2.parse().unwrap())
+            .collect();
+        let last = x_ticks.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        assert!(
+            (100.0..1000.0).contains(&last),
+            "the time axis's last tick is {last} s: {x_ticks:?}"
+        );
+        let axis_name = texts
+            .iter()
+            .find(|t| t.2.contains("time since alignment"))
+            .expect("x axis name");
+        for t in texts.iter().filter(|t| {
+            t.2.contains("measured rms") || t.2.contains("Monte Carlo") || t.2.contains("predicted DRMS")
+        }) {
+            assert!(
+                t.1 > axis_name.1 && t.1 > lowest_tick,
+                "legend entry '{}' at y {} is on the plot",
+                t.2,
+                t.1
+            );
+        }
+    }
+    assert!(navigation >= 1, "no navigation chart found");
+}
+
+/// Chromium on `url` in a window of `size` (`W,H`), doing `what` (a
+/// screenshot, or dumping the DOM).
+fn in_window(
+    browser: &std::path::Path,
+    profile: &std::path::Path,
+    size: &str,
+    what: &str,
+    url: &str,
+) -> std::process::Output {
+    Process::new(browser)
+        .args(FLAGS)
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .arg(format!("--window-size={size}"))
+        .arg(what)
+        .arg(url)
+        .output()
+        .expect("chromium runs")
+}
+
+/// The answer on the first screen of a 1400×900 window: the sentence and
+/// its three figures (the gyro's noise at each temperature; the bias slope
+/// and what compensation removes; the 60 s drift raw and compensated) each
+/// wholly within the first screen, holding its numbers with their units. Measured by
+/// a probe appended to a copy of the page, which writes each element's
+/// bottom and text into the DOM; the window's screenshot is kept.
+fn answer_probe(
+    browser: &std::path::Path,
+    profile: &std::path::Path,
+    page: &std::path::Path,
+    out: &std::path::Path,
+    shots: &std::path::Path,
+) -> PathBuf {
+    let shot = shots.join("report-first-screen-1400x900.png");
+    let url = format!("file://{}", page.display());
+    let run = in_window(
+        browser,
+        profile,
+        "1400,900",
+        &format!("--screenshot={}", shot.display()),
+        &url,
+    );
+    assert!(run.status.success(), "chromium failed");
+    let probe = out.join("report-answer.html");
+    let html = std::fs::read_to_string(page).unwrap();
+    std::fs::write(
+        &probe,
+        html.replace(
+            "</body>",
+            "<script>(function(){var o=document.createElement('pre');o.id='probe-out';\
+             o.textContent=['answer-sentence','answer-noise','answer-slope','answer-drift'].map(function(id){\
+             var e=document.getElementById(id);if(!e)return id+'|none|';var r=e.getBoundingClientRect();\
+             return id+'|'+Math.ceil(r.bottom)+'|'+e.textContent.replace(/\\s+/g,' ');}).join('\\n')\
+             +'\\nwindow|'+window.innerHeight+'|'+window.innerWidth;document.body.appendChild(o);})();</script></body>",
+        ),
+    )
+    .unwrap();
+    let measured = in_window(
+        browser,
+        profile,
+        "1400,900",
+        "--dump-dom",
+        &format!("file://{}", probe.display()),
+    );
+    let dom = String::from_utf8_lossy(&measured.stdout);
+    let found = dom
+        .split("<pre id=\"probe-out\">")
+        .nth(1)
+        .and_then(|s| s.split("</pre>").next())
+        .unwrap_or_else(|| {
+            panic!(
+                "the probe did not run: {}",
+                String::from_utf8_lossy(&measured.stderr)
+            )
+        });
+    eprintln!("answer probe:\n{found}");
+    let rows: Vec<Vec<&str>> = found.lines().map(|l| l.splitn(3, '|').collect()).collect();
+    // The screenshot is the 1400×900 first screen (PNG's IHDR: width and
+    // height, big-endian, at bytes 16 and 20).
+    let png = std::fs::read(&shot).expect("screenshot written");
+    let dim = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap());
+    assert_eq!((dim(16), dim(20)), (1400, 900), "screenshot size");
+    // The same window's viewport, in which the probe measured (headless
+    // Chromium keeps part of the 900 px for its window, so the viewport
+    // can be shorter: the answer must fit the shorter of the two).
+    let window = rows.iter().find(|r| r[0] == "window").expect("window size");
+    assert_eq!(window[2], "1400", "window width");
+    let fold = window[1].parse::<f64>().unwrap().min(900.0);
+    for (id, needs) in [
+        (
+            "answer-sentence",
+            &["°/s/√Hz at", "°/s/°C", "% of that bias", "m raw", "m compensated"][..],
+        ),
+        ("answer-noise", &["°/s/√Hz at", "°C"][..]),
+        ("answer-slope", &["°/s/°C", "% removed"][..]),
+        ("answer-drift", &[" m → ", "m saved"][..]),
+    ] {
+        let row = rows.iter().find(|r| r[0] == id).unwrap();
+        let bottom: f64 = row[1]
+            .parse()
+            .unwrap_or_else(|_| panic!("{id} is not on the page: {found}"));
+        assert!(
+            bottom <= fold,
+            "{id} ends {bottom} px down, below the first screen ({fold} px)"
+        );
+        let text = row[2];
+        assert!(
+            text.chars().any(|c| c.is_ascii_digit()),
+            "{id} holds no number: {text}"
+        );
+        for n in needs {
+            assert!(text.contains(n), "{id} lacks '{n}': {text}");
+        }
+    }
+    // The noise figure gives one N per constant-temperature run (the
+    // quick demo's four).
+    let noise = rows.iter().find(|r| r[0] == "answer-noise").unwrap()[2];
+    assert_eq!(
+        noise.matches(" · ").count(),
+        2 * 3,
+        "four runs' N and temperatures: {noise}"
+    );
+    shot
 }
 
 /// What a reader does with an ADEV chart, done by a probe appended to a

@@ -273,6 +273,45 @@ fn arducopter_3_2_stamps_in_milliseconds_and_says_so() {
     );
 }
 
+/// A PXF log (erle-robotics, copter 23-9-2014/53.BIN) logs IMU only part
+/// of the time: 866 messages at 50 Hz over a 131 s span. The stream table
+/// once gave the mean over the span (6.59 Hz) beside `rate 50 Hz`; it now
+/// gives the rate between messages, the clock's, and says the gaps.
+#[test]
+fn a_stream_logged_part_of_the_time_shows_its_rate_and_its_gaps() {
+    let (_d, dir) = dir();
+    let path = dir.join("partly_logged.bin");
+    // 25 Hz for 40 s, nothing for 340 s, 25 Hz for 40 s: 420 s in all.
+    let rows = static_rows(2000, 25.0, 9);
+    let rows: Vec<_> = rows[..1000]
+        .iter()
+        .cloned()
+        .chain(rows[1000..].iter().map(|r| (r.0 + 340.0, r.1, r.2, r.3)))
+        .collect();
+    dataflash(&path, DfLayout::Copter34, &rows);
+    let f = info(&path);
+    let imu = &f["streams"][0];
+    let span = rows.last().unwrap().0 - rows[0].0;
+    assert!(
+        (imu["rate_hz"].as_f64().unwrap() - 1999.0 / span).abs() < 1e-6,
+        "{imu}"
+    );
+    assert!(
+        (imu["step_rate_hz"].as_f64().unwrap() - 25.0).abs() < 1e-6,
+        "{imu}"
+    );
+    let text = String::from_utf8(succeed(&mut cli!["info", &path]).stdout).unwrap();
+    let row = text.lines().find(|l| l.starts_with("  read IMU/0")).unwrap();
+    assert!(row.contains(" 25 Hz"), "{text}");
+    assert!(
+        text.contains(
+            "IMU/0 logs at 25 Hz for about 19 % of its 420.0 s (4.75998 Hz on average): the rest are gaps"
+        ),
+        "{text}"
+    );
+    assert!(text.contains("  rate         25 Hz"), "{text}");
+}
+
 #[test]
 fn an_fmuv5_clock_with_unlogged_messages_keeps_its_rate() {
     // sensor_combined as an FMUv5 logged it: 5 ms steps, with stretches
@@ -313,7 +352,8 @@ fn an_fmuv5_clock_with_unlogged_messages_keeps_its_rate() {
         (rate * mean_step - 1.0).abs() < 0.002,
         "{rate} Hz against a mean step of {mean_step} s"
     );
-    // The duration is the count over the rate, plus the gaps.
+    // The unlogged messages are gaps (their steps, 9 to 10 ms, are sums
+    // of two, too few at any one value to be a step the publisher makes).
     let gaps = f["problems"]
         .as_array()
         .unwrap()
@@ -322,12 +362,13 @@ fn an_fmuv5_clock_with_unlogged_messages_keeps_its_rate() {
         .map(|p| p["count"].as_u64().unwrap())
         .sum::<u64>();
     assert_eq!(gaps, 101);
-    let duration = f["duration_s"].as_f64().unwrap();
-    assert!(
-        ((1737 + gaps) as f64 / rate - duration).abs() < 1e-9,
-        "{duration}"
-    );
     assert_eq!(f["samples"].as_u64(), Some(1737 + gaps));
+    // Steps of 4.5 and 5 ms are no one clock's: the duration is the
+    // stamps' span, not the slots over the mean rate.
+    assert_eq!(f["clock"]["pattern"]["kind"], "irregular");
+    let duration = f["duration_s"].as_f64().unwrap();
+    let span = (t_us[t_us.len() - 1] - t_us[0]) * 1e-6;
+    assert!((duration - span).abs() < 1e-9, "{duration} against {span}");
 }
 
 #[test]
@@ -386,9 +427,20 @@ fn real_px4_clocks_run_at_their_mean_gap_free_step() {
         let f = info(&px4.join(file));
         let r = f["rate_hz"].as_f64().unwrap();
         assert!((r / rate - 1.0).abs() < 1e-9, "{file}: {r} Hz, not {rate}");
+        // The slots over the rate, or for a publisher on several steps
+        // (sample_appended_multiple: 4 and 4.8 ms) the stamps' span.
         let slots = f["samples"].as_f64().unwrap();
+        let duration = match f["clock"]["pattern"]["span_s"].as_f64() {
+            Some(span) => span,
+            None => slots / r,
+        };
+        assert_eq!(
+            f["clock"].get("pattern").is_some(),
+            file == "sample_appended_multiple.ulg",
+            "{file}"
+        );
         assert!(
-            (f["duration_s"].as_f64().unwrap() - slots / r).abs() < 1e-9,
+            (f["duration_s"].as_f64().unwrap() - duration).abs() < 1e-9,
             "{file}"
         );
     }

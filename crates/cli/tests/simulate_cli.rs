@@ -154,10 +154,10 @@ fn true_n(text: &str, channel: &str) -> f64 {
 #[test]
 fn a_unit_of_a_population_is_the_same_board_on_every_run() {
     let dir = tempfile::tempdir().unwrap();
-    let run = |name: &str, extra: &[&str]| {
+    let run_as = |flag: &str, name: &str, extra: &[&str]| {
         let p = dir.path().join(name);
         imutherm()
-            .args(["simulate", "--preset", "white", "--duration", "10", "--unit"])
+            .args(["simulate", "--preset", "white", "--duration", "10", flag])
             .args(extra)
             .arg("-o")
             .arg(&p)
@@ -165,7 +165,10 @@ fn a_unit_of_a_population_is_the_same_board_on_every_run() {
             .success();
         std::fs::read_to_string(p).unwrap()
     };
+    let run = |name: &str, extra: &[&str]| run_as("--unit-id", name, extra);
     let a1 = run("a1.txt", &["SN-1"]);
+    // `--unit`, the flag's former name, is the same flag.
+    assert_eq!(run_as("--unit", "a1_old.txt", &["SN-1"]), a1);
     let a2 = run("a2.txt", &["SN-1", "--seed", "5"]);
     let b = run("b.txt", &["SN-2"]);
     let bad = run("bad.txt", &["SN-1", "--defect", "noise-3x"]);
@@ -191,10 +194,11 @@ fn population_flags_are_checked_as_flags() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.txt");
     for (args, says) in [
-        (vec!["--defect", "noise-3x"], "--unit"),
-        (vec!["--unit", "U", "--defect", "dead-axis:mag_x"], "gyro_z"),
-        (vec!["--unit", "U", "--scatter", "0.1"], "NOISE,BIAS"),
-        (vec!["--unit", "", "--preset", "white"], "empty"),
+        (vec!["--defect", "noise-3x"], "--unit-id"),
+        (vec!["--unit-id", "U", "--defect", "dead-axis:mag_x"], "gyro_z"),
+        (vec!["--unit-id", "U", "--scatter", "0.1"], "NOISE,BIAS"),
+        (vec!["--unit-id", "", "--preset", "white"], "empty"),
+        (vec!["--unit", "", "--preset", "white"], "--unit-id"),
     ] {
         writing("simulate", &args, &out).refused(2, says);
     }

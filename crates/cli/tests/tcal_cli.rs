@@ -389,22 +389,37 @@ fn what_a_firmware_cannot_load_is_refused_with_what_to_refit() {
     }
     // Flags the firmware has no room for.
     for args in [
-        vec!["--firmware", "ardupilot", "--instance", "0"],
-        vec!["--firmware", "px4", "--instance", "4"],
+        vec!["--firmware", "ardupilot", "--slot", "0"],
+        vec!["--firmware", "px4", "--slot", "4"],
         vec!["--firmware", "px4", "--device-id", "gyro"],
         vec!["--firmware", "inav"],
     ] {
         export(&auto, &args).assert().code(2);
     }
     // PX4 without a device id: a placeholder, commented, and a warning.
-    export(&auto, &["--firmware", "px4", "--instance", "2"])
+    let slot2 = export(&auto, &["--firmware", "px4", "--slot", "2"])
         .assert()
         .success()
         .stdout(
             predicate::str::contains("1\t1\tTC_G2_ID\t0\t6")
                 .and(predicate::str::contains("listener sensor_gyro")),
         )
-        .stderr(predicate::str::contains("TC_G2_ID is a placeholder"));
+        .stderr(predicate::str::contains("TC_G2_ID is a placeholder"))
+        .get_output()
+        .stdout
+        .clone();
+    // `--instance`, the slot's former name here, is the same flag.
+    let old = export(&auto, &["--firmware", "px4", "--instance", "2"])
+        .assert()
+        .success();
+    assert_eq!(old.get_output().stdout, slot2);
+    // A slot the firmware lacks is named by the flag's current name.
+    export(&auto, &["--firmware", "ardupilot", "--slot", "0"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(
+            "--slot 0: ArduPilot has calibration instances 1 to 3",
+        ));
 }
 
 #[test]

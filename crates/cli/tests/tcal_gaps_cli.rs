@@ -128,9 +128,22 @@ fn eval_says_what_px4_does_with_a_parameter_file() {
             .arg(&run);
         cmd.assert()
     };
-    eval(&text)
+    // The run gives no device id and the file holds the placeholder: the
+    // verdict says PX4 applies nothing as written, and what it applies once
+    // the id is set (which the figures show), never plainly "applies".
+    eval(&text).success().stdout(
+        predicate::str::contains("PX4 applies nothing to the gyro as the file stands: TC_G0_ID is 0")
+            .and(predicate::str::contains(
+                "once it holds the gyro's device id PX4 applies TC_G0",
+            ))
+            .and(predicate::str::contains("PX4 applies TC_G0 to the gyro").not()),
+    );
+    // With the gyro's id in the file and none in the run, the condition.
+    eval(&text.replace("TC_G0_ID\t0\t", "TC_G0_ID\t2490378\t"))
         .success()
-        .stdout(predicate::str::contains("PX4 applies TC_G0 to the gyro"));
+        .stdout(predicate::str::contains(
+            "PX4 applies TC_G0 to the gyro only if 2490378 is that id",
+        ));
     // As PX4's own script writes it: no ENABLE.
     let no_enable: String = text
         .lines()

@@ -410,8 +410,7 @@ fn a_ulog_of_two_imus_gives_one_px4_file_with_each_imus_ids() {
     assert!(!dir.path().join("none.txt").exists());
 
     // One slot or id for a model of several is a usage error.
-    cli!["tcal", "export", "--firmware", "px4", "--instance", "1", &model]
-        .refused(2, "holds instances [0, 1]");
+    cli!["tcal", "export", "--firmware", "px4", "--slot", "1", &model].refused(2, "holds instances [0, 1]");
 }
 
 #[test]

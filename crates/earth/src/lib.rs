@@ -13,6 +13,10 @@
 //! (what the strapdown subtracts) take their gravity, Earth rate and frame
 //! from here, so the two cannot disagree.
 //!
+//! Without its default `std` feature only the constants are compiled, for
+//! a `no_std` driver that needs g (the functions need `std`'s
+//! trigonometry).
+//!
 //! **What it is not:** no geoid, no height above the ellipsoid, no gravity
 //! anomaly model: a bench on the ellipsoid at a known latitude.
 //!
@@ -26,6 +30,15 @@
 //! assert_eq!(c, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
 //! ```
 
+#![cfg_attr(not(feature = "std"), no_std)]
+#![deny(missing_docs)]
+
+/// Standard gravity, m/s²: the conventional value of the 3rd CGPM (1901),
+/// the "g" of every datasheet's mg and LSB/g, of ArduPilot's `GRAVITY_MSS`
+/// and of PX4's `CONSTANTS_ONE_G`. Not the local gravity, which
+/// [`normal_gravity`] gives.
+pub const STANDARD_GRAVITY: f64 = 9.806_65;
+
 /// Earth's rotation rate, rad/s (WGS-84, Table 3.1).
 pub const EARTH_RATE: f64 = 7.292_115e-5;
 /// Semi-major axis, m (WGS-84, Table 3.1).
@@ -33,19 +46,21 @@ pub const SEMI_MAJOR_AXIS: f64 = 6_378_137.0;
 /// First eccentricity squared (WGS-84, Table 3.3).
 pub const ECCENTRICITY_SQUARED: f64 = 6.694_379_990_14e-3;
 /// Normal gravity at the equator, m/s² (WGS-84, Table 3.3).
-const GAMMA_EQUATOR: f64 = 9.780_325_335_9;
+pub const GAMMA_EQUATOR: f64 = 9.780_325_335_9;
 /// Somigliana's constant k = b·γ_p/(a·γ_e) − 1 (WGS-84, Table 3.3).
-const SOMIGLIANA_K: f64 = 1.931_852_652_41e-3;
+pub const SOMIGLIANA_K: f64 = 1.931_852_652_41e-3;
 
 /// Normal gravity on the ellipsoid at geodetic latitude `lat` (radians),
 /// m/s²: Somigliana's closed formula (TR8350.2 eq. 4-1). It includes the
 /// centrifugal part, so it is what a static accelerometer reads.
+#[cfg(feature = "std")]
 pub fn normal_gravity(lat: f64) -> f64 {
     let s2 = lat.sin().powi(2);
     GAMMA_EQUATOR * (1.0 + SOMIGLIANA_K * s2) / (1.0 - ECCENTRICITY_SQUARED * s2).sqrt()
 }
 
 /// Meridian and prime-vertical radii of curvature at `lat`, m.
+#[cfg(feature = "std")]
 pub fn radii(lat: f64) -> (f64, f64) {
     let w2 = 1.0 - ECCENTRICITY_SQUARED * lat.sin().powi(2);
     let prime = SEMI_MAJOR_AXIS / w2.sqrt();
@@ -53,14 +68,16 @@ pub fn radii(lat: f64) -> (f64, f64) {
 }
 
 /// Earth's rotation in the local-level frame (x north, y west, z up), rad/s.
+#[cfg(feature = "std")]
 pub fn earth_rate_level(lat: f64) -> [f64; 3] {
     [EARTH_RATE * lat.cos(), 0.0, EARTH_RATE * lat.sin()]
 }
 
 /// The rotation from the sensor's axes to the local-level frame for a roll,
-/// pitch and heading (radians), row-major: the same roll and pitch as
-/// [`crate::sensor::gravity`], then the heading about the vertical
+/// pitch and heading (radians), row-major: the roll and pitch of a static
+/// accelerometer's reading (x = −g·sin pitch), then the heading about the vertical
 /// (clockwise from north, hence the minus sign about z up).
+#[cfg(feature = "std")]
 pub fn body_to_level(roll: f64, pitch: f64, heading: f64) -> [[f64; 3]; 3] {
     let (sr, cr) = roll.sin_cos();
     let (sp, cp) = pitch.sin_cos();
@@ -74,6 +91,7 @@ pub fn body_to_level(roll: f64, pitch: f64, heading: f64) -> [[f64; 3]; 3] {
 }
 
 /// What a static gyroscope reads of the Earth's rotation, rad/s per axis.
+#[cfg(feature = "std")]
 pub fn earth_rate_body(lat: f64, roll: f64, pitch: f64, heading: f64) -> [f64; 3] {
     let c = body_to_level(roll, pitch, heading);
     let w = earth_rate_level(lat);

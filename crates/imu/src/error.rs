@@ -4,6 +4,50 @@
 use std::fmt;
 use std::path::PathBuf;
 
+/// Which bound limits the memory of a table's columns.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LimitBound {
+    /// Half the machine's memory, a quarter of the address-space limit.
+    Machine,
+    /// What a regular file of `bytes` can hold.
+    FileSize {
+        /// The file's size.
+        bytes: u64,
+    },
+    /// What the `bytes` a compressed or piped input has given so far can
+    /// hold.
+    BytesRead {
+        /// The bytes given so far, decompressed.
+        bytes: u64,
+    },
+    /// The most any compressed or piped input may take.
+    StreamCap,
+    /// What any read may take, however few its bytes.
+    Floor,
+}
+
+impl std::fmt::Display for LimitBound {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let per = crate::table::BYTES_PER_BYTE_READ;
+        match self {
+            LimitBound::Machine => f.write_str(
+                "half the machine's memory, a quarter of the process's address-space limit",
+            ),
+            LimitBound::FileSize { bytes } => {
+                write!(f, "{per} bytes for each of the file's {bytes} bytes")
+            }
+            LimitBound::BytesRead { bytes } => write!(
+                f,
+                "{per} bytes for each of the {bytes} bytes the compressed or piped input has given so far"
+            ),
+            LimitBound::StreamCap => f.write_str(
+                "the most a compressed or piped input may take, on any machine: its size says nothing of its data",
+            ),
+            LimitBound::Floor => f.write_str("what any read may take, however few its bytes"),
+        }
+    }
+}
+
 /// What went wrong.
 #[derive(Debug, thiserror::Error)]
 pub enum ReadErrorKind {
@@ -120,16 +164,19 @@ pub enum ReadErrorKind {
     /// A directory given where a file is read.
     #[error("is a directory, not a file")]
     IsDirectory,
-    /// The columns read would take more memory than a read may: half of
-    /// what the process may use.
+    /// The columns read would take more memory than a read may: what the
+    /// input's bytes can hold, at most a fixed cap for a stream, and half
+    /// of what the process may use.
     #[error(
-        "the columns read would need {held_mib} MiB by this line, more than the {limit_mib} MiB a read may take (half the machine's memory, a quarter of the process's address-space limit); read fewer columns or a shorter part of the file"
+        "the columns read would need {held_mib} MiB by this line, more than the {limit_mib} MiB a read may take ({bound}); read fewer columns or a shorter part of the file"
     )]
     TooLarge {
         /// What the columns would hold, MiB.
         held_mib: u64,
         /// What they may hold, MiB.
         limit_mib: u64,
+        /// Which bound that is.
+        bound: LimitBound,
     },
     /// The system refused the memory to grow the columns.
     #[error(

@@ -32,6 +32,7 @@
 //! assert_eq!(table.columns[1], vec![0.2, 0.4]);
 //! ```
 
+pub mod clock_pattern;
 mod decimal;
 #[cfg(target_arch = "x86_64")]
 mod decimal_x86;

@@ -60,6 +60,8 @@ pub enum Setting {
     ExportFirmware,
     /// The sensor's device id written into a firmware's parameters.
     DeviceId,
+    /// The firmware's calibration slot a compensation is exported to.
+    CalibrationSlot,
     /// The Kalibr IMU file to write.
     KalibrFile,
     /// The compensation model a navigation predicts from.
@@ -68,7 +70,7 @@ pub enum Setting {
 
 impl Setting {
     /// Every setting, for a front end to check that it names each.
-    pub const ALL: [Setting; 20] = [
+    pub const ALL: [Setting; 21] = [
         Setting::SampleRate,
         Setting::TimeUnit,
         Setting::TimeColumn,
@@ -87,6 +89,7 @@ impl Setting {
         Setting::BinWidth,
         Setting::ExportFirmware,
         Setting::DeviceId,
+        Setting::CalibrationSlot,
         Setting::KalibrFile,
         Setting::NavigationModel,
     ];
@@ -112,6 +115,7 @@ impl Setting {
             Setting::BinWidth => "the bin width",
             Setting::ExportFirmware => "the export's firmware",
             Setting::DeviceId => "the device id",
+            Setting::CalibrationSlot => "the calibration slot",
             Setting::KalibrFile => "the Kalibr file",
             Setting::NavigationModel => "the navigation's compensation model",
         }

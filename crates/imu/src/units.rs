@@ -8,8 +8,8 @@
 use std::f64::consts::PI;
 use std::fmt;
 
-/// Standard gravity, m/s² (CGPM 1901; the g of every datasheet).
-pub const STANDARD_GRAVITY: f64 = 9.806_65;
+/// Standard gravity, m/s², taken from `earth` as every crate takes it.
+pub use earth::STANDARD_GRAVITY;
 
 /// What a channel measures.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -28,7 +28,7 @@ pub const AXES: [&str; 6] = ["gyro_x", "gyro_y", "gyro_z", "accel_x", "accel_y",
 pub const T_MID_C: f64 = 40.0;
 /// The MPU-9250's temperature register step, °C.
 pub const MPU9250_TEMP_STEP_C: f64 = 1.0 / 333.87;
-const G: f64 = 9.80665;
+const G: f64 = earth::STANDARD_GRAVITY;
 
 /// What one sensor does, drawn from a seed.
 #[derive(Debug, Clone, PartialEq)]

@@ -70,7 +70,7 @@ pub const THESIS_RATE_HZ: f64 = 20.0;
 pub const NAMES: [&str; 2] = ["mpu9250-thesis", "white"];
 
 const DEG: f64 = PI / 180.0;
-const MG: f64 = 9.806_65e-3;
+const MG: f64 = earth::STANDARD_GRAVITY * 1e-3;
 
 /// The thesis's 34 °C tables per axis x, y, z: N (°/√s), the ADEV minimum
 /// σ_min (°/s) and the τ where it was found (s).

@@ -4,8 +4,9 @@
 
 use std::f64::consts::PI;
 
-/// Standard gravity, m/s².
-pub const G: f64 = 9.806_65;
+/// Standard gravity, m/s² ([`earth::STANDARD_GRAVITY`], named here as the
+/// simulator has always named it).
+pub const G: f64 = earth::STANDARD_GRAVITY;
 
 /// Gyroscope sensitivity, LSB per °/s, for a full scale of ±`range_dps`.
 pub fn gyro_lsb_per_dps(range_dps: f64) -> f64 {

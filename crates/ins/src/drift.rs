@@ -25,8 +25,11 @@ pub fn report_times(horizon_s: f64) -> Vec<f64> {
 /// RMS, median and 95th percentile of one error over the windows.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Spread {
+    /// Root mean square over the windows.
     pub rms: f64,
+    /// Median.
     pub p50: f64,
+    /// 95th percentile.
     pub p95: f64,
 }
 
@@ -85,10 +88,15 @@ pub fn rms_interval_95(values: &[f64]) -> [f64; 2] {
 pub struct CurvePoint {
     /// Time since alignment, s.
     pub t_s: f64,
+    /// Horizontal position error (distance from the start), m.
     pub horizontal_position_m: Spread,
+    /// Horizontal velocity error, m/s.
     pub horizontal_velocity_m_s: Spread,
+    /// Height error, m.
     pub vertical_position_m: Spread,
+    /// Tilt error (roll and pitch together), rad.
     pub tilt_rad: Spread,
+    /// Heading error, rad.
     pub heading_rad: Spread,
 }
 

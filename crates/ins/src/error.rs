@@ -11,15 +11,16 @@ pub enum InsError {
         "{needed_s:.1} s are needed (alignment {align_s} s + horizon {horizon_s} s), the recording has {have_s:.1} s"
     )]
     TooShort {
+        /// Alignment plus horizon, s.
         needed_s: f64,
+        /// The alignment window, s.
         align_s: f64,
+        /// The longest time navigated after it, s.
         horizon_s: f64,
+        /// The recording's length, s.
         have_s: f64,
     },
     /// Every window held a gap.
     #[error("every window crosses a gap (NaN samples): none could be navigated")]
     NoWindow,
-    /// The Monte Carlo's simulator refused the model.
-    #[error("simulating the identified model: {0}")]
-    Simulation(#[from] imusim::SimError),
 }

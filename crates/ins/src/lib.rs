@@ -18,8 +18,9 @@
 //! - their prediction in closed form from the IEEE 952 noise terms, term by
 //!   term ([`prediction`]), with the Schuler loop when the latitude is given
 //!   ([`schuler`]) and the bias instability from its 1/f spectrum
-//!   ([`spectral`]), and a Monte Carlo of the same model through the same
-//!   navigation, with the confidence interval of its rms ([`monte_carlo`]).
+//!   ([`spectral`]). The Monte Carlo of the same model through the same
+//!   navigation lives in `analysis::monte_carlo`, above the simulator; this
+//!   crate does not link it.
 //!
 //! **What it is not:** not a navigation filter (no Kalman filter, no aiding,
 //! no bias estimation beyond the alignment window), not a trajectory
@@ -35,20 +36,21 @@
 //! // appearing after the first ten seconds (the alignment window).
 //! let n = 13_000;
 //! let zero = vec![0.0; n];
-//! let g = vec![imusim::sensor::G; n];
+//! let g = vec![earth::STANDARD_GRAVITY; n];
 //! let gyro_x: Vec<f64> = (0..n).map(|i| if i < 1000 { 0.0 } else { 1e-4 }).collect();
 //! let imu = ImuData { gyro: [&gyro_x, &zero, &zero], accel: [&zero, &zero, &g], rate_hz: 100.0 };
 //! let drift = drift_over_windows(&imu, &NavOptions::default(), 10.0, &report_times(120.0)).unwrap();
 //! assert_eq!(drift.windows, 1);
 //! // g·ε·t³/6 at 60 s: 35 m.
 //! let at60 = drift.curve[3].horizontal_position_m.rms;
-//! assert!((at60 - imusim::sensor::G * 1e-4 * 60f64.powi(3) / 6.0).abs() < 0.01 * at60);
+//! assert!((at60 - earth::STANDARD_GRAVITY * 1e-4 * 60f64.powi(3) / 6.0).abs() < 0.01 * at60);
 //! ```
+
+#![deny(missing_docs)]
 
 mod error;
 
 pub mod drift;
-pub mod monte_carlo;
 pub mod prediction;
 pub mod quaternion;
 pub mod schuler;

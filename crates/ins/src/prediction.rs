@@ -48,24 +48,37 @@ pub struct AxisNoise {
 /// The identified model of the six axes.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct NoiseModel {
+    /// The gyro's x, y, z axes (rad/s units).
     pub gyro: [AxisNoise; 3],
+    /// The accelerometer's x, y, z axes (m/s² units).
     pub accel: [AxisNoise; 3],
 }
 
 /// One term of the prediction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum PredictedTerm {
+    /// The gyro's white noise (angle random walk), through the tilt.
     GyroWhiteNoise,
+    /// The accelerometer's white noise (velocity random walk).
     AccelWhiteNoise,
+    /// The tilt left by levelling on the accelerometer's white noise over
+    /// the alignment window.
     Levelling,
+    /// The gyro's rate random walk, through the tilt.
     GyroRateRandomWalk,
+    /// The gyro bias left by taking the alignment window's mean out (zero
+    /// unless the bias is removed).
     GyroBiasFromAlignment,
+    /// The accelerometer's rate random walk.
     AccelRateRandomWalk,
+    /// The gyro's bias instability (an upper bound, from its 1/f spectrum).
     GyroBiasInstability,
+    /// The accelerometer's bias instability (an upper bound).
     AccelBiasInstability,
 }
 
 impl PredictedTerm {
+    /// Every term, in the order the documents list them.
     pub const ALL: [PredictedTerm; 8] = [
         PredictedTerm::GyroWhiteNoise,
         PredictedTerm::AccelWhiteNoise,
@@ -95,6 +108,7 @@ impl PredictedTerm {
 /// The prediction at one time since alignment.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Prediction {
+    /// Time since alignment, s.
     pub t_s: f64,
     /// Horizontal position 1σ of each term (both axes in quadrature), m.
     pub terms: Vec<(PredictedTerm, f64)>,

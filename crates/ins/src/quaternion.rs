@@ -7,6 +7,7 @@
 pub struct Quat(pub [f64; 4]);
 
 impl Quat {
+    /// No rotation.
     pub const IDENTITY: Quat = Quat([1.0, 0.0, 0.0, 0.0]);
 
     /// The rotation of a rotation vector φ (radians), by the series of
@@ -122,6 +123,7 @@ impl Quat {
     }
 }
 
+/// The cross product a × b.
 #[inline]
 pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [

@@ -56,7 +56,7 @@ pub fn schuler_rate(gravity: f64, radius: f64) -> f64 {
 /// and standard gravity, 806 s. There the flat-Earth variances of the
 /// white terms are 13–22 % too high, and the gap grows as x².
 pub fn flat_earth_limit_s() -> f64 {
-    1.0 / schuler_rate(imusim::sensor::G, MEAN_EARTH_RADIUS)
+    1.0 / schuler_rate(earth::STANDARD_GRAVITY, MEAN_EARTH_RADIUS)
 }
 
 /// Σ_{k ≥ k0} sign(k)·c(k)·x^{2(k−k0)} / d(k)!, the series of a factor with

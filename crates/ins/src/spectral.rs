@@ -119,9 +119,17 @@ fn moment(k: i32, omega: f64, t: f64) -> C {
 pub enum Kernel {
     /// A rate error, through the tilt: g·τ²/2 on a flat Earth, else
     /// (g/ω_s²)·(1 − cos ω_s·τ).
-    Gyro { gravity: f64, schuler_rate: Option<f64> },
+    Gyro {
+        /// g, m/s².
+        gravity: f64,
+        /// The Schuler frequency ω_s, rad/s; `None` on a flat Earth.
+        schuler_rate: Option<f64>,
+    },
     /// A specific-force error: τ on a flat Earth, else sin(ω_s·τ)/ω_s.
-    Accel { schuler_rate: Option<f64> },
+    Accel {
+        /// The Schuler frequency ω_s, rad/s; `None` on a flat Earth.
+        schuler_rate: Option<f64>,
+    },
 }
 
 impl Kernel {

@@ -110,7 +110,7 @@ impl NavOptions {
     pub fn gravity(&self) -> f64 {
         match self.latitude_deg {
             Some(l) => earth::normal_gravity(l.to_radians()),
-            None => imusim::sensor::G,
+            None => earth::STANDARD_GRAVITY,
         }
     }
 }
@@ -118,7 +118,7 @@ impl NavOptions {
 /// The result of levelling over an alignment window.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Alignment {
-    /// Roll, rad (the sensor convention of [`imusim::sensor::gravity`]).
+    /// Roll, rad (the convention of [`earth::body_to_level`]).
     pub roll: f64,
     /// Pitch, rad.
     pub pitch: f64,

@@ -162,7 +162,7 @@ fn without_a_latitude_the_prediction_keeps_the_flat_earth_law() {
         gyro: one(1.5e-4, 0.0, 0.0),
         accel: one(0.0, 0.0, 0.0),
     };
-    let g = imusim::sensor::G;
+    let g = earth::STANDARD_GRAVITY;
     let p = predict(&model, &PredictionSetup::level(g, ALIGN_S, true), 3600.0);
     let got = p
         .terms

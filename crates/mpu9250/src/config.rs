@@ -46,7 +46,7 @@ impl GyroRange {
 
     /// One LSB in rad/s.
     pub fn lsb_rad(self) -> f64 {
-        std::f64::consts::PI / 180.0 / self.lsb_per_dps()
+        core::f64::consts::PI / 180.0 / self.lsb_per_dps()
     }
 }
 
@@ -87,7 +87,7 @@ impl AccelRange {
 
     /// One LSB in m/s².
     pub fn lsb_si(self) -> f64 {
-        9.806_65 / self.lsb_per_g()
+        earth::STANDARD_GRAVITY / self.lsb_per_g()
     }
 }
 
@@ -125,7 +125,9 @@ impl Config {
         if !(self.rate_hz.is_finite() && self.rate_hz > 0.0) {
             return None;
         }
-        let div = (regs::INTERNAL_RATE_HZ / self.rate_hz).round() - 1.0;
+        // Rounded to the nearest divisor by hand: `f64::round` needs std, and
+        // the quotient is positive, so adding ½ and truncating is the same.
+        let div = (regs::INTERNAL_RATE_HZ / self.rate_hz + 0.5) as u64 as f64 - 1.0;
         (0.0..=255.0).contains(&div).then_some(div as u8)
     }
 
@@ -156,12 +158,5 @@ impl Config {
             gyro: raw.gyro.map(|c| f64::from(c) * g),
             temp_c: f64::from(raw.temp) / regs::TEMP_LSB_PER_C + regs::TEMP_OFFSET_C,
         }
-    }
-
-    /// A frame of raw counts in register order (ACCEL_X..Z, TEMP,
-    /// GYRO_X..Z) in SI, in the log's order: ax, ay, az (m/s²), gx, gy, gz
-    /// (rad/s), temperature (°C). [`Config::sample`] names the fields.
-    pub fn to_si(&self, raw: &[i16; 7]) -> [f64; 7] {
-        self.sample(&RawFrame::from(*raw)).to_log_row()
     }
 }

@@ -115,9 +115,11 @@ impl<S: SpiDevice> Bus for SpiBus<S> {
 }
 
 /// Waits by sleeping the thread (a host with an operating system).
+#[cfg(feature = "std")]
 #[derive(Debug, Clone, Copy, Default)]
 pub struct StdDelay;
 
+#[cfg(feature = "std")]
 impl DelayNs for StdDelay {
     fn delay_ns(&mut self, ns: u32) {
         std::thread::sleep(std::time::Duration::from_nanos(u64::from(ns)));
@@ -209,7 +211,10 @@ pub struct Mpu9250<B, D> {
     delay: D,
     chip: Chip,
     config: Config,
-    scratch: Vec<u8>,
+    /// The last burst's bytes: `scratch[..scratch_len]`. A fixed array, as
+    /// the FIFO never holds more, so the driver needs no allocator.
+    scratch: [u8; regs::FIFO_BYTES],
+    scratch_len: usize,
     /// A reset owed: INT_STATUS clears on read, so an overflow seen in a
     /// read that then failed must not be forgotten, and a data burst that
     /// failed part-way leaves the FIFO misaligned.
@@ -236,7 +241,8 @@ impl<B: Bus, D: DelayNs> Mpu9250<B, D> {
             delay,
             chip,
             config: Config::default(),
-            scratch: Vec::with_capacity(regs::FIFO_BYTES),
+            scratch: [0; regs::FIFO_BYTES],
+            scratch_len: 0,
             pending: None,
             fifo_level: 0,
             configured: false,
@@ -311,9 +317,13 @@ impl<B: Bus, D: DelayNs> Mpu9250<B, D> {
             .map_err(Error::Bus)
     }
 
-    /// Reads every whole frame in the FIFO into `out`, raw counts in
-    /// register order (ACCEL_X..Z, TEMP, GYRO_X..Z). Never splits a frame:
-    /// a partial frame stays in the FIFO for the next read.
+    /// Reads whole frames from the FIFO into `out`, at most `out.len()` of
+    /// them, each a [`RawFrame`] (the accelerometer, temperature and
+    /// gyroscope counts by name); `Frames(n)` says how many were written.
+    /// Never splits a frame: a partial frame, and the frames `out` has no
+    /// room for, stay in the FIFO for the next read. A slice of
+    /// [`regs::FIFO_FRAMES`] always has room for the whole FIFO. It needs
+    /// no allocator.
     ///
     /// Three transfers: FIFO_COUNT (512 means an overflow: the FIFO is
     /// reset), the burst of whole frames, and INT_STATUS, whose overflow
@@ -326,19 +336,22 @@ impl<B: Bus, D: DelayNs> Mpu9250<B, D> {
     /// FIFO and says why ([`FifoRead::Resync`]) instead of decoding bytes it
     /// cannot vouch for.
     ///
-    /// [`Mpu9250::read_frames`] gives the same frames with named fields.
-    pub fn read_fifo(&mut self, out: &mut Vec<[i16; 7]>) -> Result<FifoRead, Error<B::Error>> {
-        let read = self.read_whole_frames()?;
+    /// [`Mpu9250::read_frames`] appends every whole frame to a `Vec`.
+    pub fn read_frames_into(&mut self, out: &mut [RawFrame]) -> Result<FifoRead, Error<B::Error>> {
+        let read = self.read_whole_frames(out.len())?;
         if let FifoRead::Frames(_) = read {
-            out.extend(self.frames_read().map(<[i16; 7]>::from));
+            for (slot, frame) in out.iter_mut().zip(self.frames_read()) {
+                *slot = frame;
+            }
         }
         Ok(read)
     }
 
-    /// As [`Mpu9250::read_fifo`], each frame as a [`RawFrame`]: the
-    /// accelerometer, temperature and gyroscope counts by name.
+    /// As [`Mpu9250::read_frames_into`], appending every whole frame in the
+    /// FIFO to `out`.
+    #[cfg(feature = "std")]
     pub fn read_frames(&mut self, out: &mut Vec<RawFrame>) -> Result<FifoRead, Error<B::Error>> {
-        let read = self.read_whole_frames()?;
+        let read = self.read_whole_frames(regs::FIFO_FRAMES)?;
         if let FifoRead::Frames(_) = read {
             out.extend(self.frames_read());
         }
@@ -347,13 +360,13 @@ impl<B: Bus, D: DelayNs> Mpu9250<B, D> {
 
     /// The frames the last successful burst brought, decoded.
     fn frames_read(&self) -> impl Iterator<Item = RawFrame> + '_ {
-        let (frames, _) = self.scratch.as_chunks::<{ regs::FRAME_BYTES }>();
+        let (frames, _) = self.scratch[..self.scratch_len].as_chunks::<{ regs::FRAME_BYTES }>();
         frames.iter().map(RawFrame::from_be_bytes)
     }
 
-    /// The transfers of a FIFO read; on `Frames(n)`, `scratch` holds the
-    /// n frames' bytes.
-    fn read_whole_frames(&mut self) -> Result<FifoRead, Error<B::Error>> {
+    /// The transfers of a FIFO read of at most `room` frames; on
+    /// `Frames(n)`, `scratch` holds the n frames' bytes.
+    fn read_whole_frames(&mut self, room: usize) -> Result<FifoRead, Error<B::Error>> {
         if let Some(cause) = self.pending {
             return self.resync(cause);
         }
@@ -376,13 +389,15 @@ impl<B: Bus, D: DelayNs> Mpu9250<B, D> {
             };
             return self.resync(cause);
         }
-        let frames = bytes / regs::FRAME_BYTES;
+        let frames = (bytes / regs::FRAME_BYTES).min(room);
+        self.scratch_len = frames * regs::FRAME_BYTES;
         if frames == 0 {
-            self.scratch.clear();
             return Ok(FifoRead::Frames(0));
         }
-        self.scratch.resize(frames * regs::FRAME_BYTES, 0);
-        if let Err(e) = self.bus.read_regs(regs::FIFO_R_W, &mut self.scratch) {
+        if let Err(e) = self
+            .bus
+            .read_regs(regs::FIFO_R_W, &mut self.scratch[..self.scratch_len])
+        {
             if !B::nothing_transferred(&e) {
                 self.pending = Some(Pending::Resync);
             }

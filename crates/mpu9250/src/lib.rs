@@ -21,6 +21,12 @@
 //! start-up time after a reset, during which it answers nothing. The
 //! driver's tests run against it.
 //!
+//! The driver, the configuration, the frames and the register map are
+//! `no_std` without an allocator (default features off):
+//! [`driver::Mpu9250::read_frames_into`] fills a caller's slice. The `std`
+//! feature (default) adds the simulated chip, the stream clock, a
+//! thread-sleeping delay and the reads that fill a `Vec`.
+//!
 //! **What it is not:** no magnetometer (AK8963), no DMP, no interrupts.
 //!
 //! ```
@@ -28,7 +34,8 @@
 //! use mpu9250::driver::{FifoRead, I2cBus, Mpu9250};
 //! use mpu9250::sim::{ADDRESS, SimChip};
 //! // A level sensor at rest: 1 g on z, 25 °C.
-//! let chip = SimChip::new(Box::new(|_, _| [0.0, 0.0, 9.80665, 0.0, 0.0, 0.0, 25.0]));
+//! let g = earth::STANDARD_GRAVITY;
+//! let chip = SimChip::new(Box::new(move |_, _| [0.0, 0.0, g, 0.0, 0.0, 0.0, 25.0]));
 //! // The driver's waits (the start-up after a reset) pass on the chip; on
 //! // a Raspberry Pi the delay is linux-embedded-hal's `Delay`.
 //! let delay = chip.delay();
@@ -36,15 +43,21 @@
 //! imu.configure(Config { rate_hz: 200.0, ..Config::default() }).unwrap();
 //! imu.bus_mut().inner_mut().advance(0.05); // 50 ms of simulated time
 //! let mut frames = Vec::new();
-//! assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(10));
-//! let si = imu.config().to_si(&frames[0]);
-//! assert!((si[2] - 9.80665).abs() < 1e-3 && (si[6] - 25.0).abs() < 0.01);
+//! assert_eq!(imu.read_frames(&mut frames).unwrap(), FifoRead::Frames(10));
+//! let sample = imu.config().sample(&frames[0]);
+//! assert!((sample.accel[2] - g).abs() < 1e-3 && (sample.temp_c - 25.0).abs() < 0.01);
 //! ```
 
+#![cfg_attr(not(feature = "std"), no_std)]
+#![deny(missing_docs)]
+
+#[cfg(feature = "std")]
 mod clock_region;
 pub mod config;
 pub mod driver;
 pub mod frame;
 pub mod regs;
+#[cfg(feature = "std")]
 pub mod sim;
+#[cfg(feature = "std")]
 pub mod stream_clock;

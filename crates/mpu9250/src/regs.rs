@@ -66,6 +66,8 @@ pub const FIFO_MODE: u8 = 0x40;
 pub const FIFO_BYTES: usize = 512;
 /// One FIFO frame: ACCEL_X..Z, TEMP, GYRO_X..Z, big-endian i16.
 pub const FRAME_BYTES: usize = 14;
+/// Whole frames the FIFO can hold (36; 512 is no multiple of 14).
+pub const FIFO_FRAMES: usize = FIFO_BYTES / FRAME_BYTES;
 /// SPI: the read bit set in the register address.
 pub const SPI_READ: u8 = 0x80;
 /// Internal sample rate with the DLPF on (DLPF_CFG 1–6, FCHOICE_B = 00), Hz.

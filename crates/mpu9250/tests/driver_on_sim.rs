@@ -1,8 +1,24 @@
 //! The driver against the register-level simulated chip.
 
+use embedded_hal::delay::DelayNs;
 use mpu9250::config::{AccelRange, Config, GyroRange};
-use mpu9250::driver::{Chip, Error, FifoRead, I2cBus, Mpu9250, SpiBus};
+use mpu9250::driver::{Bus, Chip, Error, FifoRead, I2cBus, Mpu9250, SpiBus};
+use mpu9250::frame::RawFrame;
+use mpu9250::regs;
 use mpu9250::sim::{ADDRESS, SimChip, SimDelay, SimError, SimStats, imu_on_i2c, imu_on_spi};
+
+/// Every whole frame in the FIFO appended to `out` as its seven words in
+/// register order: these tests compare words, where the driver names the
+/// fields.
+fn read_words<B: Bus, D: DelayNs>(
+    imu: &mut Mpu9250<B, D>,
+    out: &mut Vec<[i16; 7]>,
+) -> Result<FifoRead, Error<B::Error>> {
+    let mut frames = Vec::new();
+    let read = imu.read_frames(&mut frames);
+    out.extend(frames.into_iter().map(<[i16; 7]>::from));
+    read
+}
 
 /// The driver on I2C, configured with `cfg`, over a [`counting`] chip.
 fn configured(cfg: Config) -> Mpu9250<I2cBus<SimChip>, SimDelay> {
@@ -51,7 +67,10 @@ fn ten_seconds_at_200_hz_are_2000_aligned_frames() {
     let mut frames = Vec::new();
     for _ in 0..200 {
         imu.bus_mut().inner_mut().advance(0.05);
-        assert!(matches!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(_)));
+        assert!(matches!(
+            read_words(&mut imu, &mut frames).unwrap(),
+            FifoRead::Frames(_)
+        ));
     }
     assert_eq!(frames.len(), 2000);
     for (k, f) in frames.iter().enumerate() {
@@ -79,21 +98,47 @@ fn named_frames_hold_the_same_words_as_register_order_frames() {
             ]
         }))
     };
-    let mut words = imu_on_i2c(chip(cfg), ADDRESS).unwrap();
-    let mut named = imu_on_i2c(chip(cfg), ADDRESS).unwrap();
-    words.configure(cfg).unwrap();
-    named.configure(cfg).unwrap();
-    words.bus_mut().inner_mut().advance(0.05);
-    named.bus_mut().inner_mut().advance(0.05);
-    let (mut w, mut n) = (Vec::new(), Vec::new());
-    assert_eq!(words.read_fifo(&mut w).unwrap(), FifoRead::Frames(10));
-    assert_eq!(named.read_frames(&mut n).unwrap(), FifoRead::Frames(10));
-    for (w, n) in w.iter().zip(&n) {
-        assert_eq!(*w, [1, 2, 3, 4, 5, 6, 7]);
+    let mut growing = imu_on_i2c(chip(cfg), ADDRESS).unwrap();
+    let mut fixed = imu_on_i2c(chip(cfg), ADDRESS).unwrap();
+    growing.configure(cfg).unwrap();
+    fixed.configure(cfg).unwrap();
+    growing.bus_mut().inner_mut().advance(0.05);
+    fixed.bus_mut().inner_mut().advance(0.05);
+    let mut n = Vec::new();
+    assert_eq!(growing.read_frames(&mut n).unwrap(), FifoRead::Frames(10));
+    // The allocation-free read into a slice that holds the whole FIFO.
+    let mut slots = [RawFrame::default(); regs::FIFO_FRAMES];
+    assert_eq!(fixed.read_frames_into(&mut slots).unwrap(), FifoRead::Frames(10));
+    assert_eq!(&slots[..10], &n[..]);
+    for n in &n {
+        assert_eq!(<[i16; 7]>::from(*n), [1, 2, 3, 4, 5, 6, 7]);
         assert_eq!((n.accel, n.temp, n.gyro), ([1, 2, 3], 4, [5, 6, 7]));
-        assert_eq!(cfg.to_si(w), cfg.sample(n).to_log_row());
-        assert!((cfg.sample(n).temp_c - (4.0 / 333.87 + 21.0)).abs() < 1e-12);
+        let s = cfg.sample(n);
+        assert_eq!(
+            s.to_log_row()[..6],
+            [1.0, 2.0, 3.0, 5.0, 6.0, 7.0].map(|k| k * if k < 4.0 {
+                cfg.accel_range.lsb_si()
+            } else {
+                cfg.gyro_range.lsb_rad()
+            })
+        );
+        assert!((s.temp_c - (4.0 / 333.87 + 21.0)).abs() < 1e-12);
     }
+}
+
+/// A slice with room for fewer frames than the FIFO holds takes that many;
+/// the rest wait in the FIFO, and the next read brings them, in order.
+#[test]
+fn a_short_slice_leaves_the_other_frames_in_the_fifo() {
+    let mut imu = configured(Config::default());
+    imu.bus_mut().inner_mut().advance(0.05); // 10 frames at 200 Hz
+    let mut slots = [RawFrame::default(); 4];
+    let mut seen = Vec::new();
+    for want in [4, 4, 2, 0] {
+        assert_eq!(imu.read_frames_into(&mut slots).unwrap(), FifoRead::Frames(want));
+        seen.extend(slots[..want].iter().map(|f| f.temp));
+    }
+    assert_eq!(seen, (0..10).collect::<Vec<i16>>());
 }
 
 #[test]
@@ -116,9 +161,9 @@ fn full_scale_sets_the_quantization_step() {
         imu.configure(cfg).unwrap();
         imu.bus_mut().inner_mut().advance(0.1);
         let mut frames = Vec::new();
-        imu.read_fifo(&mut frames).unwrap();
+        read_words(&mut imu, &mut frames).unwrap();
         for f in &frames {
-            let si = cfg.to_si(f);
+            let si = cfg.sample(&RawFrame::from(*f)).to_log_row();
             let (ka, kg) = (si[0] / a.lsb_si(), si[3] / g.lsb_rad());
             assert!((ka - ka.round()).abs() < 1e-9 && (kg - kg.round()).abs() < 1e-9);
         }
@@ -134,14 +179,14 @@ fn an_overflow_is_reported_and_the_stream_resumes_aligned() {
     let mut imu = configured(cfg);
     let mut frames = Vec::new();
     imu.bus_mut().inner_mut().advance(0.05);
-    imu.read_fifo(&mut frames).unwrap();
+    read_words(&mut imu, &mut frames).unwrap();
     // A slow reader: one second unread at 200 Hz is 2800 bytes for a 512-byte FIFO.
     imu.bus_mut().inner_mut().advance(1.0);
-    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Overflow);
+    assert_eq!(read_words(&mut imu, &mut frames).unwrap(), FifoRead::Overflow);
     let before = frames.len();
     for _ in 0..10 {
         imu.bus_mut().inner_mut().advance(0.05);
-        imu.read_fifo(&mut frames).unwrap();
+        read_words(&mut imu, &mut frames).unwrap();
     }
     assert!(frames.len() - before >= 99);
     // Every frame whole (its seven fields equal), consecutive after the gap.
@@ -167,7 +212,7 @@ fn read_through_faults<B: mpu9250::driver::Bus>(
     for _ in 0..400 {
         chip(&mut imu).advance(0.025);
         loop {
-            match imu.read_fifo(&mut frames) {
+            match read_words(&mut imu, &mut frames) {
                 Ok(FifoRead::Frames(_)) => break,
                 Ok(FifoRead::Resync) => {
                     resyncs += 1;
@@ -239,18 +284,18 @@ fn a_nack_loses_nothing_but_a_part_read_costs_a_resync() {
     // retry reads on as if nothing happened.
     chip(&mut imu).advance(0.1);
     chip(&mut imu).fail_next_fifo_read(SimError::Nack);
-    assert!(imu.read_fifo(&mut frames).is_err());
-    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(20));
+    assert!(read_words(&mut imu, &mut frames).is_err());
+    assert_eq!(read_words(&mut imu, &mut frames).unwrap(), FifoRead::Frames(20));
     assert!(frames.iter().enumerate().all(|(k, f)| *f == [k as i16; 7]));
     // A read broken off after 30 bytes (two frames and two bytes).
     chip(&mut imu).advance(0.1);
     chip(&mut imu).fail_next_fifo_read(SimError::ShortRead(30));
-    assert!(imu.read_fifo(&mut frames).is_err());
+    assert!(read_words(&mut imu, &mut frames).is_err());
     // The FIFO is part-read: the driver resets it rather than decode it.
-    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Resync);
+    assert_eq!(read_words(&mut imu, &mut frames).unwrap(), FifoRead::Resync);
     assert_eq!(chip(&mut imu).fifo_len(), 0);
     chip(&mut imu).advance(0.05);
-    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(10));
+    assert_eq!(read_words(&mut imu, &mut frames).unwrap(), FifoRead::Frames(10));
     // Samples 20..40 were lost with the FIFO; the stream resumes at 40.
     assert_eq!(frames.len(), 30);
     assert_eq!(frames[20], [40; 7]);
@@ -312,15 +357,15 @@ fn an_overflow_is_never_forgotten_whichever_transfer_fails() {
         imu.bus_mut().bus.inner_mut().advance(1.0);
         imu.bus_mut().fail = n;
         let mut frames = Vec::new();
-        assert!(imu.read_fifo(&mut frames).is_err(), "transfer {n}");
+        assert!(read_words(&mut imu, &mut frames).is_err(), "transfer {n}");
         assert_eq!(
-            imu.read_fifo(&mut frames).unwrap(),
+            read_words(&mut imu, &mut frames).unwrap(),
             FifoRead::Overflow,
             "transfer {n}"
         );
         assert!(frames.is_empty());
         imu.bus_mut().bus.inner_mut().advance(0.05);
-        assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(10));
+        assert_eq!(read_words(&mut imu, &mut frames).unwrap(), FifoRead::Frames(10));
         let first = frames[0][0];
         assert!(
             frames
@@ -350,13 +395,13 @@ fn a_frame_arriving_during_the_burst_into_a_full_fifo_is_caught() {
         imu.bus_mut().inner_mut().advance(50e-6);
     }
     let mut frames = Vec::new();
-    let r = imu.read_fifo(&mut frames).unwrap();
+    let r = read_words(&mut imu, &mut frames).unwrap();
     assert_eq!(r, FifoRead::Overflow, "{} frames read", frames.len());
     assert!(frames.is_empty(), "no frame from the overrun burst is kept");
     assert!(chip(&mut imu).overflows >= 1);
     // The stream resumes whole.
     imu.bus_mut().inner_mut().advance(0.010);
-    imu.read_fifo(&mut frames).unwrap();
+    read_words(&mut imu, &mut frames).unwrap();
     assert!(!frames.is_empty());
     assert!(frames.iter().all(|f| f.iter().all(|&v| v == f[0])), "{frames:?}");
 }
@@ -371,11 +416,11 @@ fn a_lost_reply_to_the_status_read_drops_the_unvouched_burst() {
     imu.bus_mut()
         .inner_mut()
         .fail_next_read(mpu9250::regs::INT_STATUS, SimError::ShortRead(1));
-    assert!(imu.read_fifo(&mut frames).is_err());
+    assert!(read_words(&mut imu, &mut frames).is_err());
     assert!(frames.is_empty());
-    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Resync);
+    assert_eq!(read_words(&mut imu, &mut frames).unwrap(), FifoRead::Resync);
     imu.bus_mut().inner_mut().advance(0.05);
-    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(10));
+    assert_eq!(read_words(&mut imu, &mut frames).unwrap(), FifoRead::Frames(10));
     assert_eq!(frames[0], [20; 7], "samples 0..20 went with the reset");
 }
 
@@ -393,14 +438,14 @@ fn a_brown_out_during_a_failed_read_is_configured_again_not_read_at_defaults() {
     imu.bus_mut()
         .inner_mut()
         .fail_next_fifo_read(SimError::ShortRead(20));
-    assert!(imu.read_fifo(&mut frames).is_err());
+    assert!(read_words(&mut imu, &mut frames).is_err());
     imu.bus_mut().inner_mut().power_cycle();
-    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Reconfigured);
+    assert_eq!(read_words(&mut imu, &mut frames).unwrap(), FifoRead::Reconfigured);
     // The chip runs at 200 Hz and ±2000 °/s, ±16 g again: 10 frames in 50 ms,
     // each whole, at the configured scale (sample k reads k LSB).
     imu.bus_mut().inner_mut().advance(0.05);
-    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(10));
-    let si = imu.config().to_si(&frames[0]);
+    assert_eq!(read_words(&mut imu, &mut frames).unwrap(), FifoRead::Frames(10));
+    let si = imu.config().sample(&RawFrame::from(frames[0])).to_log_row();
     let k = f64::from(frames[0][0]);
     assert!((si[3] - k * GyroRange::Dps2000.lsb_rad()).abs() < 1e-12, "{si:?}");
     assert!((si[0] - k * AccelRange::G16.lsb_si()).abs() < 1e-12, "{si:?}");
@@ -414,7 +459,7 @@ fn spi_reads_the_same_chip() {
     imu.configure(cfg).unwrap();
     imu.bus_mut().inner_mut().advance(0.1);
     let mut frames = Vec::new();
-    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(20));
+    assert_eq!(read_words(&mut imu, &mut frames).unwrap(), FifoRead::Frames(20));
     assert!(
         frames
             .iter()
@@ -456,7 +501,7 @@ fn after_a_reset_the_chip_answers_only_once_its_start_up_time_has_passed() {
     let mut imu = configured(cfg);
     imu.bus_mut().inner_mut().advance(0.05);
     let mut frames = Vec::new();
-    assert_eq!(imu.read_fifo(&mut frames).unwrap(), FifoRead::Frames(10));
+    assert_eq!(read_words(&mut imu, &mut frames).unwrap(), FifoRead::Frames(10));
     let mut imu = imu_on_spi(counting(cfg)).unwrap();
     imu.configure(cfg).unwrap();
     // …and one that does not is refused by the chip.

@@ -106,10 +106,13 @@ fn read_fifo_reads_the_count_whole_frames_and_the_status() {
     let mut imu = Mpu9250::new(I2cBus::new(i2c.clone(), AD), delay.clone()).unwrap();
     imu.configure(config()).unwrap();
     let mut out = Vec::new();
-    assert_eq!(imu.read_fifo(&mut out).unwrap(), FifoRead::Frames(2));
-    assert_eq!(out[0], [0x0001, 0x0203, 0x0405, 0x0607, 0x0809, 0x0A0B, 0x0C0D]);
-    assert_eq!(out[1][6], 0x1A1B);
-    assert_eq!(imu.read_fifo(&mut out).unwrap(), FifoRead::Overflow);
+    assert_eq!(imu.read_frames(&mut out).unwrap(), FifoRead::Frames(2));
+    assert_eq!(
+        <[i16; 7]>::from(out[0]),
+        [0x0001, 0x0203, 0x0405, 0x0607, 0x0809, 0x0A0B, 0x0C0D]
+    );
+    assert_eq!(out[1].gyro[2], 0x1A1B);
+    assert_eq!(imu.read_frames(&mut out).unwrap(), FifoRead::Overflow);
     assert_eq!(out.len(), 2);
     i2c.done();
     delay.done();

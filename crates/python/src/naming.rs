@@ -70,6 +70,8 @@ fn keyword(setting: Setting) -> Option<&'static str> {
         Setting::BinWidth => "bin_width",
         Setting::ExportFirmware => "export",
         Setting::DeviceId => "device_id",
+        // `tcal_export`'s keyword kept its name.
+        Setting::CalibrationSlot => "instance",
         Setting::TimeUnit
         | Setting::ColumnScale
         | Setting::TimeColumn

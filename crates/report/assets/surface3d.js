@@ -33,7 +33,11 @@ function imuthermSurface(id) {
     return hi > lo ? [lo, hi] : [lo - 0.5, lo + 0.5];
   }
   if (!xs.length) { c.dataset.rendered = '0'; c.dataset.labels = '[]'; return; }
-  var X = range(xs), Y = range(ys), Z = range(zs), yaw = -0.45, pitch = 0.5;
+  // Views meant to be compared (raw beside compensated) carry one σ range,
+  // data-zrange = "lo,hi" in log10 σ, so that a colour means one σ in both.
+  var zr = (c.dataset.zrange || '').split(',').map(Number);
+  var Z = zr.length === 2 && zr[1] > zr[0] ? zr : range(zs);
+  var X = range(xs), Y = range(ys), yaw = -0.45, pitch = 0.5;
   function n(v, r) { return (v - r[0]) / (r[1] - r[0]) - 0.5; }
   function heat(v) {
     var s = [[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]];
@@ -71,15 +75,28 @@ function imuthermSurface(id) {
     for (var v = Math.ceil(r[0] / step) * step; v <= r[1] + 1e-9; v += step) { t.push([v, fmt(v)]); }
     return t;
   }
-  var labels = [], verts = [], hover = null;
-  function text(s, x, y, align) {
+  var labels = [], verts = [], hover = null, boxes = [];
+  // A text's box; a tick label that would overlap a text already drawn is
+  // left out (the axis names and titles go first), so that no two run
+  // into each other (`2·10⁻³10⁻¹`).
+  function box(s, x, y, align) {
+    var w = g.measureText(s).width, x0 = align === 'center' ? x - w / 2 : align === 'right' ? x - w : x;
+    return [x0 - 2, y - 11, x0 + w + 2, y + 3];
+  }
+  function overlaps(b) {
+    return boxes.some(function (o) { return b[0] < o[2] && o[0] < b[2] && b[1] < o[3] && o[1] < b[3]; });
+  }
+  function text(s, x, y, align, tick) {
     g.textAlign = align || 'left';
+    var b = box(s, x, y, g.textAlign);
+    if (tick && overlaps(b)) { return; }
+    boxes.push(b);
     g.fillText(s, x, y);
     labels.push(s);
   }
   // Axis texts wait until the surface is drawn, so that it hides none.
   var later = [];
-  function textLater(s, x, y, align, font) { later.push([s, x, y, align, font]); }
+  function textLater(s, x, y, align, font, tick) { later.push([s, x, y, align, font, tick]); }
   function line(a, b, colour) {
     g.strokeStyle = colour; g.beginPath(); g.moveTo(a[0], a[1]); g.lineTo(b[0], b[1]); g.stroke();
   }
@@ -90,7 +107,7 @@ function imuthermSurface(id) {
     ticks.forEach(function (t) {
       var p = at.apply(null, place(t[0])), q = at.apply(null, place(t[0]).map(function (v, i) { return v + out[i]; }));
       line(p, q, '#333');
-      textLater(t[1], q[0] + (q[0] - p[0]) * 1.5, q[1] + (q[1] - p[1]) * 1.5 + 4, 'center', '11px sans-serif');
+      textLater(t[1], q[0] + (q[0] - p[0]) * 1.5, q[1] + (q[1] - p[1]) * 1.5 + 4, 'center', '11px sans-serif', true);
     });
     if (name) {
       // The name below the middle of the axis, past its tick labels.
@@ -100,7 +117,7 @@ function imuthermSurface(id) {
     }
   }
   function draw() {
-    labels = []; verts = [];
+    labels = []; verts = []; boxes = [];
     g.fillStyle = '#fff'; g.fillRect(0, 0, W, H);
     var quads = [];
     for (var i = 0; i + 1 < rows.length; i++) {
@@ -145,7 +162,14 @@ function imuthermSurface(id) {
       g.strokeStyle = 'rgba(0,0,0,0.15)'; g.stroke();
     });
     g.fillStyle = '#222';
-    later.forEach(function (l) { g.font = l[4]; text(l[0], l[1], l[2], l[3]); });
+    // Titles and axis names first, then the colour bar's name: a tick label
+    // gives way to them.
+    g.font = '14px sans-serif';
+    text(c.dataset.title, 10, 20);
+    g.font = 'bold 12px sans-serif';
+    text('σ [' + unit + ']', W - 76, 40 - 10);
+    later.sort(function (a, b) { return (a[5] ? 1 : 0) - (b[5] ? 1 : 0); });
+    later.forEach(function (l) { g.font = l[4]; text(l[0], l[1], l[2], l[3], l[5]); });
     later = [];
     // The colour bar: σ on a log scale, its ticks those of the σ axis.
     var bx = W - 70, btop = 40, bot = H - 40;
@@ -157,12 +181,8 @@ function imuthermSurface(id) {
     logTicks(Z).forEach(function (t) {
       var y = bot - (t[0] - Z[0]) / (Z[1] - Z[0]) * (bot - btop);
       line([bx + 14, y], [bx + 18, y], '#333');
-      text(t[1], bx + 20, y + 4);
+      text(t[1], bx + 20, y + 4, 'left', true);
     });
-    g.font = 'bold 12px sans-serif';
-    text('σ [' + unit + ']', bx - 6, btop - 10);
-    g.font = '14px sans-serif';
-    text(c.dataset.title, 10, 20);
     if (hover) {
       g.fillStyle = '#d00'; g.beginPath(); g.arc(hover.s[0], hover.s[1], 4, 0, 2 * Math.PI); g.fill();
       var msg = 'τ = ' + fmt(Math.pow(10, hover.tau)) + ' s, T = ' + fmt(hover.t) + ' °C, σ = ' +

@@ -481,11 +481,11 @@ pub fn surface_section(page: &mut Page, exp: &Experiment, png: &PngDir) -> Resul
         page.paragraph(&dynamic_note(&pair.raw));
     }
     for ((c, rows), pair) in cool.channels.iter().zip(&exp.surfaces).zip(&exp.dynamic) {
-        page.surface3d(&format!("{}: raw", c.name), &c.unit, &dynamic_slices(&pair.raw));
-        page.surface3d(
-            &format!("{}: compensated", c.name),
+        // Raw and compensated on one σ scale: a colour is one σ in both.
+        page.surface3d_pair(
+            [&format!("{}: raw", c.name), &format!("{}: compensated", c.name)],
             &c.unit,
-            &dynamic_slices(&pair.compensated),
+            [&dynamic_slices(&pair.raw), &dynamic_slices(&pair.compensated)],
         );
         dynamic_heatmap(
             page,

@@ -61,6 +61,9 @@ enum Block {
         unit: String,
         /// The slices as JSON, for the page's script.
         data: String,
+        /// The σ range `lo,hi` (log₁₀) shared with the views it is
+        /// compared with; its own data's range when none.
+        zrange: Option<String>,
     },
     Code {
         text: String,
@@ -84,6 +87,9 @@ struct SurfaceSlice {
     t: f64,
     p: Vec<[f64; 2]>,
 }
+
+/// A 3D view's slices: each temperature with its (τ, σ) points.
+pub type Slices = [(f64, Vec<(f64, f64)>)];
 
 const PAGE_TEMPLATE: &str = include_str!("../templates/page.html");
 
@@ -148,6 +154,33 @@ impl Page {
     /// embedded in the page, so the report needs no network and no library. `rows` are (mean temperature °C,
     /// [(τ s, σ)]) per slice.
     pub fn surface3d(&mut self, title: &str, unit: &str, rows: &[(f64, Vec<(f64, f64)>)]) {
+        self.surface3d_on(title, unit, rows, None);
+    }
+
+    /// Two 3D views meant to be compared (raw and compensated), drawn on
+    /// one σ scale: the range of both.
+    pub fn surface3d_pair(&mut self, titles: [&str; 2], unit: &str, rows: [&Slices; 2]) {
+        let (lo, hi) = rows
+            .iter()
+            .flat_map(|r| r.iter().filter(|(t, _)| t.is_finite()))
+            .flat_map(|(_, pts)| pts.iter().filter(|p| p.0 > 0.0).map(|p| p.1))
+            .filter(|d| *d > 0.0 && d.is_finite())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), d| {
+                (a.min(d), b.max(d))
+            });
+        let shared = (hi > lo).then(|| format!("{:.4},{:.4}", lo.log10(), hi.log10()));
+        for (title, rows) in titles.into_iter().zip(rows) {
+            self.surface3d_on(title, unit, rows, shared.clone());
+        }
+    }
+
+    fn surface3d_on(
+        &mut self,
+        title: &str,
+        unit: &str,
+        rows: &[(f64, Vec<(f64, f64)>)],
+        zrange: Option<String>,
+    ) {
         let id = self.surfaces;
         self.surfaces += 1;
         // Four decimals of a logarithm are 0.02 %, and 0.001 °C is below
@@ -172,6 +205,7 @@ impl Page {
             title: title.to_string(),
             unit: unit.to_string(),
             data,
+            zrange,
         });
     }
 
@@ -276,7 +310,9 @@ const STYLE: &str = "body{font-family:sans-serif;max-width:1100px;margin:2em aut
 table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:.25em .6em;text-align:right}\
 th{background:#eee}caption{font-weight:bold;text-align:left;padding:.3em 0}figure.plot{display:inline-block;margin:.5em}\
 figure.surface{display:inline-block;margin:.5em}canvas{border:1px solid #ddd;cursor:grab}figcaption{font-size:.9em;color:#555}pre{background:#f4f4f4;padding:.6em;overflow-x:auto}\
-section.summary{border:1px solid #bbb;padding:0 1em;margin:1em 0}table.summary td:first-child,table.summary td:nth-child(2){text-align:left}\
+section.summary{border:1px solid #bbb;padding:0 1em;margin:1em 0}div.answer p{font-size:1.1em}div.answer .figures{display:flex;gap:1em;margin:.5em 0 1em}\
+div.answer .figures>div{flex:1;border:1px solid #ccc;padding:.4em .6em}div.answer span{display:block}div.answer .big{font-size:1.5em;font-weight:bold}\
+div.answer .what,div.answer .unit{color:#444;font-size:.9em}table.summary td:first-child,table.summary td:nth-child(2){text-align:left}\
 tr.outside td{background:#fde8e8}.src{display:block;font-size:.75em;color:#666}\
 figure.live>.static{display:none}.chart .u-title{font-size:16px}.chart .u-legend{font-size:13px;max-width:720px}.chart canvas{border:0;cursor:crosshair}.chart .u-legend th,.chart .u-legend td{border:0;background:none;padding:1px 3px}.chart-note{font-size:.8em;color:#666;margin:.2em 0}\
 nav.toc{font-size:.9em;line-height:1.6}nav.toc a{margin-right:.8em}details>summary{cursor:pointer}details>summary h2{display:inline}\
@@ -365,6 +401,24 @@ mod tests {
         let mut plain = Page::new("p");
         plain.figure("<svg/>", "f");
         assert!(!plain.finish().unwrap().contains("<script"));
+    }
+
+    /// Raw and compensated views are drawn on the σ range of both.
+    #[test]
+    fn a_pair_of_surfaces_shares_one_sigma_range() {
+        let mut p = Page::new("s");
+        let raw = vec![(30.0, vec![(1.0, 0.01), (10.0, 0.001)])];
+        let comp = vec![
+            (30.0, vec![(1.0, 0.1), (10.0, 0.002)]),
+            (f64::NAN, vec![(1.0, 1e3)]),
+        ];
+        p.surface3d_pair(["raw", "compensated"], "rad/s", [&raw, &comp]);
+        let html = p.finish().unwrap();
+        assert_eq!(
+            html.matches("data-zrange=\"-3.0000,-1.0000\"").count(),
+            2,
+            "{html}"
+        );
     }
 
     #[test]

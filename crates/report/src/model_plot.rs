@@ -15,7 +15,9 @@ use allan::noise_terms::{Term, TermEstimate};
 
 use crate::PlotError;
 use crate::html::significant;
-use crate::plots::{Drawn, PALETTE, Target, err, font, log_range, tick_label, to_png, to_svg};
+use crate::plots::{
+    Drawn, PALETTE, Target, err, font, log_range, log_tick_label, tick_label, to_png, to_svg,
+};
 
 /// What a reader needs beside the model to label it: the channel's unit
 /// and the unit of each term's value.
@@ -222,8 +224,8 @@ fn model_plot_on<DB: DrawingBackend>(
     chart
         .configure_mesh()
         .y_desc(format!("Allan deviation [{}]", axis.unit))
-        .x_label_formatter(&|v| tick_label(*v, *v))
-        .y_label_formatter(&|v| tick_label(*v, *v))
+        .x_label_formatter(&|v| log_tick_label(*v, tau_range))
+        .y_label_formatter(&|v| log_tick_label(*v, dev_range))
         .draw()
         .map_err(err)?;
     let blue = PALETTE[0];
@@ -338,7 +340,7 @@ fn residual_panel<DB: DrawingBackend>(
         .x_desc("τ [s]")
         .y_desc("measured / model")
         .y_labels(6)
-        .x_label_formatter(&|v| tick_label(*v, *v))
+        .x_label_formatter(&|v| log_tick_label(*v, tau_range))
         .y_label_formatter(&|v| tick_label(*v, hi - lo))
         .draw()
         .map_err(err)?;

@@ -226,8 +226,8 @@ fn adev_plot_on<DB: DrawingBackend>(
         .configure_mesh()
         .x_desc("τ [s]")
         .y_desc(format!("Allan deviation [{unit}]"))
-        .y_label_formatter(&|v| tick_label(*v, *v))
-        .x_label_formatter(&|v| tick_label(*v, *v))
+        .y_label_formatter(&|v| log_tick_label(*v, devs))
+        .x_label_formatter(&|v| log_tick_label(*v, taus))
         .draw()
         .map_err(err)?;
     for (i, c) in curves.iter().enumerate() {
@@ -297,6 +297,23 @@ fn adev_plot_on<DB: DrawingBackend>(
         .draw()
         .map_err(err)?;
     Ok(())
+}
+
+/// A tick label on a log axis over `range`: one format for the whole axis,
+/// exponents on every tick where any tick needs one (`1e-4`, `1e-3`, not
+/// `1e-4`, `0.001`), plain numbers otherwise.
+pub fn log_tick_label(v: f64, (lo, hi): (f64, f64)) -> String {
+    if !v.is_finite() || v <= 0.0 {
+        return String::new();
+    }
+    if lo >= 1e-3 && hi < 1e5 {
+        return tick_label(v, v);
+    }
+    let s = format!("{v:.6e}");
+    match s.split_once('e') {
+        Some((m, e)) => format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.')),
+        None => s,
+    }
 }
 
 /// A tick label on an axis spanning `span` (on a log axis, the tick itself):
@@ -446,7 +463,7 @@ fn adev_heatmap_on<DB: DrawingBackend>(
         .configure_mesh()
         .x_desc("τ [s]")
         .y_desc("temperature [°C]")
-        .x_label_formatter(&|v| tick_label(*v, *v))
+        .x_label_formatter(&|v| log_tick_label(*v, taus))
         .y_label_formatter(&|v| tick_label(*v, step))
         .draw()
         .map_err(err)?;
@@ -513,7 +530,7 @@ fn adev_heatmap_on<DB: DrawingBackend>(
         // be sized to it, under a pixel.
         .y_label_style(("sans-serif", 12))
         .axis_desc_style(("sans-serif", 13))
-        .y_label_formatter(&|v| tick_label(*v, *v))
+        .y_label_formatter(&|v| log_tick_label(*v, (10f64.powf(dlo), 10f64.powf(dlo + span))))
         .draw()
         .map_err(err)?;
     let n = LEVELS;
@@ -849,5 +866,15 @@ mod tests {
         assert_eq!(tick_label(0.1, 0.1), "0.1");
         assert_eq!(tick_label(1e-5, 1e-5), "1e-5");
         assert_eq!(tick_label(f64::NAN, 1.0), "");
+        // A log axis from 1e-4 to 1: one format on every tick.
+        let axis = (1e-4, 1.0);
+        let labels: Vec<String> = [1e-4, 1e-3, 1e-2, 0.1, 1.0, 2e-3]
+            .map(|v| log_tick_label(v, axis))
+            .to_vec();
+        assert_eq!(labels, ["1e-4", "1e-3", "1e-2", "1e-1", "1e0", "2e-3"]);
+        // Within 0.001 … 100 000, plain numbers.
+        assert_eq!(log_tick_label(0.001, (1e-3, 1e3)), "0.001");
+        assert_eq!(log_tick_label(1000.0, (1e-3, 1e3)), "1000");
+        assert_eq!(log_tick_label(0.0, axis), "");
     }
 }

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use imu::timing::{analyze_timestamps, regularize};
+use imu::timing::{analyze_timestamps, regularize_gapped};
 use imu::{Axis, Channel, Problem, ProblemKind, Quantity, ReadReport, Recording, Setting, Value};
 
 use crate::error::{LogError, LogErrorKind, RateTooHigh};
@@ -48,6 +48,10 @@ pub struct StreamInfo {
     pub messages: usize,
     /// Mean rate over the log's time, Hz.
     pub rate_hz: Option<f64>,
+    /// The rate between consecutive messages (one over their median step),
+    /// Hz: what the clock reads where the stream flows, which the mean
+    /// undercuts by the gaps' share of the span.
+    pub step_rate_hz: Option<f64>,
     /// Where an IMU stream's temperature comes from.
     pub temperature: String,
     /// Whether this stream is the one read.
@@ -335,6 +339,17 @@ fn interpolate(t: &[f64], v: &[f64], at: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// One over the median of the positive steps between times, Hz.
+fn step_rate(t: &[f64]) -> Option<f64> {
+    let mut steps: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).filter(|d| *d > 0.0).collect();
+    if steps.is_empty() {
+        return None;
+    }
+    let mid = steps.len() / 2;
+    let (_, m, _) = steps.select_nth_unstable_by(mid, f64::total_cmp);
+    Some(1.0 / *m)
+}
+
 /// Every stream of the log, none selected yet; an IMU stream's
 /// temperature source as it would be read.
 fn summaries(d: &Decoded) -> Vec<StreamInfo> {
@@ -348,6 +363,7 @@ fn summaries(d: &Decoded) -> Vec<StreamInfo> {
             msg_type: x.msg_type.clone(),
             messages: x.len(),
             rate_hz: x.mean_rate_hz(),
+            step_rate_hz: step_rate(&x.log_time),
             temperature: if x.temp.is_some() {
                 TempSource::Inline(format!("{}.temperature", x.name)).to_string()
             } else {
@@ -366,6 +382,7 @@ fn summaries(d: &Decoded) -> Vec<StreamInfo> {
         msg_type: x.msg_type.clone(),
         messages: x.value.len(),
         rate_hz: mean_rate(&x.log_time),
+        step_rate_hz: step_rate(&x.log_time),
         temperature: String::new(),
         selected: false,
     }));
@@ -530,19 +547,26 @@ fn build(
             .is_some_and(|tm| tm.gaps.is_empty() && tm.duplicates.is_empty());
     let (grid, dropped) = match rate {
         Some(_) if in_place => (columns, Vec::new()),
-        Some(r) => regularize(
-            &t,
-            r,
-            &columns,
-            c.max_grid_factor.unwrap_or(imu::timing::MAX_GRID_FACTOR),
-        )
-        .ok_or_else(|| {
-            let own = timing.as_ref().map(|tm| tm.rate_hz);
-            let factor = c.max_grid_factor.unwrap_or(imu::timing::MAX_GRID_FACTOR);
-            LogError::new(path, bad_clock(&s.name, &t, c.rate_hz, own, factor))
-        })?,
+        Some(r) => {
+            let factor = timing
+                .as_ref()
+                .map_or(c.max_grid_factor.unwrap_or(imu::timing::MAX_GRID_FACTOR), |tm| {
+                    tm.grid_factor(c.max_grid_factor, r)
+                });
+            let gap_above = timing
+                .as_ref()
+                .map_or(imu::timing::GAP_FACTOR / r, |tm| tm.gap_above_for(r));
+            regularize_gapped(&t, r, gap_above, &columns, factor).ok_or_else(|| {
+                let own = timing.as_ref().map(|tm| tm.rate_hz);
+                LogError::new(path, bad_clock(&s.name, &t, c.rate_hz, own, factor))
+            })?
+        }
         None => (columns, Vec::new()),
     };
+    if let Some(tm) = &timing {
+        let slots = grid.first().map_or(0, Vec::len);
+        report.notes.extend(tm.pattern_note(messages, slots));
+    }
     if let Some(tm) = &timing {
         let mut since = 0usize;
         for &(row, missing) in &tm.gaps {
@@ -735,6 +759,22 @@ mod tests {
             s.push(v, v, [k as f64; 3], [0.0; 3], None);
         }
         d
+    }
+
+    /// A stream logged at 50 Hz for 2 s, silent for 36 s, then 2 s again:
+    /// its messages average 5 Hz over the span, but flow at 50 Hz, the rate
+    /// its clock reads.
+    #[test]
+    fn a_stream_with_gaps_gives_its_rate_between_messages_beside_its_mean() {
+        let t: Vec<f64> = (0..100)
+            .map(|k| k as f64 * 0.02)
+            .chain((0..101).map(|k| 38.0 + k as f64 * 0.02))
+            .collect();
+        let s = &summaries(&log_of(&t))[0];
+        assert!((s.rate_hz.unwrap() - 200.0 / 40.0).abs() < 1e-9, "{s:?}");
+        assert!((s.step_rate_hz.unwrap() - 50.0).abs() < 1e-6, "{s:?}");
+        assert_eq!(step_rate(&[1.0]), None);
+        assert_eq!(step_rate(&[1.0, 1.0]), None);
     }
 
     #[test]

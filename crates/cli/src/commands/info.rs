@@ -61,9 +61,11 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
         writeln!(
             out,
             "  {:<4} {:<28} {:<12} {:>9} {:>12}  temperature",
-            "", "stream", "kind", "messages", "mean rate"
+            "", "stream", "kind", "messages", "rate"
         )?;
         for s in &f.streams {
+            // The rate between messages, as the clock reads it; the mean
+            // over the span is said below where gaps pull it down.
             writeln!(
                 out,
                 "  {:<4} {:<28} {:<12} {:>9} {:>12}  {}",
@@ -71,12 +73,17 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
                 s.name,
                 s.kind,
                 s.messages,
-                s.rate_hz.map_or("—".to_string(), |r| format!(
+                s.step_rate_hz.or(s.rate_hz).map_or("—".to_string(), |r| format!(
                     "{} Hz",
                     imu::log_file::round_rate(r)
                 )),
                 s.temperature_source
             )?;
+        }
+        for s in &f.streams {
+            if let Some(line) = coverage(s) {
+                writeln!(out, "  {line}")?;
+            }
         }
         for (k, v) in &f.log_metadata {
             if let Some(label) = match k.as_str() {
@@ -202,4 +209,21 @@ fn write_text(out: &mut impl Write, f: &FileInfo) -> Result<()> {
         writeln!(out, "  note         {n}")?;
     }
     Ok(())
+}
+
+/// Where a stream's messages stop for part of the log: its rate between
+/// messages, the share of the span it covers and its mean over the span.
+fn coverage(s: &analysis::robot_logs::Stream) -> Option<String> {
+    let (step, mean) = (s.step_rate_hz?, s.rate_hz?);
+    let share = mean / step;
+    (share < 0.95 && s.messages > 1).then(|| {
+        let span = (s.messages - 1) as f64 / mean;
+        format!(
+            "{} logs at {} Hz for about {:.0} % of its {span:.1} s ({} Hz on average): the rest are gaps",
+            s.name,
+            imu::log_file::round_rate(step),
+            100.0 * share,
+            imu::log_file::round_rate(mean)
+        )
+    })
 }

@@ -56,10 +56,10 @@ fn configuration(a: &SimulateArgs) -> Result<(SimConfig, String)> {
         cfg.seed = s;
     }
     cfg.validate()?;
-    if let Some(id) = &a.unit {
+    if let Some(id) = &a.unit_id {
         let (scatter, defect) = population_flags(a)?;
         cfg = population::draw(&cfg, id, scatter, defect.as_ref())
-            .map_err(|e| UsageError(format!("--unit: {e}")))?;
+            .map_err(|e| UsageError(format!("--unit-id: {e}")))?;
     }
     Ok((cfg, source))
 }
@@ -133,7 +133,7 @@ pub fn run(a: &SimulateArgs) -> Result<()> {
         },
     )?;
     let mut meta = sim.metadata(Some(&source));
-    if let Some(id) = &a.unit {
+    if let Some(id) = &a.unit_id {
         let (scatter, defect) = population_flags(a)?;
         for (k, v) in population::describe(id, scatter, defect.as_ref()) {
             meta.set(k, v);

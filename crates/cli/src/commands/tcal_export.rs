@@ -24,13 +24,13 @@ pub fn run(a: &TcalExportArgs) -> Result<()> {
         return header(a);
     };
     let firmware = Firmware::from(firmware);
-    if let Err(e) = analysis::compensation::check_instance(firmware, a.instance) {
+    if let Err(e) = analysis::compensation::check_instance(firmware, a.slot) {
         usage_error(e);
     }
     let model = Model::read(&a.model)?;
-    if !model.instances.is_empty() && (a.instance.is_some() || a.device_id.is_some()) {
+    if !model.instances.is_empty() && (a.slot.is_some() || a.device_id.is_some()) {
         usage_error(format!(
-            "{} holds instances {:?}, each written to its own slot with the ids its log gave: export it without --instance and --device-id",
+            "{} holds instances {:?}, each written to its own slot with the ids its log gave: export it without --slot and --device-id",
             a.model.display(),
             model
                 .instances
@@ -40,7 +40,7 @@ pub fn run(a: &TcalExportArgs) -> Result<()> {
         ));
     }
     let target = Target {
-        instance: a.instance,
+        instance: a.slot,
         device_id: a.device_id,
     };
     let exported = export_params(&model, firmware, target)

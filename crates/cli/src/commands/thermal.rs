@@ -67,7 +67,7 @@ pub fn run(a: &ThermalArgs) -> Result<()> {
             let rows = &surface.rows;
             writeln!(
                 out,
-                "# {name} [{ch_unit}] — OADEV over {label}, N and B from the fit"
+                "# {name} [{ch_unit}] — OADEV over {label}, N and B from the fit (n/i: not identified, the slice's data do not hold the term)"
             )?;
             let taus: Vec<f64> =
                 rows.iter()

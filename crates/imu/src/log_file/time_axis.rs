@@ -12,7 +12,7 @@ use crate::error::{ReadError, ReadErrorKind};
 use crate::read_report::{Problem, ProblemKind, ReadReport};
 use crate::recording::Channel;
 use crate::setting::{Setting, Value};
-use crate::timing::{Timing, analyze_timestamps, regularize};
+use crate::timing::{Timing, analyze_timestamps, regularize_gapped};
 use crate::units::{Quantity, UnitSource, parse_unit};
 
 /// The time column at index `ti` of the file: its raw values, its kind and
@@ -60,10 +60,13 @@ pub(super) fn place_on_time(
             ));
         }
         let cols: Vec<Vec<f64>> = channels.iter_mut().map(|c| std::mem::take(&mut c.data)).collect();
-        let factor = opts.max_grid_factor.unwrap_or(crate::timing::MAX_GRID_FACTOR);
-        let Some((regular, dropped)) = regularize(&t, rate, &cols, factor) else {
+        let factor = timing.grid_factor(opts.max_grid_factor, rate);
+        let gap_above = timing.gap_above_for(rate);
+        let Some((regular, dropped)) = regularize_gapped(&t, rate, gap_above, &cols, factor) else {
             return Err(grid_too_large(path, &t, index, rate, factor));
         };
+        let grid = regular.first().map_or(0, Vec::len);
+        report.notes.extend(timing.pattern_note(t.len(), grid));
         report_timing(&timing, &dropped, index, rows, report);
         for (c, d) in channels.iter_mut().zip(regular) {
             c.data = d;

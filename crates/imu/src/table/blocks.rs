@@ -30,9 +30,23 @@ pub(super) struct Start<'a> {
     pub file_bytes: Option<u64>,
 }
 
-/// How many blocks a batch holds: a few per core, parsed at once.
-pub(super) fn batch_len() -> usize {
-    4 * rayon::current_num_threads().max(1)
+/// What a block's column takes beyond its values: the `Vec`, the
+/// allocator's header and the first reserve of four values, bytes.
+const COLUMN_BOOKKEEPING: usize = 72;
+
+/// The most the blocks in flight may take in columns' bookkeeping: in a
+/// table of 400 000 columns a block of a megabyte holds one row, and 24
+/// blocks in flight would hold 0.7 GB of it beyond the columns' budget.
+const BOOKKEEPING_BYTES: usize = 48 << 20;
+
+/// How many blocks a batch of a table of `columns` read holds: a few per
+/// core, parsed at once, fewer where the columns' bookkeeping of three
+/// batches (two parsed, and the spare columns they leave) would pass
+/// [`BOOKKEEPING_BYTES`].
+pub(super) fn batch_len(columns: usize) -> usize {
+    let cores = 4 * rayon::current_num_threads().max(1);
+    let wide = BOOKKEEPING_BYTES / (3 * COLUMN_BOOKKEEPING * columns.max(1));
+    cores.min(wide).max(1)
 }
 
 /// Reads the rest of `input` into `got`: the lines read in all.
@@ -51,7 +65,7 @@ pub(super) fn read_body(
         out.append_to(got, path, line - 1, &layout.spare)?;
     }
 
-    let batch_len = batch_len();
+    let batch_len = batch_len(layout.select.len());
     let mut source = BlockSource {
         input,
         carry: Vec::new(),

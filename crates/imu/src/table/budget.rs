@@ -2,22 +2,128 @@
 //!
 //! The columns are the only part of a read that grows with the file (a
 //! line, a block and a batch are bounded), so they alone are counted, by
-//! what they reserve, not what they fill. They may take half of the
-//! machine's memory (the other half is for the analysis that follows,
-//! which copies a channel or two), and a quarter of the process's
-//! address-space limit (`ulimit -v`), which also counts thread stacks and
-//! the allocator's reserved arenas. A gzip file of long rows, kilobytes
-//! that unpack to gigabytes, is refused at the line that crosses the
-//! limit, not by the allocator's abort; and the growth itself is fallible,
-//! so a refusal by the system short of the limit is an error too.
+//! what they reserve, not what they fill. Their bound is the input's, not
+//! the machine's: a value takes at least two bytes of text (`0,`) and eight
+//! as a double, so the rows of a text hold at most four bytes of columns a
+//! byte, eight with the growth by doubling ([`BYTES_PER_BYTE_READ`]). A
+//! regular file's size is known before the body: its columns may take that
+//! multiple of it. A compressed or piped input's size is not, so the limit
+//! grows with the bytes it has given so far, up to [`STREAM_CAP`], the same
+//! on every machine: a gzip file of long rows, kilobytes that unpack to
+//! gigabytes, is refused at the line that crosses the cap, under a gigabyte
+//! resident, while ten million rows of seven columns (534 MiB) still read.
+//! Gaps (short bad lines made rows of NaN) are what the multiple does
+//! bound in a stream; [`FLOOR`] keeps a small file's gaps from being
+//! refused. Below those, half of the machine's memory (the other half is
+//! for the analysis that follows, which copies a channel or two), and a
+//! quarter of the process's address-space limit (`ulimit -v`), which also
+//! counts thread stacks and the allocator's reserved arenas. The growth
+//! itself is fallible, so a refusal by the system short of the limit is an
+//! error too.
 
-use crate::error::ReadErrorKind;
+use std::sync::Arc;
 
-/// The bytes the columns may take, or `None` when nothing bounds them.
+use super::input::Seen;
+
+use crate::error::{LimitBound, ReadErrorKind};
+
+/// Bytes of columns a byte of text may give (see the module's notes).
+pub const BYTES_PER_BYTE_READ: u64 = 8;
+
+/// What the columns may always take, whatever the input's size: a small
+/// file's gaps.
+pub const FLOOR: u64 = 64 << 20;
+
+/// The most the columns of an input of unknown size (gzip, a pipe) may
+/// take, on any machine.
+pub const STREAM_CAP: u64 = 640 << 20;
+
+// Ten million rows of seven columns fit the cap.
+const _: () = assert!(10_000_000 * 7 * VALUE_BYTES <= STREAM_CAP);
+
+/// The bytes the columns may take, or `None` when nothing bounds them:
+/// the machine's and the process's bounds.
 pub fn column_limit() -> Option<u64> {
+    machine_limit().map(|(l, _)| l)
+}
+
+fn machine_limit() -> Option<(u64, LimitBound)> {
     let memory = physical_memory().map(|m| m / 2);
     let address_space = address_space_limit().map(|a| a / 4);
-    [memory, address_space].into_iter().flatten().min()
+    [memory, address_space]
+        .into_iter()
+        .flatten()
+        .min()
+        .map(|l| (l, LimitBound::Machine))
+}
+
+/// The limit of one read: a ceiling, and for a stream the bytes it has
+/// given so far.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Limit {
+    ceiling: Option<(u64, LimitBound)>,
+    read: Option<Arc<Seen>>,
+}
+
+impl Limit {
+    /// A fixed limit of `bytes` (`None`: unbounded).
+    #[cfg(test)]
+    pub fn fixed(bytes: Option<u64>) -> Self {
+        Limit {
+            ceiling: bytes.map(|b| (b, LimitBound::Machine)),
+            read: None,
+        }
+    }
+
+    /// The limit of an input: a regular file of `file_bytes`, or a stream
+    /// whose decoded bytes so far `read` counts.
+    pub fn of_input(file_bytes: Option<u64>, read: &Arc<Seen>) -> Self {
+        Self::of_input_capped(file_bytes, read, STREAM_CAP)
+    }
+
+    /// [`Limit::of_input`] with a stream's cap of `cap` bytes.
+    pub fn of_input_capped(file_bytes: Option<u64>, read: &Arc<Seen>, cap: u64) -> Self {
+        let input = match file_bytes {
+            Some(b) if b.saturating_mul(BYTES_PER_BYTE_READ) <= FLOOR => (FLOOR, LimitBound::Floor),
+            Some(b) => (
+                b.saturating_mul(BYTES_PER_BYTE_READ),
+                LimitBound::FileSize { bytes: b },
+            ),
+            None => (cap, LimitBound::StreamCap),
+        };
+        let ceiling = [Some(input), machine_limit()]
+            .into_iter()
+            .flatten()
+            .min_by_key(|l| l.0);
+        Limit {
+            ceiling,
+            read: file_bytes.is_none().then(|| Arc::clone(read)),
+        }
+    }
+
+    /// The most the limit can become, and what sets it.
+    pub fn ceiling(&self) -> Option<(u64, LimitBound)> {
+        self.ceiling
+    }
+
+    /// The limit now, and what sets it.
+    fn now(&self) -> Option<(u64, LimitBound)> {
+        let ceiling = self.ceiling?;
+        let Some(read) = &self.read else {
+            return Some(ceiling);
+        };
+        let bytes = read.bytes();
+        let grown = bytes.saturating_mul(BYTES_PER_BYTE_READ);
+        Some(if grown >= ceiling.0 {
+            ceiling
+        } else if grown > FLOOR {
+            (grown, LimitBound::BytesRead { bytes })
+        } else if FLOOR < ceiling.0 {
+            (FLOOR, LimitBound::Floor)
+        } else {
+            ceiling
+        })
+    }
 }
 
 /// The machine's memory, from `sysconf`.
@@ -50,25 +156,32 @@ fn address_space_limit() -> Option<u64> {
 const VALUE_BYTES: u64 = size_of::<f64>() as u64;
 
 /// The bytes the columns reserve, against their limit.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub(super) struct Budget {
     held: u64,
-    limit: Option<u64>,
+    limit: Limit,
 }
 
 impl Budget {
     /// A budget of `limit` bytes (`None`: unbounded).
+    #[cfg(test)]
     pub fn new(limit: Option<u64>) -> Self {
+        Self::within(Limit::fixed(limit))
+    }
+
+    /// A budget held to `limit`.
+    pub fn within(limit: Limit) -> Self {
         Budget { held: 0, limit }
     }
 
     /// Takes `bytes` more, or says why they do not fit.
     fn take(&mut self, bytes: u64) -> Result<(), ReadErrorKind> {
         let held = self.held.saturating_add(bytes);
-        match self.limit {
-            Some(limit) if held > limit => Err(ReadErrorKind::TooLarge {
+        match self.limit.now() {
+            Some((limit, bound)) if held > limit => Err(ReadErrorKind::TooLarge {
                 held_mib: held.div_ceil(1 << 20),
                 limit_mib: limit >> 20,
+                bound,
             }),
             _ => {
                 self.held = held;
@@ -87,7 +200,9 @@ impl Budget {
 
     /// Whether `bytes` more would fit.
     pub fn fits(&self, bytes: u64) -> bool {
-        self.limit.is_none_or(|l| self.held.saturating_add(bytes) <= l)
+        self.limit
+            .now()
+            .is_none_or(|(l, _)| self.held.saturating_add(bytes) <= l)
     }
 
     /// Grows each column to hold its `extra` more values: to twice its
@@ -103,7 +218,7 @@ impl Budget {
             .zip(extra)
             .filter(|(c, e)| c.len() + *e > c.capacity())
             .count();
-        let left = self.limit.map_or(0, |l| l.saturating_sub(self.held));
+        let left = self.limit.now().map_or(0, |(l, _)| l.saturating_sub(self.held));
         let share = usize::try_from(left / VALUE_BYTES / growing.max(1) as u64).unwrap_or(usize::MAX);
         let target = |c: &Vec<f64>, extra: usize, step: usize| {
             let need = c.len().saturating_add(extra);
@@ -187,6 +302,40 @@ mod tests {
             "a refused growth asks nothing of the system"
         );
         assert!(Budget::new(None).take(u64::MAX).is_ok());
+    }
+
+    #[test]
+    fn a_streams_limit_grows_with_its_bytes_up_to_its_cap_and_a_files_is_its_size() {
+        use std::sync::atomic::Ordering;
+        let read = Arc::new(Seen::default());
+        let cap = 640 << 20;
+        let stream = Limit::of_input_capped(None, &read, cap);
+        let machine = machine_limit().map_or(u64::MAX, |(l, _)| l);
+        let expect = |l: u64, b| {
+            if l <= machine {
+                Some((l, b))
+            } else {
+                stream.ceiling()
+            }
+        };
+        assert_eq!(stream.now(), expect(FLOOR, LimitBound::Floor));
+        read.bytes.store(20 << 20, Ordering::Relaxed);
+        assert_eq!(
+            stream.now(),
+            expect(160 << 20, LimitBound::BytesRead { bytes: 20 << 20 })
+        );
+        // A bomb's gigabytes of text: the cap, wherever it runs.
+        read.bytes.store(4 << 30, Ordering::Relaxed);
+        assert_eq!(stream.now(), expect(cap, LimitBound::StreamCap));
+        // A regular file: its size, known before the body, whatever is read.
+        read.bytes.store(0, Ordering::Relaxed);
+        let file = Limit::of_input_capped(Some(1 << 30), &read, cap);
+        assert_eq!(
+            file.now(),
+            expect(8 << 30, LimitBound::FileSize { bytes: 1 << 30 })
+        );
+        let small = Limit::of_input_capped(Some(1000), &read, cap);
+        assert_eq!(small.now(), expect(FLOOR, LimitBound::Floor));
     }
 
     #[test]

@@ -6,6 +6,7 @@
 use std::fs::File;
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 use super::MAX_LINE_BYTES;
@@ -22,8 +23,25 @@ pub(super) struct Input {
     /// The file's size when it is a regular, uncompressed file (a pipe's
     /// or a gzip file's size says nothing of the data).
     pub file_bytes: Option<u64>,
+    /// What of the stream has gone by.
+    pub seen: Arc<Seen>,
+}
+
+/// What of a stream has gone by, shared with its reader.
+#[derive(Debug, Default)]
+pub(super) struct Seen {
     /// The last bytes of the stream read so far.
-    pub tail: Arc<Mutex<Vec<u8>>>,
+    pub tail: Mutex<Vec<u8>>,
+    /// The bytes of the stream read so far, decompressed: what bounds the
+    /// columns of an input of unknown size.
+    pub bytes: AtomicU64,
+}
+
+impl Seen {
+    /// The bytes read so far.
+    pub fn bytes(&self) -> u64 {
+        self.bytes.load(Ordering::Relaxed)
+    }
 }
 
 /// Opens `path` (`-`: standard input), decompressing gzip.
@@ -61,18 +79,18 @@ pub(super) fn from_raw(
     } else {
         Box::new(buffered)
     };
-    let tail = Arc::new(Mutex::new(Vec::new()));
+    let seen = Arc::new(Seen::default());
     let reader = Box::new(BufReader::with_capacity(
         1 << 16,
         TailKeeper {
             inner: decoded,
-            tail: Arc::clone(&tail),
+            seen: Arc::clone(&seen),
         },
     ));
     Ok(Input {
         reader,
         file_bytes: if gz { None } else { regular_bytes },
-        tail,
+        seen,
     })
 }
 
@@ -118,18 +136,19 @@ pub(super) fn read_line_bounded(input: &mut dyn BufRead, raw: &mut Vec<u8>) -> s
     }
 }
 
-/// Passes a stream through, keeping its last [`TAIL_BYTES`]: the trailer
+/// Passes a stream through, counting its bytes and keeping its last [`TAIL_BYTES`]: the trailer
 /// is found there without reading the input a second time (which a pipe
 /// cannot give, and a live stream would lose bytes to).
 struct TailKeeper {
     inner: Box<dyn Read + Send>,
-    tail: Arc<Mutex<Vec<u8>>>,
+    seen: Arc<Seen>,
 }
 
 impl Read for TailKeeper {
     fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
         let n = self.inner.read(buf)?;
-        let mut tail = self.tail.lock().unwrap_or_else(|p| p.into_inner());
+        self.seen.bytes.fetch_add(n as u64, Ordering::Relaxed);
+        let mut tail = self.seen.tail.lock().unwrap_or_else(|p| p.into_inner());
         // Only the last TAIL_BYTES of a read can still be the tail: a block
         // read of a megabyte copies 64 KiB, not all of it (the copy was a
         // tenth of the reading time).

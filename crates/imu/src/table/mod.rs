@@ -8,8 +8,9 @@
 //!
 //! Limits, so that a hostile file cannot take the machine's memory: a line
 //! is at most [`MAX_LINE_BYTES`], the comment lines before the first row at
-//! most [`MAX_HEADER_COMMENTS`], the columns at most half the memory the
-//! process may use; blank and comment lines among the rows are kept as
+//! most [`MAX_HEADER_COMMENTS`], the columns at most what the input's bytes
+//! can hold, a fixed cap for a stream and half the memory the process may
+//! use (see [`budget`]); blank and comment lines among the rows are kept as
 //! runs, so a file of nothing but newlines costs no memory.
 
 use std::io::{BufRead, Read};
@@ -28,7 +29,7 @@ mod sniff;
 
 #[cfg(test)]
 use blocks::BLOCK_BYTES;
-pub use budget::column_limit;
+pub use budget::{BYTES_PER_BYTE_READ, FLOOR, STREAM_CAP, column_limit};
 pub use sniff::Delimiter;
 
 /// The longest line read, in bytes. An IMU row is under 200 bytes; a
@@ -61,8 +62,8 @@ pub struct TableReader {
     /// Whether the first data row (when there is no header) ended with a
     /// newline.
     pending_terminated: bool,
-    /// The last bytes of the stream read so far.
-    tail: Arc<Mutex<Vec<u8>>>,
+    /// What of the stream has gone by: its last bytes, its length.
+    seen: Arc<input::Seen>,
     /// What was passed before the table: a preamble, rows cut short.
     passed: Vec<ReadError>,
 }
@@ -266,7 +267,7 @@ impl TableReader {
             line_no: head.line_no,
             file_bytes: input.file_bytes,
             pending_terminated: head.terminated,
-            tail: input.tail,
+            seen: input.seen,
             passed,
         })
     }
@@ -348,15 +349,26 @@ impl TableReader {
 
     /// [`TableReader::read`] under a policy for bad rows.
     pub fn read_with(self, select: Option<&[usize]>, policy: &ReadPolicy) -> Result<Table, ReadError> {
-        self.read_within(select, policy, budget::column_limit())
+        let limit = budget::Limit::of_input(self.file_bytes, &self.seen);
+        self.read_limited(select, policy, limit)
     }
 
     /// [`TableReader::read_with`], the columns held to `limit` bytes.
+    #[cfg(test)]
     fn read_within(
         self,
         select: Option<&[usize]>,
         policy: &ReadPolicy,
         limit: Option<u64>,
+    ) -> Result<Table, ReadError> {
+        self.read_limited(select, policy, budget::Limit::fixed(limit))
+    }
+
+    fn read_limited(
+        self,
+        select: Option<&[usize]>,
+        policy: &ReadPolicy,
+        limit: budget::Limit,
     ) -> Result<Table, ReadError> {
         let ncols = self.names.len();
         let select: Vec<usize> = match select {
@@ -378,13 +390,13 @@ impl TableReader {
             delimiter: self.delimiter,
             select: &select,
             spare: Mutex::new(Vec::new()),
-            column_limit: limit,
+            column_limit: limit.ceiling(),
         };
         let mut got = blocks::Collected {
             columns: vec![Vec::new(); select.len()],
             problems: Vec::new(),
             skipped_lines: SkippedLines::default(),
-            budget: budget::Budget::new(limit),
+            budget: budget::Budget::within(limit),
         };
         let body_start_line = match &self.pending {
             Some((line, _)) => *line,
@@ -400,7 +412,7 @@ impl TableReader {
             line_no,
             file_bytes,
             pending_terminated,
-            tail,
+            seen,
             passed,
             ..
         } = self;
@@ -412,7 +424,7 @@ impl TableReader {
             file_bytes,
         };
         let lines = blocks::read_body(&mut input, &path, &layout, start, &mut got)?;
-        let trailer = input::find_trailer(&tail.lock().unwrap_or_else(|p| p.into_inner()));
+        let trailer = input::find_trailer(&seen.tail.lock().unwrap_or_else(|p| p.into_inner()));
         let blocks::Collected {
             columns,
             problems: body_problems,

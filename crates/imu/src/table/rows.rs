@@ -18,9 +18,9 @@ pub(super) struct Layout<'a> {
     /// Column buffers of blocks already merged, for the next blocks to
     /// parse into (see [`BlockSource::spare`]).
     pub spare: Mutex<Vec<Vec<f64>>>,
-    /// The bytes the columns of the whole read may take
-    /// ([`super::budget::column_limit`]), `None` for no bound.
-    pub column_limit: Option<u64>,
+    /// The most the columns of the whole read may take (the ceiling of
+    /// [`super::budget::Limit`]), `None` for no bound.
+    pub column_limit: Option<(u64, crate::error::LimitBound)>,
 }
 
 impl Layout<'_> {
@@ -124,8 +124,8 @@ impl Layout<'_> {
     /// of a batch in flight may hold an even share of half the columns'
     /// limit in gaps; past it the read is refused as the budget refuses it.
     fn gaps_too_large(&self, gap_rows: u64, line: u64) -> Option<BlockFault> {
-        let limit = self.column_limit?;
-        let in_flight = 2 * super::blocks::batch_len() as u64;
+        let (limit, bound) = self.column_limit?;
+        let in_flight = 2 * super::blocks::batch_len(self.select.len()) as u64;
         let bytes = gap_rows
             .saturating_mul(self.select.len() as u64)
             .saturating_mul(size_of::<f64>() as u64);
@@ -135,6 +135,7 @@ impl Layout<'_> {
             kind: ReadErrorKind::TooLarge {
                 held_mib: bytes.saturating_mul(in_flight).div_ceil(1 << 20),
                 limit_mib: limit >> 20,
+                bound,
             },
         })
     }

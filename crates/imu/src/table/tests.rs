@@ -515,3 +515,35 @@ fn rows_read_ahead_are_read_once_across_the_look_ahead() {
     assert!(t.columns[0].iter().enumerate().all(|(i, &v)| v == i as f64));
     assert_eq!(t.line_of_row(rows - 1), rows as u64 + 1);
 }
+
+#[test]
+fn a_gzip_of_long_rows_is_held_to_the_streams_cap_and_the_same_rows_plain_read() {
+    // 500 columns of zeros: 1,000 bytes of text a row, 4,000 of columns;
+    // 4,000 rows are 16 MB of columns from 4 MB of text, which gzip makes
+    // a few kilobytes. A stream's cap (8 MiB here) is the same on every
+    // machine; the plain file's own size bounds it at 32 MB.
+    let row = format!("{}\n", vec!["0"; 500].join(","));
+    let content = row.repeat(4000);
+    let cap = 8 << 20;
+    let read = |bytes: &[u8]| {
+        let f = file(bytes);
+        let r = TableReader::open(f.path()).unwrap();
+        let limit = super::budget::Limit::of_input_capped(r.file_bytes, &r.seen, cap);
+        r.read_limited(None, &ReadPolicy::default(), limit)
+    };
+    let e = read(&gzip(content.as_bytes())).unwrap_err();
+    assert!(
+        matches!(
+            e.kind,
+            ReadErrorKind::TooLarge {
+                limit_mib: 8,
+                bound: crate::error::LimitBound::StreamCap,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(e.to_string().contains("compressed or piped input"), "{e}");
+    let t = read(content.as_bytes()).unwrap();
+    assert_eq!((t.rows(), t.columns.len()), (4000, 500));
+}

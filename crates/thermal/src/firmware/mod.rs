@@ -175,7 +175,7 @@ pub enum FirmwareError {
     /// instances each go to their own slot with their own ids.
     #[error(
         "the model holds instances {instances:?}, each written to its own slot with its own ids: export it {}",
-        Without(&[Setting::Instance, Setting::DeviceId])
+        Without(&[Setting::CalibrationSlot, Setting::DeviceId])
     )]
     TargetOfMany {
         /// The model's instance numbers.

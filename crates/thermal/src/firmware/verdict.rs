@@ -37,7 +37,9 @@ pub struct RunFacts {
 pub struct Verdict {
     /// One sentence per sensor type, and notes.
     pub says: Vec<String>,
-    /// Whether any sensor of the recording gets a correction.
+    /// Whether any sensor of the recording gets a correction (where the
+    /// recording gives no device id: once the set's id is the sensor's,
+    /// which the sentence says).
     pub applies: bool,
 }
 
@@ -99,6 +101,10 @@ fn judge_px4(file: &ParamFile, run: &RunFacts) -> Verdict {
                 _ => None,
             })
             .collect();
+        // Without the recording's id, the set PX4 would take if its id
+        // were the sensor's, and that id: the sentence then says the
+        // condition instead of a plain "applies".
+        let mut unconfirmed = None;
         let chosen = match id {
             Some(id) => match slots.iter().find(|(_, i)| *i as u32 == id) {
                 Some(&(n, _)) => n,
@@ -120,9 +126,7 @@ fn judge_px4(file: &ParamFile, run: &RunFacts) -> Verdict {
             },
             None => match slots.first() {
                 Some(&(n, i)) => {
-                    says.push(format!(
-                        "the recording gives no {what} device id: PX4 applies TC_{letter}{n} only if {i} is that id"
-                    ));
+                    unconfirmed = Some(i);
                     n
                 }
                 None => {
@@ -147,7 +151,18 @@ fn judge_px4(file: &ParamFile, run: &RunFacts) -> Verdict {
             )),
             Ok(note) => {
                 applies = true;
-                says.push(format!("PX4 applies {p} to the {what}{note}"));
+                says.push(match unconfirmed {
+                    None => format!("PX4 applies {p} to the {what}{note}"),
+                    // PX4's device ids are never 0: the exported
+                    // placeholder matches no sensor.
+                    Some(0) => format!(
+                        "PX4 applies nothing to the {what} as the file stands: {p}_ID is 0, a placeholder no sensor matches; \
+                         once it holds the {what}'s device id PX4 applies {p}, as evaluated here{note}"
+                    ),
+                    Some(i) => format!(
+                        "the recording gives no {what} device id: PX4 applies {p} to the {what} only if {i} is that id{note}"
+                    ),
+                });
             }
         }
     }
@@ -207,6 +222,9 @@ fn judge_ardupilot(file: &ParamFile, n: u8, run: &RunFacts) -> Verdict {
 /// end throughout and the correction is a constant.
 fn range_sentence(p: &str, lo: f32, hi: f32, [a, b]: [f64; 2]) -> Result<String, String> {
     let (lo, hi) = (f64::from(lo), f64::from(hi));
+    // TMIN and TMAX are the run's own ends rounded to float32: a run
+    // beyond them by that rounding alone is within them.
+    let slack = f64::from(f32::EPSILON) * lo.abs().max(hi.abs()).max(1.0);
     if lo > hi || lo.is_nan() || hi.is_nan() {
         return Err(format!("{p}_TMIN {lo} is above {p}_TMAX {hi}"));
     }
@@ -215,7 +233,7 @@ fn range_sentence(p: &str, lo: f32, hi: f32, [a, b]: [f64; 2]) -> Result<String,
             "the run's {a:.1}…{b:.1} °C misses {p}_TMIN…TMAX {lo:.1}…{hi:.1} °C"
         ));
     }
-    if a < lo || b > hi {
+    if a < lo - slack || b > hi + slack {
         return Ok(format!(
             "; the run's {a:.1}…{b:.1} °C goes beyond {lo:.1}…{hi:.1} °C, where T is held at the edge"
         ));
@@ -285,6 +303,52 @@ mod tests {
                 .unwrap()
                 .applies
         );
+    }
+
+    /// A recording without device ids and a file with the exported
+    /// placeholder: one sentence per sensor, which never says PX4 applies
+    /// a set that, as written, matches no sensor.
+    #[test]
+    fn a_placeholder_id_is_never_said_to_be_applied() {
+        let no_ids = RunFacts {
+            gyro_id: None,
+            accel_id: None,
+            ..RUN
+        };
+        let v = judge(Firmware::Px4, &px4_file(true, 0, 20.0, 70.0), None, &no_ids).unwrap();
+        assert_eq!(v.says.len(), 2, "{v:?}");
+        assert!(
+            v.says[0].starts_with(
+                "PX4 applies nothing to the gyro as the file stands: TC_G0_ID is 0, a placeholder"
+            ),
+            "{v:?}"
+        );
+        assert!(!v.says[0].contains("PX4 applies TC_G0 to"), "{v:?}");
+        // The accelerometer's set names a real id: applied only if it is
+        // the sensor's.
+        assert_eq!(
+            v.says[1],
+            "the recording gives no accelerometer device id: PX4 applies TC_A0 to the accelerometer only if 2490634 is that id"
+        );
+    }
+
+    /// TMIN/TMAX are the fitted run's ends in float32: the same run is
+    /// within them, not "beyond 27.8…70.0 °C" by the rounding.
+    #[test]
+    fn a_run_at_its_own_float32_rounded_range_is_within_it() {
+        let (lo, hi) = (27.812_345_678_9_f64, 70.012_345_678_9_f64);
+        let (lo32, hi32) = (lo as f32, hi as f32);
+        assert!(
+            f64::from(lo32) > lo || f64::from(hi32) < hi,
+            "the case needs a rounding inward"
+        );
+        let run = RunFacts {
+            t_range_c: [lo, hi],
+            ..RUN
+        };
+        let text = px4_file(true, 2_490_378, lo32, hi32);
+        let v = judge(Firmware::Px4, &text, None, &run).unwrap();
+        assert_eq!(v.says[0], "PX4 applies TC_G0 to the gyro", "{v:?}");
     }
 
     #[test]

@@ -1,7 +1,10 @@
-//! The cross-check of the closed form: simulate the identified model (the
-//! imusim generator, same terms, no temperature effect, no quantization),
-//! navigate each run exactly as a recording is navigated, and take the
-//! statistics over the runs.
+//! The cross-check of the navigation's closed form: simulate the identified
+//! model (the imusim generator, same terms, no temperature effect, no
+//! quantization), navigate each run exactly as a recording is navigated
+//! (`ins`), and take the statistics over the runs.
+//!
+//! It lives here, above both the simulator and the navigation, so that the
+//! navigation crate does not link the simulator.
 
 use rayon::prelude::*;
 
@@ -10,10 +13,21 @@ use imusim::terms::NoiseTerms;
 use imusim::thermal::Profile;
 use imusim::{SimConfig, Simulator};
 
-use crate::InsError;
-use crate::drift::{CurvePoint, curve_of, rms_interval_95};
-use crate::prediction::{AxisNoise, NoiseModel};
-use crate::strapdown::{ImuData, NavOptions, StaticError, align_samples, navigate_window};
+use ins::InsError;
+use ins::drift::{CurvePoint, curve_of, rms_interval_95};
+use ins::prediction::{AxisNoise, NoiseModel};
+use ins::strapdown::{ImuData, NavOptions, StaticError, align_samples, navigate_window};
+
+/// Why a Monte Carlo gave no figures.
+#[derive(Debug, thiserror::Error)]
+pub enum MonteCarloError {
+    /// The setup or a simulated run's navigation was refused.
+    #[error(transparent)]
+    Navigation(#[from] InsError),
+    /// The simulator refused the identified model.
+    #[error("simulating the identified model: {0}")]
+    Simulation(#[from] imusim::SimError),
+}
 
 /// What to simulate besides the noise.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,10 +78,10 @@ pub fn monte_carlo(
     opts: &NavOptions,
     setup: &MonteCarloSetup,
     times_s: &[f64],
-) -> Result<MonteCarlo, InsError> {
+) -> Result<MonteCarlo, MonteCarloError> {
     opts.validate()?;
     if setup.runs == 0 {
-        return Err(InsError::Invalid("a Monte Carlo needs at least one run".into()));
+        return Err(InsError::Invalid("a Monte Carlo needs at least one run".into()).into());
     }
     let mut times = times_s.to_vec();
     times.sort_by(f64::total_cmp);
@@ -94,7 +108,7 @@ pub fn monte_carlo(
     Simulator::new(base.clone())?;
     let runs: Vec<Vec<_>> = (0..setup.runs)
         .into_par_iter()
-        .map(|i| -> Result<_, InsError> {
+        .map(|i| -> Result<_, MonteCarloError> {
             let mut cfg = base.clone();
             cfg.seed = setup.seed.wrapping_add(i as u64);
             let chunk = Simulator::new(cfg)?.generator().next_chunk(samples);
@@ -105,7 +119,7 @@ pub fn monte_carlo(
                 rate_hz: setup.rate_hz,
             };
             navigate_window(&imu, 0, opts, &times)
-                .ok_or_else(|| InsError::Invalid("a simulated run could not be navigated".into()))
+                .ok_or_else(|| InsError::Invalid("a simulated run could not be navigated".into()).into())
         })
         .collect::<Result<_, _>>()?;
     let interval = |f: fn(&StaticError) -> f64| -> Vec<[f64; 2]> {

@@ -6,12 +6,12 @@ use imusim::config::SensorConfig;
 use imusim::terms::NoiseTerms;
 use imusim::{SimConfig, Simulator, presets};
 
+use analysis::monte_carlo::{MonteCarloSetup, monte_carlo};
 use ins::drift::{CurvePoint, drift_over_windows, report_times};
-use ins::monte_carlo::{MonteCarloSetup, monte_carlo};
 use ins::prediction::{AxisNoise, NoiseModel, PredictionSetup, predict};
 use ins::strapdown::{ImuData, NavOptions};
 
-const G: f64 = imusim::sensor::G;
+const G: f64 = earth::STANDARD_GRAVITY;
 const RATE: f64 = 100.0;
 const N_GYRO: f64 = 1.5e-4; // rad/√s
 const N_ACCEL: f64 = 3e-3; // m/s/√s
