@@ -125,7 +125,7 @@ fn main() {
             100.0 * (case.growth - 1.0)
         );
         println!(
-            "| term | law fitted | 95 % interval covers the truth | rises / falls / no dependence / too few | \
+            "| term | law fitted | 95 % interval covers the truth | rises / falls / not log-linear / no dependence / too few | \
              median change [median interval] | slope sd: median stated / across seeds | bounds left out | widened | \
              seeds with a pair called different |"
         );
@@ -156,12 +156,13 @@ fn main() {
                 .filter(|l| l.differences.iter().any(|d| d.significant()))
                 .count();
             println!(
-                "| {} | {} | {covered} ({:.1} %) | {} / {} / {} / {} | {:+.1} % [{:+.1}, {:+.1}] | {:.2e} / {:.2e} | {bounds} | {widened} | {pairs} |",
+                "| {} | {} | {covered} ({:.1} %) | {} / {} / {} / {} / {} | {:+.1} % [{:+.1}, {:+.1}] | {:.2e} / {:.2e} | {bounds} | {widened} | {pairs} |",
                 term.symbol(),
                 fits.len(),
                 100.0 * covered as f64 / fits.len().max(1) as f64,
                 count(Verdict::Rises),
                 count(Verdict::Falls),
+                count(Verdict::NotLogLinear),
                 count(Verdict::NoDependence),
                 count(Verdict::TooFew),
                 median(&mut change),

@@ -133,6 +133,11 @@ pub struct LawFit {
     /// Whether the line misses the points (fit p below [`LAW_FIT_P`]) and
     /// the interval was widened by the misfit.
     pub widened: bool,
+    /// χ² of the points about their weighted mean (no dependence at
+    /// all), on points − 1 degrees of freedom.
+    pub constant_chi2: f64,
+    /// P(χ²_{points−1} ≥ `constant_chi2`): whether the runs differ at all.
+    pub constant_p_value: f64,
 }
 
 /// What a law says.
@@ -142,6 +147,10 @@ pub enum Verdict {
     Rises,
     /// It shrinks with temperature.
     Falls,
+    /// The runs differ (their χ² about a constant has p < [`SIGNIFICANCE`])
+    /// but leave the log-linear law too (fit p below [`LAW_FIT_P`]): a
+    /// dependence, of another shape.
+    NotLogLinear,
     /// No dependence shown.
     NoDependence,
     /// Fewer than two temperatures with a value.
@@ -155,6 +164,7 @@ impl Verdict {
             Verdict::Rises => "rises",
             Verdict::Falls => "falls",
             Verdict::NoDependence => "no_dependence",
+            Verdict::NotLogLinear => "not_log_linear",
             Verdict::TooFew => "too_few",
         }
     }
@@ -294,6 +304,7 @@ impl Law {
             None => Verdict::TooFew,
             Some(f) if f.p_value < SIGNIFICANCE && f.slope_per_c.value > 0.0 => Verdict::Rises,
             Some(f) if f.p_value < SIGNIFICANCE => Verdict::Falls,
+            Some(f) if f.widened && f.constant_p_value < SIGNIFICANCE => Verdict::NotLogLinear,
             Some(_) => Verdict::NoDependence,
         }
     }
@@ -346,6 +357,17 @@ impl Law {
                             p_text(f.p_value)
                         )
                     }
+                    Verdict::NotLogLinear => format!(
+                        "{channel} {symbol} changes with temperature, though not as ln {symbol} linear in T: the runs \
+                         leave a constant (χ² = {:.1} on {} degrees of freedom, {}) and the line (χ² = {:.1} on {}); \
+                         the line's {change} ({}) is no summary, read the pairs",
+                        f.constant_chi2,
+                        f.dof + 1,
+                        p_text(f.constant_p_value),
+                        f.chi2,
+                        f.dof,
+                        p_text(f.p_value)
+                    ),
                     _ => format!(
                         "{channel} {symbol} shows no temperature dependence here: {change} ({})",
                         p_text(f.p_value)
@@ -353,7 +375,10 @@ impl Law {
                 }
             }
         };
-        if let Some(f) = self.fit.filter(|f| f.widened) {
+        if let Some(f) = self
+            .fit
+            .filter(|f| f.widened && self.verdict() != Verdict::NotLogLinear)
+        {
             text.push_str(&format!(
                 "; the log-linear law misses the points (χ² = {:.1} on {} degrees of freedom), the interval widened by it",
                 f.chi2, f.dof
@@ -437,6 +462,8 @@ fn weighted_line(values: &[(f64, f64, f64)], confidence: f64) -> Option<LawFit> 
         .map(|(v, w)| w * (v.1 - a - b * v.0).powi(2))
         .sum();
     let dof = values.len() - 2;
+    let constant_chi2: f64 = values.iter().zip(&w).map(|(v, w)| w * (v.1 - ym).powi(2)).sum();
+    let constant_p_value = ChiSquared::new((dof + 1) as f64).map_or(f64::NAN, |d| 1.0 - d.cdf(constant_chi2));
     let fit_p_value = (dof > 0).then(|| ChiSquared::new(dof as f64).map_or(f64::NAN, |d| 1.0 - d.cdf(chi2)));
     let widened = fit_p_value.is_some_and(|p| p < LAW_FIT_P);
     let mut sd = (1.0 / sxx).sqrt();
@@ -473,6 +500,8 @@ fn weighted_line(values: &[(f64, f64, f64)], confidence: f64) -> Option<LawFit> 
         dof,
         fit_p_value,
         widened,
+        constant_chi2,
+        constant_p_value,
     })
 }
 
@@ -545,6 +574,10 @@ pub struct LawEntry {
     pub chi2: Option<f64>,
     /// Confidence of the intervals.
     pub confidence: f64,
+    /// χ² of the values about their weighted mean (null without a fit).
+    pub constant_chi2: Option<f64>,
+    /// Its p: whether the temperatures differ at all, whatever the shape.
+    pub constant_p_value: Option<f64>,
     /// Every pair of temperatures of value.
     pub differences: Vec<DifferenceEntry>,
     /// Its degrees of freedom: temperatures fitted − 2.
@@ -569,7 +602,7 @@ pub struct LawEntry {
     pub to_c: Option<f64>,
     /// Temperatures whose value entered the fit, °C.
     pub used_c: Vec<f64>,
-    /// "rises", "falls", "no_dependence" or "too_few".
+    /// "rises", "falls", "no_dependence", "not_log_linear" or "too_few".
     pub verdict: &'static str,
     /// Whether the line missed the points and its interval was widened.
     pub widened: bool,
@@ -599,6 +632,8 @@ impl LawEntry {
             channel: channel.to_string(),
             chi2: f.map(|f| f.chi2),
             confidence: law.confidence,
+            constant_chi2: f.map(|f| f.constant_chi2),
+            constant_p_value: f.map(|f| f.constant_p_value),
             differences: law
                 .differences
                 .iter()
@@ -817,6 +852,13 @@ mod tests {
         let f = Law::fit(Term::WhiteNoise, &pts, 0.95).fit.unwrap();
         assert!(f.widened);
         assert!(f.fit_p_value.unwrap() < LAW_FIT_P);
+        // ln 1.3 = 0.262 apart at 1 %: far from a constant, yet no line.
+        let law = Law::fit(Term::WhiteNoise, &pts, 0.95);
+        assert_eq!(law.verdict(), Verdict::NotLogLinear);
+        assert!(
+            law.describe("accel_x")
+                .contains("changes with temperature, though not as ln N linear in T")
+        );
         let known = (1.0 / (4.0 * 1e4 * 125.0f64)).sqrt();
         assert!((f.slope_sd - known * (f.chi2 / 2.0).sqrt()).abs() < 1e-12);
     }
