@@ -285,9 +285,8 @@ pub fn estimate(points: &[Point], confidence: f64) -> NoiseModel {
 
 /// The fit of the whole curve where the family describes it; else, where
 /// the curve has a bump, the family with a periodic disturbance beside it
-/// ([`periodic::refine`]), over the whole curve or, with the sinusoid
-/// taken off the points, over the range [`range::search`] finds; else the
-/// family's range alone.
+/// over the range it describes ([`periodic::search`]); else the family's
+/// range alone ([`range::search`]).
 fn search(pts: &[Point]) -> range::Found {
     let whole = |attempt, slack| range::Found {
         start: 0,
@@ -300,24 +299,8 @@ fn search(pts: &[Point]) -> range::Found {
     if strict.describes() || pts.len() <= range::MIN_POINTS {
         return whole(strict, 1.0);
     }
-    let slack = range::slack();
-    if let Some((attempt, tone)) = periodic::refine(pts, slack, &fit_plain) {
-        if attempt.describes() {
-            return whole(attempt, slack);
-        }
-        if let Some(left) = periodic::subtract(pts, &tone) {
-            let found = range::search(&left, fit_plain);
-            let found = range::Found {
-                attempt: Attempt {
-                    tone: Some(tone),
-                    ..found.attempt
-                },
-                ..found
-            };
-            if found.attempt.describes() {
-                return found;
-            }
-        }
+    if let Some(found) = periodic::search(pts, &fit_plain) {
+        return found;
     }
     range::search(pts, fit_plain)
 }

@@ -83,32 +83,36 @@ pub fn unit_avar(tau: f64, f0: f64) -> f64 {
 }
 
 /// The least share of a point's measured variance the family must keep
-/// there once the sinusoid is taken off: a sinusoid that would leave less
-/// is no description of the point.
+/// there once the sinusoid is taken off for the point to tell anything of
+/// the family.
 const MIN_LEFT: f64 = 0.1;
 
 /// The measured points with the sinusoid's Allan variance taken off each
-/// (and off both ends of its interval); the EDF shrinks with the variance
-/// left, as the estimate's absolute spread stays. `None` where the
-/// sinusoid would leave less than [`MIN_LEFT`] of a point.
-pub(super) fn subtract(pts: &[Point], tone: &Periodic) -> Option<Vec<Point>> {
+/// (and off both ends of its interval), with each one's index in `pts`;
+/// the EDF shrinks with the variance left, as the estimate's absolute
+/// spread stays. A point the sinusoid leaves less than [`MIN_LEFT`] of is
+/// left out: what remains there is the sinusoid's fit error, not the
+/// family.
+pub(super) fn subtract(pts: &[Point], tone: &Periodic) -> (Vec<Point>, Vec<usize>) {
     pts.iter()
-        .map(|p| {
+        .enumerate()
+        .filter_map(|(i, p)| {
             let v = p.dev * p.dev;
             let left = v - tone.avar(p.tau);
             if left < MIN_LEFT * v {
                 return None;
             }
             let off = |d: f64| (d * d - tone.avar(p.tau)).max(MIN_LEFT * d * d).sqrt();
-            Some(Point {
+            let point = Point {
                 dev: left.sqrt(),
                 dev_lo: off(p.dev_lo),
                 dev_hi: off(p.dev_hi),
                 edf: p.edf * (left / v).powi(2),
                 ..*p
-            })
+            };
+            Some((point, i))
         })
-        .collect()
+        .unzip()
 }
 
 /// A bump of the measured curve above the line of white noise read at
@@ -215,17 +219,14 @@ fn golden(mut lo: f64, mut hi: f64, f: impl Fn(f64) -> f64) -> f64 {
     (lo + hi) / 2.0
 }
 
-/// Whether the sinusoid carries [`super::SHOW_SHARE`] of the variance at
-/// [`super::MIN_POINTS`] points or more holding [`super::MIN_TERM_EDF`]
-/// degrees of freedom, as a process of the family must: `left` are the
-/// points with it taken off.
-fn shows(left: &[Point], tone: &Periodic) -> bool {
-    let (count, edf) = left
+/// Whether the sinusoid carries [`super::SHOW_SHARE`] of the measured
+/// variance at [`super::MIN_POINTS`] points or more holding
+/// [`super::MIN_TERM_EDF`] degrees of freedom, as a process of the family
+/// must.
+fn shows(pts: &[Point], tone: &Periodic) -> bool {
+    let (count, edf) = pts
         .iter()
-        .filter(|p| {
-            let t = tone.avar(p.tau);
-            t >= super::SHOW_SHARE * (p.dev * p.dev + t)
-        })
+        .filter(|p| tone.avar(p.tau) >= super::SHOW_SHARE * p.dev * p.dev)
         .fold((0usize, 0.0), |(c, e), p| (c + 1, e + p.edf));
     count >= super::MIN_POINTS && edf >= super::MIN_TERM_EDF
 }
@@ -234,39 +235,80 @@ fn shows(left: &[Point], tone: &Periodic) -> bool {
 const ROUNDS: usize = 3;
 
 /// The family's fit of `pts` with a sinusoid beside it, where the curve
-/// has a bump ([`bump`]): alternately the family on the points with the
-/// sinusoid taken off and the sinusoid on the points with the family's
-/// curve held, until the two describe the points or [`ROUNDS`] are done.
-/// The last round's fit and sinusoid, whether or not they describe the
-/// points; `None` where there is no bump, no round kept a candidate, or
-/// the sinusoid does not show ([`shows`]).
-pub(super) fn refine(
+/// has a bump ([`bump`]): alternately the family, over the τ range
+/// [`range::search`](super::range::search) finds on the points with the
+/// sinusoid taken off, and the sinusoid, fitted to the measured points of
+/// that range with the family's curve held; until the two describe the
+/// range and the sinusoid shows ([`shows`]), or [`ROUNDS`] are done.
+/// `None` where there is no bump or no round describes a range.
+pub(super) fn search(
     pts: &[Point],
-    slack: f64,
     plain: &dyn Fn(&[Point], f64) -> super::Attempt,
-) -> Option<(super::Attempt, Periodic)> {
+) -> Option<super::range::Found> {
     let mut tone = bump(pts)?;
-    let mut kept: Option<(super::Attempt, Periodic)> = None;
+    let mut described = None;
     for _ in 0..ROUNDS {
-        let left = subtract(pts, &tone)?;
-        let attempt = plain(&left, slack);
-        let Some(best) = &attempt.sel.best else {
+        let (left, index) = subtract(pts, &tone);
+        if left.len() <= super::range::MIN_POINTS {
+            break;
+        }
+        let found = super::range::search(&left, plain);
+        let found = back(pts, &index, found, tone);
+        let Some(best) = &found.attempt.sel.best else {
             break;
         };
         let (comps, theta) = (best.components.clone(), best.theta.clone());
-        let with = super::Attempt {
-            tone: Some(tone),
-            ..attempt
-        };
-        let describes = with.describes() && shows(&left, &tone);
-        kept = Some((with, tone));
-        if describes {
+        let range = &pts[found.start..found.end];
+        if found.attempt.describes() && shows(range, &tone) {
+            described = Some(found);
             break;
         }
-        tone = fit(pts, &|tau| model_avar(&comps, &theta, tau), &tone);
+        tone = fit(range, &|tau| model_avar(&comps, &theta, tau), &tone);
     }
-    // A sinusoid that no longer shows is no part of the model.
-    kept.filter(|(a, t)| shows(&a.used, t))
+    let found = described?;
+    // The sinusoid fitted once more with the family of the range, and the
+    // family again on the range: kept where the two still describe it.
+    let best = found.attempt.sel.best.as_ref()?;
+    let (comps, theta) = (best.components.clone(), best.theta.clone());
+    let range = &pts[found.start..found.end];
+    let again = fit(range, &|tau| model_avar(&comps, &theta, tau), &tone);
+    let (left, index) = subtract(range, &again);
+    if found.skipped.is_empty() && index.len() == range.len() {
+        let attempt = plain(&left, found.slack);
+        let with = super::Attempt {
+            tone: Some(again),
+            left_out: found.attempt.left_out.clone(),
+            ..attempt
+        };
+        if with.describes() && shows(range, &again) {
+            return Some(super::range::Found {
+                attempt: with,
+                ..found
+            });
+        }
+    }
+    Some(found)
+}
+
+/// A range found on the points `index` keeps of `pts`, in the indices of
+/// `pts`, with the sinusoid: the points inside it that the sinusoid holds
+/// alone are left out of the family's fit, and said.
+fn back(pts: &[Point], index: &[usize], found: super::range::Found, tone: Periodic) -> super::range::Found {
+    let (start, end) = (index[found.start], index[found.end - 1] + 1);
+    let mut left_out = found.attempt.left_out;
+    left_out.extend((start..end).filter(|i| !index.contains(i)).map(|i| pts[i].tau));
+    left_out.sort_unstable_by(f64::total_cmp);
+    super::range::Found {
+        start,
+        end,
+        skipped: found.skipped.iter().map(|&i| index[i]).collect(),
+        attempt: super::Attempt {
+            tone: Some(tone),
+            left_out,
+            ..found.attempt
+        },
+        ..found
+    }
 }
 
 #[cfg(test)]
@@ -346,7 +388,8 @@ mod tests {
         assert!((tone.frequency_hz / f0 - 1.0).abs() < 0.03, "{tone:?}");
         assert!((tone.amplitude / a2.sqrt() - 1.0).abs() < 0.03, "{tone:?}");
         // Taken off, it leaves the white noise.
-        let left = subtract(&pts, &tone).expect("leaves the points");
+        let (left, index) = subtract(&pts, &tone);
+        assert!(index.len() >= 12, "{index:?}");
         for p in &left {
             assert!((p.dev * p.dev * p.tau / n2 - 1.0).abs() < 0.1, "{p:?}");
         }
