@@ -117,7 +117,8 @@ pub(super) fn subtract(pts: &[Point], tone: &Periodic) -> (Vec<Point>, Vec<usize
 
 /// A bump of the measured curve above the line of white noise read at
 /// its shortest τ: the interior point where the excess over that line is
-/// largest and [`BUMP_RISE`] times that at both neighbours, with the excess there at
+/// largest and, the lower end of its interval against the upper ends of
+/// its neighbours', [`BUMP_RISE`] times theirs, with the excess there at
 /// least [`BUMP_SHARE`] of the point. Its sinusoid (f0 at the peak, A² from
 /// the excess) starts [`refine`].
 pub(super) fn bump(pts: &[Point]) -> Option<Periodic> {
@@ -132,8 +133,12 @@ pub(super) fn bump(pts: &[Point]) -> Option<Periodic> {
         .map(|p| p.dev * p.dev * p.tau)
         .fold(f64::INFINITY, f64::min);
     let excess: Vec<f64> = pts.iter().map(|p| p.dev * p.dev - white / p.tau).collect();
+    // The rise is read between the ends of the points' intervals: the
+    // scatter of a long-τ point is no bump.
+    let low = |i: usize| pts[i].dev_lo * pts[i].dev_lo - white / pts[i].tau;
+    let high = |i: usize| pts[i].dev_hi * pts[i].dev_hi - white / pts[i].tau;
     (2..n - 1)
-        .filter(|&i| excess[i] > BUMP_RISE * excess[i - 1].max(excess[i + 1]))
+        .filter(|&i| low(i) > BUMP_RISE * high(i - 1).max(high(i + 1)))
         .filter(|&i| excess[i] >= BUMP_SHARE * pts[i].dev * pts[i].dev)
         .max_by(|&a, &b| {
             let share = |i: usize| excess[i] / (pts[i].dev * pts[i].dev);
