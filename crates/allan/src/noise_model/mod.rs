@@ -302,7 +302,17 @@ fn search(pts: &[Point]) -> range::Found {
     if let Some(found) = periodic::search(pts, &fit_plain) {
         return found;
     }
-    range::search(pts, fit_plain)
+    range::search(pts, fit_window)
+}
+
+/// [`fit_plain`], and where that does not describe the window, the window
+/// with a sinusoid of its own beside the family ([`periodic::on_window`]).
+fn fit_window(points: &[Point], slack: f64) -> Attempt {
+    let plain = fit_plain(points, slack);
+    if plain.describes() {
+        return plain;
+    }
+    periodic::on_window(points, slack, &fit_plain).unwrap_or(plain)
 }
 
 /// One fit of a run of points: the selection, the points as last

@@ -126,12 +126,7 @@ pub(super) fn bump(pts: &[Point]) -> Option<Periodic> {
     if n < 5 {
         return None;
     }
-    // The white line through the lowest σ²τ of the first three points past
-    // the first (which a sensor's filter pulls down).
-    let white = pts[1..4]
-        .iter()
-        .map(|p| p.dev * p.dev * p.tau)
-        .fold(f64::INFINITY, f64::min);
+    let white = white_line(pts);
     let excess: Vec<f64> = pts.iter().map(|p| p.dev * p.dev - white / p.tau).collect();
     // The rise is read between the ends of the points' intervals: the
     // scatter of a long-τ point is no bump.
@@ -148,6 +143,15 @@ pub(super) fn bump(pts: &[Point]) -> Option<Periodic> {
             let f0 = PEAK_X / (PI * pts[i].tau);
             Periodic::new(excess[i] / unit_avar(pts[i].tau, f0), f0, pts[i].tau)
         })
+}
+
+/// N² of the white line through the lowest σ²τ of the first three points
+/// past the first (which a sensor's filter pulls down); at least 5 points.
+fn white_line(pts: &[Point]) -> f64 {
+    pts[1..4]
+        .iter()
+        .map(|p| p.dev * p.dev * p.tau)
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Share of a point's variance the bump must carry over the white line:
@@ -250,7 +254,17 @@ pub(super) fn search(
     pts: &[Point],
     plain: &dyn Fn(&[Point], f64) -> super::Attempt,
 ) -> Option<super::range::Found> {
-    let mut tone = bump(pts)?;
+    let start = bump(pts)?;
+    // First against the white line alone, over the points up to four times
+    // the bump's τ: the bump's own reading takes all the excess there for
+    // the sinusoid.
+    let white = white_line(pts);
+    let near: Vec<Point> = pts
+        .iter()
+        .filter(|p| p.tau <= 4.0 * start.peak_tau)
+        .copied()
+        .collect();
+    let mut tone = fit(&near, &|tau| white / tau, &start);
     let mut described = None;
     for _ in 0..ROUNDS {
         let (left, index) = subtract(pts, &tone);
@@ -293,6 +307,48 @@ pub(super) fn search(
         }
     }
     Some(found)
+}
+
+/// The family's fit of one window of points with a sinusoid beside it,
+/// backfitted as [`search`] does but on the window alone: where the
+/// sinusoid read over the whole curve describes no range, each window of
+/// [`range::search`](super::range::search) fits its own. `None` where the
+/// window has no bump or no round describes it.
+pub(super) fn on_window(
+    pts: &[Point],
+    slack: f64,
+    plain: &dyn Fn(&[Point], f64) -> super::Attempt,
+) -> Option<super::Attempt> {
+    let start = bump(pts)?;
+    let white = white_line(pts);
+    let near: Vec<Point> = pts
+        .iter()
+        .filter(|p| p.tau <= 4.0 * start.peak_tau)
+        .copied()
+        .collect();
+    let mut tone = fit(&near, &|tau| white / tau, &start);
+    for _ in 0..ROUNDS {
+        let (left, index) = subtract(pts, &tone);
+        if left.len() <= super::range::MIN_POINTS {
+            return None;
+        }
+        let attempt = plain(&left, slack);
+        let best = attempt.sel.best.as_ref()?;
+        let (comps, theta) = (best.components.clone(), best.theta.clone());
+        let mut left_out = attempt.left_out.clone();
+        left_out.extend((0..pts.len()).filter(|i| !index.contains(i)).map(|i| pts[i].tau));
+        left_out.sort_unstable_by(f64::total_cmp);
+        let with = super::Attempt {
+            tone: Some(tone),
+            left_out,
+            ..attempt
+        };
+        if with.describes() && shows(pts, &tone) {
+            return Some(with);
+        }
+        tone = fit(pts, &|tau| model_avar(&comps, &theta, tau), &tone);
+    }
+    None
 }
 
 /// A range found on the points `index` keeps of `pts`, in the indices of
