@@ -229,15 +229,16 @@ fn golden(mut lo: f64, mut hi: f64, f: impl Fn(f64) -> f64) -> f64 {
 }
 
 /// Whether the sinusoid carries [`super::SHOW_SHARE`] of the measured
-/// variance at [`super::MIN_POINTS`] points or more holding
-/// [`super::MIN_TERM_EDF`] degrees of freedom, as a process of the family
-/// must.
+/// variance at a point or more holding [`super::MIN_TERM_EDF`] degrees of
+/// freedom: its bump spans about one octave, so on octave points one point
+/// is all it can hold the most of (a process of the family must show at
+/// [`super::MIN_POINTS`]).
 fn shows(pts: &[Point], tone: &Periodic) -> bool {
     let (count, edf) = pts
         .iter()
         .filter(|p| tone.avar(p.tau) >= super::SHOW_SHARE * p.dev * p.dev)
         .fold((0usize, 0.0), |(c, e), p| (c + 1, e + p.edf));
-    count >= super::MIN_POINTS && edf >= super::MIN_TERM_EDF
+    count >= 1 && edf >= super::MIN_TERM_EDF
 }
 
 /// Rounds of backfitting: family, sinusoid, family, …
