@@ -82,3 +82,31 @@ fn all_three_at_once() {
         |k: usize| 0.03 * (2.0 * PI * f * k as f64 / RATE).sin() + 0.1 * (PI / 2.0 * k as f64 + 0.3).sin();
     check("bump, tone and quantization", &gyro(4, &extra, Some(0.05)));
 }
+
+#[test]
+fn a_periodic_bump_is_named_with_its_period_and_amplitude() {
+    // The sine of `a_periodic_bump_near_tau_0_6_s`, three times as large:
+    // its bump carries most of σ² at τ = 0.32–1.28 s, where no process of
+    // the family has one.
+    // Ten minutes of it: the bump lies at the short end, far from the
+    // random walk.
+    let (f, a) = (0.62, 0.09);
+    let mut y = gyro(5, &|k| a * (2.0 * PI * f * k as f64 / RATE).sin(), None);
+    y.truncate(10 * 60 * RATE as usize);
+    let (_, terms) = analyze_terms(&y, RATE, 0.95).unwrap();
+    let m = &terms.model;
+    let tone = m
+        .periodic
+        .unwrap_or_else(|| panic!("no periodic term: {} {:?}", m.label, m.defeat));
+    assert!((tone.period * f - 1.0).abs() < 0.05, "period {} s", tone.period);
+    assert!(
+        (tone.amplitude / a - 1.0).abs() < 0.10,
+        "amplitude {}",
+        tone.amplitude
+    );
+    match m.get(Term::WhiteNoise) {
+        TermEstimate::Value(v) => assert!((v.value / N - 1.0).abs() < 0.10, "N {} vs {N}", v.value),
+        other => panic!("N {other:?}"),
+    }
+    assert!(m.gauss_markov.is_empty(), "a GM stands for the sine: {}", m.label);
+}

@@ -240,6 +240,25 @@ pub struct ModelEntry {
     /// curve's shortest τ show one (null otherwise): N is the white noise
     /// before it.
     pub low_pass: Option<LowPassEntry>,
+    /// A periodic disturbance fitted beside the noise processes, where the
+    /// curve has a sinusoid's bump the family alone does not describe
+    /// (null otherwise): named, never a noise term.
+    pub periodic: Option<PeriodicEntry>,
+}
+
+/// A periodic disturbance: a sinusoid of the rate data.
+#[derive(Debug, Serialize)]
+pub struct PeriodicEntry {
+    /// Its amplitude (peak), in the unit of the data.
+    pub amplitude: f64,
+    /// The unit of `amplitude`.
+    pub unit: String,
+    /// Its period, s.
+    pub period_s: f64,
+    /// Its frequency, Hz.
+    pub frequency_hz: f64,
+    /// The same in one sentence.
+    pub text: String,
 }
 
 /// The τ range a model was fitted over.
@@ -432,6 +451,13 @@ pub fn model_entry(m: &NoiseModel, unit: &str) -> ModelEntry {
         low_pass: m.low_pass.map(|f| LowPassEntry {
             tau_c: interval(&f.tau_c, "s"),
             cutoff_hz: f.cutoff_hz,
+        }),
+        periodic: m.periodic.map(|t| PeriodicEntry {
+            amplitude: t.amplitude,
+            unit: unit.to_string(),
+            period_s: t.period,
+            frequency_hz: t.frequency_hz,
+            text: t.describe(unit),
         }),
     }
 }

@@ -36,6 +36,7 @@ pub mod ceiling;
 pub mod covariance;
 pub mod lm;
 pub mod lowpass;
+pub mod periodic;
 pub mod process;
 pub mod range;
 mod select;
@@ -175,6 +176,11 @@ pub struct NoiseModel {
     /// where the curve shows one at its shortest τ ([`lowpass`]): N is
     /// then the white noise before the filter.
     pub low_pass: Option<lowpass::LowPass>,
+    /// A periodic disturbance beside the noise processes, where the curve
+    /// has a sinusoid's bump that the family alone does not describe
+    /// ([`periodic`]): named, never a noise term. Its Allan variance is in
+    /// [`NoiseModel::avar`] and [`NoiseModel::lines`].
+    pub periodic: Option<periodic::Periodic>,
     /// The model, as its processes' symbols ("N + B + K"); "none" when no
     /// candidate was admissible.
     pub label: String,
@@ -229,7 +235,7 @@ impl NoiseModel {
         if self.components.is_empty() {
             return 0.0;
         }
-        model_avar(&self.components, &self.theta, tau)
+        model_avar(&self.components, &self.theta, tau) + self.periodic.map_or(0.0, |t| t.avar(tau))
     }
 
     /// Each process of the model with its symbol and its own Allan
@@ -237,7 +243,8 @@ impl NoiseModel {
     pub fn lines(&self, tau: f64) -> Vec<(String, f64)> {
         let mut at = 0;
         let labels = select::labels(&self.components);
-        self.components
+        let mut lines: Vec<(String, f64)> = self
+            .components
             .iter()
             .zip(labels)
             .map(|(c, l)| {
@@ -245,7 +252,11 @@ impl NoiseModel {
                 at += c.arity();
                 (l, v)
             })
-            .collect()
+            .collect();
+        if let Some(t) = &self.periodic {
+            lines.push(("periodic".to_string(), t.avar(tau)));
+        }
+        lines
     }
 }
 
@@ -268,8 +279,40 @@ pub fn estimate(points: &[Point], confidence: f64) -> NoiseModel {
     // left-out points too: a point the model cannot describe is still a
     // deviation no bound may exceed.
     let ceilings = ceiling::ceilings(&pts);
-    let found = range::search(&pts, fit_window);
+    let found = search(&pts);
     build(&pts, found, &ceilings, confidence)
+}
+
+/// The fit of the whole curve where the family describes it; else, where
+/// the curve has a bump, the family with a periodic disturbance beside it
+/// over the range it describes ([`periodic::search`]); else the family's
+/// range alone ([`range::search`]).
+fn search(pts: &[Point]) -> range::Found {
+    let whole = |attempt, slack| range::Found {
+        start: 0,
+        end: pts.len(),
+        skipped: Vec::new(),
+        slack,
+        attempt,
+    };
+    let strict = fit_plain(pts, 1.0);
+    if strict.describes() || pts.len() <= range::MIN_POINTS {
+        return whole(strict, 1.0);
+    }
+    if let Some(found) = periodic::search(pts, &fit_plain) {
+        return found;
+    }
+    range::search(pts, fit_window)
+}
+
+/// [`fit_plain`], and where that does not describe the window, the window
+/// with a sinusoid of its own beside the family ([`periodic::on_window`]).
+fn fit_window(points: &[Point], slack: f64) -> Attempt {
+    let plain = fit_plain(points, slack);
+    if plain.describes() {
+        return plain;
+    }
+    periodic::on_window(points, slack, &fit_plain).unwrap_or(plain)
 }
 
 /// One fit of a run of points: the selection, the points as last
@@ -278,6 +321,9 @@ pub(crate) struct Attempt {
     used: Vec<Point>,
     sel: select::Selection,
     left_out: Vec<f64>,
+    /// The periodic disturbance fitted beside the family, whose Allan
+    /// variance `used` has had taken off ([`periodic`]).
+    tone: Option<periodic::Periodic>,
 }
 
 impl Attempt {
@@ -288,7 +334,9 @@ impl Attempt {
         let Some(best) = &self.sel.best else {
             return false;
         };
-        fits(best.quality.p_value) || range::within_tolerance(&best.components, &best.theta, &self.used)
+        let tone = |tau: f64| self.tone.map_or(0.0, |t| t.avar(tau));
+        fits(best.quality.p_value)
+            || range::within_tolerance_beside(&best.components, &best.theta, &self.used, tone)
     }
 
     /// The index of the point the selected model misses as an outlier
@@ -311,7 +359,7 @@ impl Attempt {
 /// Selects on `pts`, leaving out the worst-missed point (a bump, a tone)
 /// while no candidate fits, up to a quarter of the points; the ceiling
 /// times `slack` holds the kept processes.
-fn fit_window(points: &[Point], slack: f64) -> Attempt {
+fn fit_plain(points: &[Point], slack: f64) -> Attempt {
     let mut pts = points.to_vec();
     let mut left_out = Vec::new();
     let budget = pts.len() / 4;
@@ -328,7 +376,12 @@ fn fit_window(points: &[Point], slack: f64) -> Attempt {
             continue;
         }
         left_out.sort_unstable_by(f64::total_cmp);
-        return Attempt { used, sel, left_out };
+        return Attempt {
+            used,
+            sel,
+            left_out,
+            tone: None,
+        };
     }
 }
 
@@ -439,11 +492,13 @@ fn build(all: &[Point], found: range::Found, ceilings: &[Ceiling], confidence: f
         end,
         skipped,
         slack,
-        attempt: Attempt {
-            used: pts,
-            sel,
-            mut left_out,
-        },
+        attempt:
+            Attempt {
+                used: pts,
+                sel,
+                mut left_out,
+                tone,
+            },
     } = found;
     left_out.extend(skipped.iter().map(|&i| all[i].tau));
     left_out.sort_unstable_by(f64::total_cmp);
@@ -473,6 +528,7 @@ fn build(all: &[Point], found: range::Found, ceilings: &[Ceiling], confidence: f
             bounds,
             gauss_markov: Vec::new(),
             low_pass: None,
+            periodic: None,
             label: "none".to_string(),
             fits: false,
             within_noise: false,
@@ -584,7 +640,10 @@ fn build(all: &[Point], found: range::Found, ceilings: &[Ceiling], confidence: f
         at += c.arity();
     }
     gauss_markov.sort_by(|a, b| a.tau_c.value.total_cmp(&b.tau_c.value));
-    let label = lowpass::label(&best.components, filter);
+    let mut label = lowpass::label(&best.components, filter);
+    if tone.is_some() {
+        label.push_str(" + periodic");
+    }
     // The reasons carry no number: the bound is in `bounds`, to be shown
     // in whatever unit the reader asked for.
     let terms = PerTerm::from_fn(|t| {
@@ -615,9 +674,12 @@ fn build(all: &[Point], found: range::Found, ceilings: &[Ceiling], confidence: f
         })
         .map(|p| p.tau)
         .collect();
+    // The measured curve beyond the range against the whole model, the
+    // periodic disturbance with the family.
     let miss = |p: &Point| range::Miss {
         tau: p.tau,
-        ratio: p.dev / model_avar(&best.components, &best.theta, p.tau).sqrt(),
+        ratio: p.dev
+            / (model_avar(&best.components, &best.theta, p.tau) + tone.map_or(0.0, |t| t.avar(p.tau))).sqrt(),
     };
     let fit_range = (start < end).then(|| range::FitRange {
         lo: all[start].tau,
@@ -631,6 +693,7 @@ fn build(all: &[Point], found: range::Found, ceilings: &[Ceiling], confidence: f
         bounds,
         gauss_markov: if describes { gauss_markov } else { Vec::new() },
         low_pass: if describes { low_pass } else { None },
+        periodic: if describes { tone } else { None },
         label,
         fits: describes,
         within_noise,

@@ -107,9 +107,22 @@ impl FitRange {
 /// every point by two of its standard deviations lies inside each 95 %
 /// interval and describes none of them.
 pub fn within_tolerance(comps: &[Component], theta: &[f64], pts: &[Point]) -> bool {
+    within_tolerance_beside(comps, theta, pts, |_| 0.0)
+}
+
+/// [`within_tolerance`] for points that had the Allan variance `beside(τ)`
+/// of a process outside the family (a periodic disturbance) taken off:
+/// the model with it against the points with it.
+pub fn within_tolerance_beside(
+    comps: &[Component],
+    theta: &[f64],
+    pts: &[Point],
+    beside: impl Fn(f64) -> f64,
+) -> bool {
     pts.iter().all(|p| {
-        let m = model_avar(comps, theta, p.tau).sqrt();
-        (m / p.dev - 1.0).abs() <= TOLERANCE
+        let b = beside(p.tau);
+        let m = (model_avar(comps, theta, p.tau) + b).sqrt();
+        (m / (p.dev * p.dev + b).sqrt() - 1.0).abs() <= TOLERANCE
     })
 }
 
@@ -150,9 +163,7 @@ pub(super) fn search(pts: &[Point], fit: impl Fn(&[Point], f64) -> super::Attemp
     if strict.describes() || n <= MIN_POINTS {
         return whole(strict, 1.0);
     }
-    // Past the strict rules, a kept process may stand above the measured
-    // ceiling by the share a model that describes the curve may miss it by.
-    let slack = (1.0 + TOLERANCE).powi(2);
+    let slack = slack();
     let attempt = fit(pts, slack);
     if attempt.describes() {
         return whole(attempt, slack);
@@ -171,6 +182,13 @@ pub(super) fn search(pts: &[Point], fit: impl Fn(&[Point], f64) -> super::Attemp
         }
     }
     whole(strict, 1.0)
+}
+
+/// The factor on the measured ceiling past the strict rules: a kept
+/// process may stand above it by the share a model that describes the
+/// curve may miss it by.
+pub(super) fn slack() -> f64 {
+    (1.0 + TOLERANCE).powi(2)
 }
 
 /// Most points cut from the short end: 4 octaves (τ0 to 16τ0), past which

@@ -304,7 +304,10 @@ fn write_compact(out: &mut impl Write, analysis: Analysis, units: Units) -> Resu
                     |q| format!("χ²/dof {:.2}, p = {:.2}", q.chi2_reduced, q.p_value),
                 );
                 let verdict = if m.fits {
-                    model_notes(m).iter().map(|n| format!("; {n}")).collect()
+                    model_notes(m, &r.channel.unit)
+                        .iter()
+                        .map(|n| format!("; {n}"))
+                        .collect()
                 } else {
                     format!(
                         " — does not fit: terms are bounds{}",
@@ -444,7 +447,7 @@ fn write_text(out: &mut impl Write, analysis: Analysis, units: Units) -> Result<
                 )?,
                 None => writeln!(out, "  model: none admissible on {} points", m.points)?,
             }
-            for note in model_notes(m) {
+            for note in model_notes(m, &ch.unit) {
                 writeln!(out, "  {note}")?;
             }
             if let Some(d) = &m.defeat {
@@ -718,8 +721,9 @@ fn write_kalibr(path: &Path, analysis: Analysis, overwrite: bool) -> Result<()> 
 
 /// What a reader must know of a model beyond its terms: the τ range it
 /// was fitted over where that is not the whole curve, and the filter its
-/// white noise passes through.
-fn model_notes(m: &allan::noise_model::NoiseModel) -> Vec<String> {
+/// white noise passes through, and a periodic disturbance beside the noise
+/// (its amplitude in the data's `unit`).
+fn model_notes(m: &allan::noise_model::NoiseModel, unit: &str) -> Vec<String> {
     let mut notes = Vec::new();
     if let Some(r) = m.fit_range.as_ref().filter(|r| !r.whole) {
         notes.push(r.describe());
@@ -730,6 +734,9 @@ fn model_notes(m: &allan::noise_model::NoiseModel) -> Vec<String> {
              Tc = {:.3e} s [{:.3e}, {:.3e}], −3 dB at {:.2} Hz",
             f.tau_c.value, f.tau_c.lo, f.tau_c.hi, f.cutoff_hz
         ));
+    }
+    if let Some(t) = &m.periodic {
+        notes.push(t.describe(unit));
     }
     notes
 }
