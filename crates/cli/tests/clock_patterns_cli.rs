@@ -17,7 +17,7 @@ fn px4(name: &str) -> PathBuf {
         .join(name)
 }
 
-/// psim (MIT, commit 91d70ad), MATLAB/sensor_models/TVCtest3_7_20.csv.
+/// psim, MATLAB/sensor_models/TVCtest3_7_20.csv (commit 2028d48, whose tree holds it beside its MIT LICENSE; the same bytes as at 91d70ad).
 fn tvac() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/psim_tvac/TVCtest3_7_20.csv")
 }
