@@ -255,17 +255,7 @@ pub(super) fn search(
     pts: &[Point],
     plain: &dyn Fn(&[Point], f64) -> super::Attempt,
 ) -> Option<super::range::Found> {
-    let start = bump(pts)?;
-    // First against the white line alone, over the points up to four times
-    // the bump's τ: the bump's own reading takes all the excess there for
-    // the sinusoid.
-    let white = white_line(pts);
-    let near: Vec<Point> = pts
-        .iter()
-        .filter(|p| p.tau <= 4.0 * start.peak_tau)
-        .copied()
-        .collect();
-    let mut tone = fit(&near, &|tau| white / tau, &start);
+    let mut tone = first_guess(pts)?;
     let mut described = None;
     for _ in 0..ROUNDS {
         let (left, index) = subtract(pts, &tone);
@@ -310,6 +300,20 @@ pub(super) fn search(
     Some(found)
 }
 
+/// The sinusoid's first reading where the points have a bump: against the
+/// white line alone, over the points up to four times the bump's τ, so the
+/// bump's own reading takes all the excess there for the sinusoid.
+fn first_guess(pts: &[Point]) -> Option<Periodic> {
+    let start = bump(pts)?;
+    let white = white_line(pts);
+    let near: Vec<Point> = pts
+        .iter()
+        .filter(|p| p.tau <= 4.0 * start.peak_tau)
+        .copied()
+        .collect();
+    Some(fit(&near, &|tau| white / tau, &start))
+}
+
 /// The family's fit of one window of points with a sinusoid beside it,
 /// backfitted as [`search`] does but on the window alone: where the
 /// sinusoid read over the whole curve describes no range, each window of
@@ -320,14 +324,7 @@ pub(super) fn on_window(
     slack: f64,
     plain: &dyn Fn(&[Point], f64) -> super::Attempt,
 ) -> Option<super::Attempt> {
-    let start = bump(pts)?;
-    let white = white_line(pts);
-    let near: Vec<Point> = pts
-        .iter()
-        .filter(|p| p.tau <= 4.0 * start.peak_tau)
-        .copied()
-        .collect();
-    let mut tone = fit(&near, &|tau| white / tau, &start);
+    let mut tone = first_guess(pts)?;
     for _ in 0..ROUNDS {
         let (left, index) = subtract(pts, &tone);
         if left.len() <= super::range::MIN_POINTS {
