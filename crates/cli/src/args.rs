@@ -378,11 +378,12 @@ impl PageUnitsArgs {
 #[derive(Debug, Args)]
 pub struct PageUnitsArgs {
     /// One unit system for every noise figure of the page (summary, answer,
-    /// thesis tables, ADEV charts): datasheet (°/s/√Hz, °/h, °/h/√h, °/s/°C;
-    /// µg/√Hz, µg, µg/√s, mg/°C: the units the summary's datasheet column
-    /// is in), si (rad/√s, rad/s, rad/s/√s; m/s/√s, m/s², m/s²/√s) or thesis
-    /// (°/√s, °/s, °/s/√s; SI for accelerometers). The noise-model figures
-    /// stay in the channel's SI unit.
+    /// thesis tables, ADEV charts, each axis's noise-model figure): datasheet
+    /// (°/s/√Hz, °/h, °/h/√h, °/s/°C; µg/√Hz, µg, µg/√s, mg/°C: the units the
+    /// summary's datasheet column is in), si (rad/√s, rad/s, rad/s/√s;
+    /// m/s/√s, m/s², m/s²/√s) or thesis (°/√s, °/s, °/s/√s; SI for
+    /// accelerometers). The heat maps, 3D views, compensation and raw-data
+    /// plots stay in the channel's SI unit.
     #[arg(
         long,
         value_enum,

@@ -206,8 +206,9 @@ fn the_page_quotes_its_noise_figures_in_one_unit_system() {
     }
 }
 
-/// The page's noise figures: the summary section, the thesis tables, and
-/// the ADEV figures (their SVG and chart data).
+/// The page's noise figures: the summary section, the thesis tables, the
+/// ADEV figures (their SVG and chart data) and each axis's noise-model
+/// figure.
 fn noise_figures(html: &str) -> String {
     let mut out = String::new();
     let summary = html.split("<section id=\"summary\"").nth(1).expect("a summary");
@@ -223,7 +224,10 @@ fn noise_figures(html: &str) -> String {
     }
     for fig in html.split("<figure class=\"plot\">").skip(1) {
         let fig = &fig[..fig.find("</figure>").unwrap()];
-        if fig.contains("overlapping ADEV") || fig.contains("the three axes") {
+        if fig.contains("overlapping ADEV")
+            || fig.contains("the three axes")
+            || fig.contains("the selected model")
+        {
             out.push_str(fig);
         }
     }

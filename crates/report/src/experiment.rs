@@ -28,7 +28,7 @@ use crate::plots::{
     Asymptote, Curve, Drawn, Target, adev_heatmap_bins, adev_heatmap_slices, adev_plot, bias_plot,
     temperature_colour, time_plot,
 };
-use analysis::units::{si_unit, unit_of};
+use analysis::units::unit_of;
 
 /// The mark near the start of a log imutherm wrote.
 pub const LOG_MARK: &str = "# format: imutherm-log/1";
@@ -130,6 +130,16 @@ pub fn chart_figure(
     Ok(())
 }
 
+/// The factor from a term's SI value to the page's units, and that unit:
+/// the page's table unit for N, B and K; Q and R are in no table, so
+/// `noise --units`'s unit for them.
+fn term_unit_in(t: Term, q: Quantity, data_unit: &str, units: Units) -> (f64, String) {
+    match t {
+        Term::Quantization | Term::RateRamp => unit_of(t, q, data_unit, units),
+        t => unit_or(q, data_unit, kind_of(t), units),
+    }
+}
+
 /// The selected model's noise terms of a channel as ADEV asymptotes (IEEE
 /// 952 Annex C), and its ADEV minimum as a marker.
 fn guides(r: &ChannelNoise, run: &str, units: Units) -> (Vec<Asymptote>, Option<(f64, f64, String)>) {
@@ -141,11 +151,7 @@ fn guides(r: &ChannelNoise, run: &str, units: Units) -> (Vec<Asymptote>, Option<
             let v = r.terms.model.get(t).value()?.value;
             // σ(τ) of the term alone, as σ(1 s)·τ^slope, in the axis's unit.
             let at_1s = t.variance_basis(1.0).sqrt() * v * level;
-            // Q and R are in no table: `noise --units`'s unit for them.
-            let (f, term_unit) = match t {
-                Term::Quantization | Term::RateRamp => unit_of(t, q, &r.channel.unit, units),
-                t => unit_or(q, &r.channel.unit, kind_of(t), units),
-            };
+            let (f, term_unit) = term_unit_in(t, q, &r.channel.unit, units);
             Some(Asymptote {
                 label: format!(
                     "{} = {:.3e} {} ({run}, model {})",
@@ -394,7 +400,12 @@ pub fn adev_figures(
 /// kept process's own curve and each dropped term at its bound, and the
 /// residuals below; with a table of each axis's model, its goodness of fit
 /// and why each process was kept.
-pub fn model_figures(page: &mut Page, runs: &[RunNoise], png: &PngDir) -> Result<(), ReportError> {
+pub fn model_figures(
+    page: &mut Page,
+    runs: &[RunNoise],
+    png: &PngDir,
+    units: Units,
+) -> Result<(), ReportError> {
     page.heading("Noise model of each axis");
     page.paragraph(
         "The selected model (terms chosen by the information criterion BIC) drawn on the measured \
@@ -450,11 +461,14 @@ pub fn model_figures(page: &mut Page, runs: &[RunNoise], png: &PngDir) -> Result
         for c in &r.channels {
             let title = format!("{}{at}: noise model", c.channel.name);
             let (q, u) = (c.channel.quantity, c.channel.unit.clone());
-            let term_unit = move |t: Term| si_unit(t, q, &u);
+            let term_unit = move |t: Term| term_unit_in(t, q, &u, units);
+            let (level, unit) = unit_or(q, &c.channel.unit, Kind::Instability, units);
+            let points = scaled(&c.points, level);
             let axis = ModelAxis {
                 title: title.clone(),
-                unit: c.channel.unit.clone(),
-                points: &c.points,
+                unit,
+                level,
+                points: &points,
                 model: &c.terms.model,
                 term_unit: &term_unit,
             };

@@ -19,19 +19,23 @@ use crate::plots::{
     Drawn, PALETTE, Target, err, font, log_range, log_tick_label, tick_label, to_png, to_svg,
 };
 
-/// What a reader needs beside the model to label it: the channel's unit
-/// and the unit of each term's value.
+/// What a reader needs beside the model to label it: the page's unit of
+/// the deviation and of each term's value. The model stays in SI; `level`
+/// carries its curves into the page's unit.
 pub struct ModelAxis<'a> {
     /// Title of the figure.
     pub title: String,
-    /// The unit of the rate data (the deviation's unit).
+    /// The unit the deviation is drawn in.
     pub unit: String,
-    /// The measured overlapping ADEV the model was fitted to.
+    /// The factor from the model's SI deviation to `unit` (1 in SI).
+    pub level: f64,
+    /// The measured overlapping ADEV the model was fitted to, in `unit`.
     pub points: &'a [Point],
-    /// The selected model.
+    /// The selected model, in SI.
     pub model: &'a NoiseModel,
-    /// The unit of a term's value (rad/√s for a gyro's N, …).
-    pub term_unit: &'a dyn Fn(Term) -> String,
+    /// The factor from a term's SI value to the page's unit, and that unit
+    /// (rad/√s for a gyro's N in SI, °/s/√Hz in the datasheets' units, …).
+    pub term_unit: &'a dyn Fn(Term) -> (f64, String),
 }
 
 /// How one line of the figure is drawn.
@@ -95,18 +99,22 @@ pub fn lines(axis: &ModelAxis, taus: &[f64]) -> Vec<Line> {
                 m.quality.map_or(f64::NAN, |q| q.p_value)
             ),
             stroke: Stroke::Model,
-            sigma: taus.iter().map(|&t| m.avar(t).sqrt()).collect(),
+            sigma: taus.iter().map(|&t| axis.level * m.avar(t).sqrt()).collect(),
         });
     }
     for t in Term::ALL {
-        let unit = (axis.term_unit)(t);
+        let (f, unit) = (axis.term_unit)(t);
         match m.get(t) {
             TermEstimate::Value(v) => out.push(Line {
-                label: format!("{} = {}", t.symbol(), interval(v.value, v.lo, v.hi, &unit)),
+                label: format!(
+                    "{} = {}",
+                    t.symbol(),
+                    interval(f * v.value, f * v.lo, f * v.hi, &unit)
+                ),
                 stroke: Stroke::Kept,
                 sigma: taus
                     .iter()
-                    .map(|&tau| v.value * power_basis(t, tau).sqrt())
+                    .map(|&tau| axis.level * v.value * power_basis(t, tau).sqrt())
                     .collect(),
             }),
             TermEstimate::NotIdentifiable(_) => {
@@ -117,9 +125,12 @@ pub fn lines(axis: &ModelAxis, taus: &[f64]) -> Vec<Line> {
                         (false, _) => "no model",
                     };
                     out.push(Line {
-                        label: format!("{} ≤ {b:.2e} {unit} ({why}: its bound)", t.symbol()),
+                        label: format!("{} ≤ {:.2e} {unit} ({why}: its bound)", t.symbol(), f * b),
                         stroke: Stroke::Bound,
-                        sigma: taus.iter().map(|&tau| b * power_basis(t, tau).sqrt()).collect(),
+                        sigma: taus
+                            .iter()
+                            .map(|&tau| axis.level * b * power_basis(t, tau).sqrt())
+                            .collect(),
                     });
                 }
             }
@@ -129,10 +140,11 @@ pub fn lines(axis: &ModelAxis, taus: &[f64]) -> Vec<Line> {
     for (k, g) in m.gauss_markov.iter().enumerate() {
         let name = if many { format!("GM{}", k + 1) } else { "GM".into() };
         let (s, tc) = (g.sigma, g.tau_c);
+        let l = axis.level;
         out.push(Line {
             label: format!(
                 "{name}: σ = {}\nT = {} [{}, {}] s",
-                interval(s.value, s.lo, s.hi, &axis.unit),
+                interval(l * s.value, l * s.lo, l * s.hi, &axis.unit),
                 significant(tc.value),
                 significant(tc.lo),
                 significant(tc.hi)
@@ -140,7 +152,7 @@ pub fn lines(axis: &ModelAxis, taus: &[f64]) -> Vec<Line> {
             stroke: Stroke::Kept,
             sigma: taus
                 .iter()
-                .map(|&tau| s.value * process::gauss_markov(tau, tc.value).sqrt())
+                .map(|&tau| l * s.value * process::gauss_markov(tau, tc.value).sqrt())
                 .collect(),
         });
     }
@@ -148,15 +160,16 @@ pub fn lines(axis: &ModelAxis, taus: &[f64]) -> Vec<Line> {
 }
 
 /// Measured over model at each point, with the point's interval likewise
-/// divided: (τ, ratio, lo, hi). Empty without a model.
-pub fn residuals(points: &[Point], model: &NoiseModel) -> Vec<(f64, f64, f64, f64)> {
+/// divided: (τ, ratio, lo, hi); `level` carries the SI model into the
+/// points' unit. Empty without a model.
+pub fn residuals(points: &[Point], model: &NoiseModel, level: f64) -> Vec<(f64, f64, f64, f64)> {
     if model.quality.is_none() {
         return Vec::new();
     }
     points
         .iter()
         .filter_map(|p| {
-            let s = model.avar(p.tau).sqrt();
+            let s = level * model.avar(p.tau).sqrt();
             (s > 0.0 && s.is_finite() && p.dev > 0.0).then(|| (p.tau, p.dev / s, p.dev_lo / s, p.dev_hi / s))
         })
         .collect()
@@ -283,7 +296,7 @@ fn model_plot_on<DB: DrawingBackend>(
         };
         legend_items.push((l.label.clone(), mark));
     }
-    let res = residuals(pts, axis.model);
+    let res = residuals(pts, axis.model, axis.level);
     residual_panel(&bottom, &res, axis.model, tau_range)?;
     if !axis.model.outside.is_empty() {
         legend_items.push(("outside the measured interval".into(), Mark::Dot(OUTSIDE_RED)));
@@ -466,11 +479,12 @@ mod tests {
         title: &str,
         pts: &'a [Point],
         model: &'a NoiseModel,
-        term_unit: &'a dyn Fn(Term) -> String,
+        term_unit: &'a dyn Fn(Term) -> (f64, String),
     ) -> ModelAxis<'a> {
         ModelAxis {
             title: title.into(),
             unit: "rad/s".into(),
+            level: 1.0,
             points: pts,
             model,
             term_unit,
@@ -479,7 +493,7 @@ mod tests {
 
     /// The lines of the figure of `model` at the τ of `pts`.
     fn lines_at_points(title: &str, pts: &[Point], model: &NoiseModel) -> Vec<Line> {
-        let unit = |_: Term| "u".to_string();
+        let unit = |_: Term| (1.0, "u".to_string());
         let taus: Vec<f64> = pts.iter().map(|p| p.tau).collect();
         lines(&rad_axis(title, pts, model, &unit), &taus)
     }
@@ -542,7 +556,7 @@ mod tests {
                 .any(|l| l.stroke == Stroke::Bound && l.label.starts_with("B ≤")),
             "{ls:?}"
         );
-        for (_, r, lo, hi) in residuals(&pts, &model) {
+        for (_, r, lo, hi) in residuals(&pts, &model, 1.0) {
             assert!(
                 lo <= 1.0 && 1.0 <= hi,
                 "the exact curve's residual interval holds 1: {r}"
@@ -577,7 +591,7 @@ mod tests {
                 .sum();
             assert!((kept.sqrt() / sum.sigma[i] - 1.0).abs() < 1e-9);
         }
-        let unit = |_: Term| "u".to_string();
+        let unit = |_: Term| (1.0, "u".to_string());
         let svg = model_plot(Target::Svg, &rad_axis("gm", &pts, &model, &unit))
             .unwrap()
             .into_svg()
@@ -589,7 +603,7 @@ mod tests {
     fn the_figure_names_every_line_and_the_residual_axis() {
         let pts = white_and_walk();
         let model = estimate(&pts, 0.95);
-        let unit = |t: Term| format!("unit-of-{}", t.symbol());
+        let unit = |t: Term| (1.0, format!("unit-of-{}", t.symbol()));
         let axis = rad_axis("gyro_x at 34 °C", &pts, &model, &unit);
         let svg = model_plot(Target::Svg, &axis).unwrap().into_svg().unwrap();
         for text in [
@@ -627,7 +641,7 @@ mod tests {
             })
             .collect();
         let model = estimate(&pts, 0.95);
-        let unit = |_: Term| String::new();
+        let unit = |_: Term| (1.0, String::new());
         let axis = rad_axis("bump", &pts, &model, &unit);
         let ls = lines(&axis, &[1.0]);
         if model.quality.is_some() && !model.fits {
@@ -651,10 +665,69 @@ mod tests {
         let mut pts = white_and_walk();
         pts.truncate(1);
         let model = estimate(&pts, 0.95);
-        let unit = |_: Term| String::new();
+        let unit = |_: Term| (1.0, String::new());
         let axis = rad_axis("short", &pts, &model, &unit);
-        assert!(residuals(&pts, &model).is_empty());
+        assert!(residuals(&pts, &model, 1.0).is_empty());
         let svg = model_plot(Target::Svg, &axis).unwrap().into_svg().unwrap();
         assert!(svg.contains("no candidate model fits"), "{svg}");
+    }
+
+    /// On a page in other units the points come scaled and the axis says
+    /// by how much: the model's lines follow the points by the same factor,
+    /// the residuals stay ratios, and a term's label is in its own unit.
+    #[test]
+    fn a_page_unit_scales_the_lines_the_labels_and_not_the_residuals() {
+        let pts = white_and_walk();
+        let model = estimate(&pts, 0.95);
+        let si_unit = |_: Term| (1.0, "rad/√s".to_string());
+        let si = rad_axis("si", &pts, &model, &si_unit);
+        let deg = 180.0 / std::f64::consts::PI;
+        let scaled_pts: Vec<Point> = pts
+            .iter()
+            .map(|p| Point {
+                dev: p.dev * deg,
+                dev_lo: p.dev_lo * deg,
+                dev_hi: p.dev_hi * deg,
+                ..*p
+            })
+            .collect();
+        let deg_unit = |_: Term| (deg, "°/√s".to_string());
+        let page = ModelAxis {
+            unit: "°/s".into(),
+            level: deg,
+            ..rad_axis("deg", &scaled_pts, &model, &deg_unit)
+        };
+        let taus: Vec<f64> = pts.iter().map(|p| p.tau).collect();
+        let (a, b) = (lines(&si, &taus), lines(&page, &taus));
+        assert_eq!(a.len(), b.len());
+        for (a, b) in a.iter().zip(&b) {
+            for (x, y) in a.sigma.iter().zip(&b.sigma) {
+                assert!((y / x - deg).abs() < 1e-9 * deg, "{} vs {}", a.label, b.label);
+            }
+        }
+        let n = b.iter().find(|l| l.label.starts_with("N = ")).expect("N is kept");
+        let value: f64 = n.label["N = ".len()..]
+            .split(' ')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        let si_value: f64 = a.iter().find(|l| l.label.starts_with("N = ")).unwrap().label["N = ".len()..]
+            .split(' ')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert!(
+            (value / si_value / deg - 1.0).abs() < 0.01,
+            "{} vs {}",
+            n.label,
+            si_value
+        );
+        assert!(n.label.ends_with("°/√s"), "{}", n.label);
+        let (ra, rb) = (residuals(&pts, &model, 1.0), residuals(&scaled_pts, &model, deg));
+        for (x, y) in ra.iter().zip(&rb) {
+            assert!((x.1 - y.1).abs() < 1e-12 && (x.2 - y.2).abs() < 1e-12);
+        }
     }
 }

@@ -176,7 +176,7 @@ pub fn run(a: &DemoArgs) -> Result<()> {
 
     noise_tables(&mut page, &exp.runs, a.page_units.units());
     adev_figures(&mut page, &exp.runs, &png, a.page_units.units())?;
-    model_figures(&mut page, &exp.runs, &png)?;
+    model_figures(&mut page, &exp.runs, &png, a.page_units.units())?;
 
     page.heading("Cooling run: raw data");
     time_figures(&mut page, &exp.cooling, "cooling run", &png)?;

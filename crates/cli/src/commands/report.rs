@@ -132,7 +132,7 @@ pub fn run(a: &ReportArgs) -> Result<()> {
 
     noise_tables(&mut page, &analysed, a.page_units.units());
     adev_figures(&mut page, &analysed, &png, a.page_units.units())?;
-    model_figures(&mut page, &analysed, &png)?;
+    model_figures(&mut page, &analysed, &png, a.page_units.units())?;
 
     for &i in &changing {
         let (f, sel) = (&a.files[i], &read_runs[i]);
