@@ -682,15 +682,7 @@ mod tests {
         let si_unit = |_: Term| (1.0, "rad/√s".to_string());
         let si = rad_axis("si", &pts, &model, &si_unit);
         let deg = 180.0 / std::f64::consts::PI;
-        let scaled_pts: Vec<Point> = pts
-            .iter()
-            .map(|p| Point {
-                dev: p.dev * deg,
-                dev_lo: p.dev_lo * deg,
-                dev_hi: p.dev_hi * deg,
-                ..*p
-            })
-            .collect();
+        let scaled_pts = crate::page_units::scaled(&pts, deg);
         let deg_unit = |_: Term| (deg, "°/√s".to_string());
         let page = ModelAxis {
             unit: "°/s".into(),
