@@ -39,7 +39,9 @@ fn quick_demo_writes_a_complete_report() {
         html.contains("sliding windows of 1800 s stepped every 90 s (21 windows)"),
         "dynamic ADEV note"
     );
-    assert!(html.contains("Angle random walk N [°/√s]"));
+    // The thesis's table, in the page's default units (the datasheets':
+    // `--units datasheet`, docs/demo.md).
+    assert!(html.contains("Angle random walk N [°/s/√Hz]"));
     assert!(html.contains("34 °C") && html.contains("82 °C"));
     assert!(html.contains("residual bias over temperature on the held-out heating run"));
     // Navigation without GNSS on the cooling run: compensated drifts less.
