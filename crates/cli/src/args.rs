@@ -361,19 +361,6 @@ pub enum PageUnits {
     Thesis,
 }
 
-#[cfg(feature = "analysis")]
-impl PageUnitsArgs {
-    /// The unit system the report crate draws in.
-    pub fn units(&self) -> report::page_units::Units {
-        use report::page_units::Units;
-        match self.units {
-            PageUnits::Si => Units::Si,
-            PageUnits::Datasheet => Units::Datasheet,
-            PageUnits::Thesis => Units::Thesis,
-        }
-    }
-}
-
 /// The page's units flag, shared by `report` and `demo`.
 #[derive(Debug, Args)]
 pub struct PageUnitsArgs {

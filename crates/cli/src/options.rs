@@ -54,6 +54,22 @@ impl ReadArgs {
 }
 
 /// The firmware a `--firmware`, `--for` or `--export` flag names.
+#[cfg(feature = "analysis")]
+impl crate::args::PageUnitsArgs {
+    /// The unit system the report crate draws in. Here, not beside the
+    /// flag: the flags' definitions are also compiled into the command-line
+    /// fuzz target, which does not link the report crate.
+    pub fn units(&self) -> report::page_units::Units {
+        use crate::args::PageUnits;
+        use report::page_units::Units;
+        match self.units {
+            PageUnits::Si => Units::Si,
+            PageUnits::Datasheet => Units::Datasheet,
+            PageUnits::Thesis => Units::Thesis,
+        }
+    }
+}
+
 impl From<FirmwareArg> for thermal::firmware::Firmware {
     fn from(f: FirmwareArg) -> thermal::firmware::Firmware {
         match f {
